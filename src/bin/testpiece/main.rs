@@ -1,0 +1,77 @@
+//! `testpiece`: the command line of `shared/spec/cli.md`. Argument parsing and printing only;
+//! every number comes from the library.
+
+mod args;
+mod budget;
+mod diagnose;
+mod envelope;
+mod forward;
+mod identify;
+mod info;
+mod points;
+mod sensitivity;
+mod simulate;
+mod validate;
+
+use std::process::ExitCode;
+
+const HELP: &str = "\
+testpiece: five-axis machine geometric errors from a measured ISO 10791-7 S-shape test piece
+
+Usage: testpiece <command> [options]
+
+Commands:
+  info        lengths of the four measurement curves of the built-in S-shape (mm)
+
+Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
+Options for all: --version prints the version.
+";
+
+fn main() -> ExitCode {
+    let raw: Vec<String> = std::env::args().skip(1).collect();
+    let Some(cmd) = raw.first().map(String::as_str) else {
+        eprint!("{HELP}");
+        return ExitCode::from(2);
+    };
+    let rest = &raw[1..];
+    let result = match cmd {
+        "--help" | "-h" | "help" => {
+            print!("{HELP}");
+            Ok(())
+        }
+        "--version" | "-V" => {
+            println!("testpiece {}", testpiece::VERSION);
+            Ok(())
+        }
+        "info" => info::run(rest),
+        "points" => points::run(rest),
+        "envelope" => envelope::run(rest),
+        "sensitivity" => sensitivity::run(rest),
+        "forward" => forward::run(rest),
+        "simulate" => simulate::run(rest),
+        "identify" => identify::run(rest),
+        "diagnose" => diagnose::run(rest),
+        "validate" => validate::run(rest),
+        "budget" => budget::run(rest),
+        other => Err(format!(
+            "unknown command `{other}`; run `testpiece --help` for the list"
+        )),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// True when the command was asked for its help (then the text has been printed).
+pub fn wants_help(rest: &[String], text: &str) -> bool {
+    if rest.iter().any(|a| a == "--help" || a == "-h") {
+        print!("{text}");
+        true
+    } else {
+        false
+    }
+}

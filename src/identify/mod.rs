@@ -1,0 +1,1 @@
+//! Least-squares identification of error parameters, identifiability, uncertainty.

@@ -1,0 +1,29 @@
+//! # testpiece
+//!
+//! From one machined ISO 10791-7 S-shape test piece measured on a CMM, which geometric errors a
+//! five-axis machine tool has, and how sure that answer is.
+//!
+//! The pipeline, one folder per stage: part geometry ([`geometry`], [`part`]) → flank tool path
+//! and envelope ([`toolpath`]) → machine kinematics and error models ([`machine`]) → machined
+//! defect per error ([`sensitivity`]) → CMM files ([`cmm`]) → least-squares identification
+//! ([`identify`]) → sim-to-real gap diagnosis ([`gap`]). Every stage is a plain function from data
+//! to data; [`wasm`] is the only module that knows about the browser.
+//!
+//! Units: mm and rad everywhere (degrees only where a file says so). Sign convention
+//! (`shared/spec/s-shape.md`): a deviation is `(machined or measured − nominal) · N` with `N` the
+//! outward normal; **positive = material left, negative = overcut**.
+
+pub mod cmm;
+pub mod gap;
+pub mod geometry;
+pub mod identify;
+pub mod machine;
+pub mod part;
+pub mod sensitivity;
+pub mod summary;
+pub mod tolerance;
+pub mod toolpath;
+pub mod wasm;
+
+/// The crate version, printed by the CLI and on the page's report.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

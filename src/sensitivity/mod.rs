@@ -1,0 +1,1 @@
+//! Machined defect (paper 000 eq. 14), Figure-19 curves, surface-frame coefficients (paper 002).
