@@ -12,7 +12,7 @@ step "cargo fmt --check";            cargo fmt --check
 step "cargo clippy";                 cargo clippy --all-targets -- -D warnings
 step "cargo test";                   cargo test
 step "cargo build (wasm32)";         cargo build --lib --target wasm32-unknown-unknown
-step "wasm-pack test --node";        wasm-pack test --node --mode no-install
+step "wasm-pack test --node";        wasm-pack test --node --mode no-install -- --test wasm_node
 step "release wasm for the page";    bash scripts/build-wasm.sh
 step "browser end-to-end tests";     node --test tests/e2e/
 echo "all tests passed in $(( $(date +%s) - t0 )) s"

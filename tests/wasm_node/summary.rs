@@ -1,6 +1,4 @@
-//! The core compiled to wasm and run under Node (`wasm-pack test --node`): the same numbers as
-//! natively, through the exported functions.
-#![cfg(target_arch = "wasm32")]
+//! The part summary through the wasm export: the same numbers as the direct call.
 
 use wasm_bindgen_test::*;
 
