@@ -2,7 +2,9 @@
 //! M3_15 / M3_45 (paper 002 Table 3).
 
 pub mod frame;
+pub mod points;
 pub mod s_shape;
 
 pub use frame::{Frame, FrameDerivs, Section};
+pub use points::{builtin_points, Curve, MeasurementPoint};
 pub use s_shape::{SShape, Surface};

@@ -55,6 +55,13 @@ pub fn tool_pose_derivs(part: &SShape, s: Surface, u: f64) -> ToolPoseDerivs {
     }
 }
 
+/// Contact height `h` of the surface point `S(u,v)` above the tool tip along the axis (mm):
+/// `h = L_tool - (1-v)·|C1(u) - C0(u)|`, since `S(u,v) = C1 - (1-v)·D` lies on the ruling
+/// that the tool touches from `C1` down.
+pub fn contact_height(part: &SShape, s: Surface, u: f64, v: f64) -> f64 {
+    TIP_OFFSET - (1.0 - v) * part.section_at(s, u).d.point.norm()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,4 +2,6 @@
 
 pub mod flank;
 
-pub use flank::{tool_pose, tool_pose_derivs, ToolPose, ToolPoseDerivs, TIP_OFFSET, TOOL_RADIUS};
+pub use flank::{
+    contact_height, tool_pose, tool_pose_derivs, ToolPose, ToolPoseDerivs, TIP_OFFSET, TOOL_RADIUS,
+};
