@@ -76,34 +76,45 @@ impl SShape {
     /// x and y components are exactly 0 where those differences are (the vertical zone).
     pub fn section_at(&self, s: Surface, u: f64) -> Section {
         let [c0, c1] = self.curves(s);
-        let d0 = c0.derivs_at(u);
-        let d1 = c1.derivs_at(u);
         let rational = c0.weights().iter().chain(c1.weights()).any(|w| *w != 1.0);
-        let d = if rational || c0.knots() != c1.knots() || c0.degree() != c1.degree() {
-            CurveDerivs {
-                point: d1.point - d0.point,
-                d1: d1.d1 - d0.d1,
-                d2: d1.d2 - d0.d2,
+        if rational || c0.knots() != c1.knots() || c0.degree() != c1.degree() {
+            let d0 = c0.derivs_at(u);
+            let d1 = c1.derivs_at(u);
+            return Section {
+                c0: d0,
+                c1: d1,
+                d: CurveDerivs {
+                    point: d1.point - d0.point,
+                    d1: d1.d1 - d0.d1,
+                    d2: d1.d2 - d0.d2,
+                },
+            };
+        }
+        // one basis evaluation for C0, C1 and D (non-rational, shared knots)
+        let (lo, hi) = c0.domain();
+        let uc = u.clamp(lo, hi);
+        let p = c0.degree();
+        let (span, ders) = c0.basis_derivs(uc, 2);
+        let mut out = [[Vector3::zeros(); 3]; 3];
+        for (k, row) in ders.iter().enumerate().take(3) {
+            for (j, nb) in row.iter().enumerate() {
+                let i = span - p + j;
+                let (p0, p1) = (c0.control_points()[i], c1.control_points()[i]);
+                out[0][k] += p0 * *nb;
+                out[1][k] += p1 * *nb;
+                out[2][k] += (p1 - p0) * *nb;
             }
-        } else {
-            let (lo, hi) = c0.domain();
-            let uc = u.clamp(lo, hi);
-            let p = c0.degree();
-            let (span, ders) = c0.basis_derivs(uc, 2);
-            let mut out = [Vector3::zeros(); 3];
-            for (k, row) in ders.iter().enumerate().take(3) {
-                for (j, nb) in row.iter().enumerate() {
-                    let i = span - p + j;
-                    out[k] += (c1.control_points()[i] - c0.control_points()[i]) * *nb;
-                }
-            }
-            CurveDerivs {
-                point: out[0],
-                d1: out[1],
-                d2: out[2],
-            }
+        }
+        let cd = |o: [Vector3<f64>; 3]| CurveDerivs {
+            point: o[0],
+            d1: o[1],
+            d2: o[2],
         };
-        Section { c0: d0, c1: d1, d }
+        Section {
+            c0: cd(out[0]),
+            c1: cd(out[1]),
+            d: cd(out[2]),
+        }
     }
 
     /// The ruling `R(u)` (unit, pointing up) and `dR/du`.

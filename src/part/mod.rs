@@ -7,4 +7,4 @@ pub mod s_shape;
 
 pub use frame::{Frame, FrameDerivs, Section};
 pub use points::{builtin_points, Curve, MeasurementPoint};
-pub use s_shape::{SShape, Surface};
+pub use s_shape::{SShape, Surface, HEIGHT};
