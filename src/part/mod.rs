@@ -3,8 +3,10 @@
 
 pub mod frame;
 pub mod points;
+pub mod ruled;
 pub mod s_shape;
 
 pub use frame::{Frame, FrameDerivs, Section};
 pub use points::{builtin_points, Curve, MeasurementPoint};
+pub use ruled::RuledPart;
 pub use s_shape::{SShape, Surface, HEIGHT};

@@ -26,7 +26,7 @@ use serde::Serialize;
 
 use super::flank::{tool_pose, tool_pose_derivs, ToolPose, TOOL_RADIUS};
 use super::ToolpathError;
-use crate::part::{builtin_points, Curve, MeasurementPoint, SShape, Surface, HEIGHT};
+use crate::part::{builtin_points, Curve, MeasurementPoint, RuledPart, SShape, Surface, HEIGHT};
 
 /// Number of intervals of the pose table (`u'` step 1/4000, about 0.17 mm of path).
 const TABLE_STEPS: usize = 4000;
@@ -93,7 +93,7 @@ pub fn line_entry(pose: &ToolPose, radius: f64, p: &Vector3<f64>, n: &Vector3<f6
 /// The flank path of one surface with a table of poses for the scan.
 #[derive(Debug, Clone)]
 pub struct FlankPath<'a> {
-    part: &'a SShape,
+    part: &'a dyn RuledPart,
     surface: Surface,
     table: Vec<ToolPose>,
 }
@@ -110,8 +110,8 @@ pub struct EnvelopeHit {
 }
 
 impl<'a> FlankPath<'a> {
-    /// The eq. 2 path of surface `s`.
-    pub fn new(part: &'a SShape, s: Surface) -> Self {
+    /// The eq. 2 path of surface `s` (the S-shape's, or any other [`RuledPart`]'s).
+    pub fn new(part: &'a dyn RuledPart, s: Surface) -> Self {
         let table = (0..=TABLE_STEPS)
             .map(|i| tool_pose(part, s, i as f64 / TABLE_STEPS as f64))
             .collect();
@@ -125,7 +125,7 @@ impl<'a> FlankPath<'a> {
     pub fn surface(&self) -> Surface {
         self.surface
     }
-    pub fn part(&self) -> &'a SShape {
+    pub fn part(&self) -> &'a dyn RuledPart {
         self.part
     }
 
@@ -406,8 +406,8 @@ pub fn surface_max_overcut(part: &SShape, s: Surface) -> Result<SurfaceMax, Tool
 /// Residual of the envelope condition eq. 5 at a hit: `(dT_tool/du + h·dR/du)·n_M` (mm), with
 /// `n_M` the tool's radial unit normal at the contact point `M = p + deviation·n`. It is 0 (to
 /// rounding) when the hit is on the envelope rather than at an end of the path.
-pub fn envelope_condition(
-    part: &SShape,
+pub fn envelope_condition<P: RuledPart + ?Sized>(
+    part: &P,
     s: Surface,
     p: &Vector3<f64>,
     n: &Vector3<f64>,
