@@ -71,3 +71,30 @@ pub fn multilayer_deviation_js(
     let res = multilayer_deviation(&part, &builtin_points(&part), &profile, &plan).map_err(err)?;
     to_js(&res)
 }
+
+/// The built-in points of a cone-frustum test piece (paper 002 Table 3): `kind` is `"M3_15"` or
+/// `"M3_45"`, `offsets` places it with the paper's centre and height offsets (62.5 and 30 mm).
+/// Returns `{cone: {name, bottom_diameter, thickness, inclination, half_apex, center_offset,
+/// height_offset}, points: [{id, level, u, v, x, y, z, nx, ny, nz, h}]}` (mm, rad).
+#[wasm_bindgen(js_name = conePoints)]
+pub fn cone_points_js(kind: &str, offsets: bool) -> Result<JsValue, JsError> {
+    use crate::part::ConeFrustum;
+    let cone = match kind.trim().to_ascii_uppercase().as_str() {
+        "M3_15" => ConeFrustum::m3_15(offsets),
+        "M3_45" => ConeFrustum::m3_45(offsets),
+        other => {
+            return Err(JsError::new(&format!(
+                "unknown cone frustum `{other}` (expected M3_15 or M3_45)"
+            )))
+        }
+    };
+    #[derive(serde::Serialize)]
+    struct Out<'a> {
+        cone: &'a ConeFrustum,
+        points: Vec<crate::part::ConePoint>,
+    }
+    to_js(&Out {
+        cone: &cone,
+        points: cone.builtin_points(),
+    })
+}
