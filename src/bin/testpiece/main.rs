@@ -22,6 +22,8 @@ Usage: testpiece <command> [options]
 
 Commands:
   info        lengths of the four measurement curves of the built-in S-shape (mm)
+  sensitivity Figure-19 defect per unit of each of the 8 location errors [--mode] [--branch]
+  forward     tool tip and axis from axis values on stdin through --machine FILE (JSON chain)
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
 Options for all: --version prints the version.
