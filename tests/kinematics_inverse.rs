@@ -78,3 +78,18 @@ fn signed_branch_is_paper000_eq9() {
         "{qp:?}"
     );
 }
+
+#[test]
+fn outer_angle_is_exact_next_to_the_singularity() {
+    // Next to the S-shape's vertical zone the horizontal part of the axis is ~1e-40: C must still
+    // be atan(-j/i) (eq. 9), not the arbitrary value of an exactly vertical axis.
+    let chain = Chain::paper000(499.889);
+    for (i, j) in [(-3e-40, 12e-40), (4e-45, -8e-45)] {
+        let w = Vector3::new(i, j, 1.0);
+        let q = inverse(&chain, &Vector3::zeros(), &w, Branch::Signed, 1.0).unwrap();
+        let c = (-j / i).atan();
+        let c = c + std::f64::consts::PI * ((1.0 - c) / std::f64::consts::PI).round();
+        assert!((q.c - c).abs() < 1e-15, "{} vs {c}", q.c);
+        assert!(q.b.abs() < 1e-38);
+    }
+}

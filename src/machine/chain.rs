@@ -33,6 +33,9 @@ use serde::{Deserialize, Serialize};
 use super::transform::{rotation, translation};
 use super::MachineError;
 
+/// `L0` of paper 000 (mm): distance from the B axis to the tool tip on the Flexiax V.
+pub const PAPER000_L0: f64 = 499.889;
+
 /// One of the six ISO axis letters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub enum AxisName {

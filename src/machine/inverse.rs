@@ -5,7 +5,7 @@
 //! to the tool axis and the *outer* one `o` last (for `w C Y' b X Z B t`: `w = Rz(-C)·Ry(B)·ẑ`,
 //! i.e. `(sinB cosC, -sinB sinC, cosB)`); `s = ±1` folds the prime and the side (a workpiece-side
 //! axis enters inverted). `w·o` fixes the inner angle: `a cos θ + b sin θ = w·o` with
-//! `(a, b) = (ẑ·o, (i × ẑ)·o)`, two roots `θ = φ ± acos(w·o)`; the outer angle turns `R_i(θ)ẑ`
+//! `(a, b) = (ẑ·o, (i × ẑ)·o)`, two roots `θ = φ ± acos(w·o)` (computed as `atan2(|w⊥|, w·o)`); the outer angle turns `R_i(θ)ẑ`
 //! onto `w` about `o`. The two solutions differ by π in the outer angle.
 //!
 //! **Branch** ([`Branch`]): `Signed` (default; paper 000 eq. 9 read literally, `C = atan(-j/i)`
@@ -110,10 +110,11 @@ impl RotaryPair {
         let a = z.dot(&o);
         let b = i.cross(&z).dot(&o);
         let phi = b.atan2(a);
-        let c = w.dot(&o).clamp(-1.0, 1.0);
-        let d = c.acos();
-        let w_perp = w - o * w.dot(&o);
+        let c = w.dot(&o);
+        let w_perp = w - o * c;
         let perp = w_perp.norm();
+        // acos(c), accurate near the singularity where c rounds to ±1 but w⊥ does not vanish.
+        let d = perp.atan2(c);
         let mut out = [(0.0, 0.0); 2];
         for (n, theta_i) in [phi + d, phi - d].into_iter().enumerate() {
             let theta_i = wrap_pi(theta_i);
@@ -171,6 +172,10 @@ fn unwrap_near(x: f64, target: f64) -> f64 {
 }
 
 fn wrap_pi(x: f64) -> f64 {
+    if x > -PI && x <= PI {
+        // Leave in-range values untouched: tiny angles near a singularity must keep their value.
+        return x;
+    }
     let y = x.rem_euclid(2.0 * PI);
     if y > PI {
         y - 2.0 * PI
