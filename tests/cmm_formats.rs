@@ -1,3 +1,4 @@
+#![cfg(not(target_arch = "wasm32"))]
 //! The three reference examples read exactly, and `example_clean.csv` rewritten in every format
 //! of `shared/spec/cmm-csv.md` (files made by `tests/data/cmm/make_formats.py`, independent of
 //! the reader) gives the same points.

@@ -30,3 +30,19 @@ pub fn read_cmm(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, J
     let file = read_cmm_with(bytes, name, &opts).map_err(|e| JsError::new(&e.to_string()))?;
     super::to_js(&file)
 }
+
+/// Reads a CMM export and matches every point to the nominal S-shape by closest-point
+/// projection (cmm-csv.md rules 1-4). Returns the [`crate::cmm::MatchedPart`] as a plain object:
+/// `{name, format, extra_columns, points: [{file: <row as in readCmm>, surface: "A"|"B", u, v,
+/// foot: [x,y,z], normal: [i,j,k], deviation, rule: "file_deviation"|"measured_minus_nominal"|
+/// "projection", distance, clamped, normal_angle_deg | null, position_deviation | null}],
+/// excluded, warnings}`; mm, + = material left. Options as for [`read_cmm`]. A rejected file
+/// (including points more than `max_distance_mm` from the surfaces) throws a `JsError` with
+/// the reader's message.
+#[wasm_bindgen(js_name = matchCmm)]
+pub fn match_cmm(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, JsError> {
+    let opts = options_from_js(options)?;
+    let part =
+        crate::cmm::read_and_match(bytes, name, &opts).map_err(|e| JsError::new(&e.to_string()))?;
+    super::to_js(&part)
+}

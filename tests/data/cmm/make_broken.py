@@ -95,4 +95,15 @@ q[0] = H + ",comment"
 q[7] = lines[7] + ',"probe slipped'
 q[9] = lines[9] + ',see above"'
 write("unbalanced_quote.csv", body(q))
+far = list(lines)
+f = far[29].split(",")
+f[2] = repr(float(f[2]) + 3.0)
+far[29] = ",".join(f)
+write("point_far_from_surface.csv", body(far))
+far = list(lines)
+f = far[44].split(",")
+for c in (2, 3, 4):
+    f[c] = repr(float(f[c]) / 25.4)
+far[44] = ",".join(f)
+write("point_in_inches.csv", body(far))
 print("wrote", len(list(OUT.iterdir())), "files to", OUT)
