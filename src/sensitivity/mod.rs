@@ -16,6 +16,7 @@
 
 pub mod defect;
 pub mod path;
+pub mod reversal;
 
 pub use defect::{
     defect, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions,
