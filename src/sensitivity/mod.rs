@@ -14,7 +14,9 @@
 //! Sign: defect = displacement · N, **+ = material left, − = overcut**. Units: mm; sensitivities
 //! in mm per rad (mm per mm for position errors such as `EX0B`).
 
+pub mod cone_frustum;
 pub mod defect;
+pub mod frenet;
 pub mod path;
 pub mod reversal;
 
