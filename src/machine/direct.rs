@@ -282,6 +282,19 @@ pub fn tool_point(
     })
 }
 
+/// Paper 004 eq. S3: tool-point deviation `ΔP = p(ξ) − p(0)` (mm) and tool-direction deviation
+/// `ΔV = w(ξ) − w(0)` of the exact model at pose `q`, for the tool point `h` above the tip.
+pub fn deviation(
+    chain: &Chain,
+    q: &AxisValues,
+    h: f64,
+    errors: &MachineErrors,
+) -> Result<(Vector3<f64>, Vector3<f64>), MachineError> {
+    let real = tool_point(chain, q, h, errors)?;
+    let ideal = nominal(chain, q, h);
+    Ok((real.point - ideal.point, real.direction - ideal.direction))
+}
+
 fn derivative_factor(
     chain: &Chain,
     q: &AxisValues,

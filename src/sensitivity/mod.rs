@@ -21,7 +21,8 @@ pub mod path;
 pub mod reversal;
 
 pub use defect::{
-    defect, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions,
+    defect, defect_xi, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix,
+    SensitivityOptions,
 };
 pub use path::{machine_path, PATH_GRID};
 
