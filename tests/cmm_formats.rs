@@ -305,3 +305,27 @@ fn ids_repeating_per_curve_are_not_duplicates() {
         "{err}"
     );
 }
+
+#[test]
+fn powerinspect_with_numeric_names() {
+    let text: String = naive(CLEAN)
+        .iter()
+        .map(|r| {
+            format!(
+                "{} {} {} {} {} {} {} {} -0.05 0.05\n",
+                r.id,
+                r.nominal[0],
+                r.nominal[1],
+                r.nominal[2],
+                r.normal[0],
+                r.normal[1],
+                r.normal[2],
+                r.deviation
+            )
+        })
+        .collect();
+    let f = read_cmm(text.as_bytes(), "pi.txt").unwrap();
+    assert_eq!(f.format.kind, FormatKind::PowerInspect);
+    assert_eq!(f.points.len(), 100);
+    assert_eq!(f.points[99].id, "100");
+}
