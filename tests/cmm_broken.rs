@@ -146,7 +146,11 @@ const CASES: &[(&str, &[&str], Option<usize>)] = &[
     ),
     (
         "duplicate_ids.csv",
-        &["duplicate id", "found '5'", "already used on line 6"],
+        &[
+            "duplicate id",
+            "found '5'",
+            "'5' in curve 'A_Z11' is already used on line 6",
+        ],
         Some(12),
     ),
     (
@@ -168,6 +172,7 @@ const CASES: &[(&str, &[&str], Option<usize>)] = &[
             "12.3.4",
             "line 66",
             "duplicate id",
+            "'60' in curve 'B_Z11' is already used on line 61",
             "line 80",
             "truncated",
         ],

@@ -267,3 +267,65 @@ fn explicit_unit_option_skips_inch_guess() {
         assert!((p.deviation.unwrap() - t.deviation).abs() < 1e-12);
     }
 }
+
+#[test]
+fn ids_repeating_per_curve_are_not_duplicates() {
+    // Ids 1-25 on each curve: (curve, id) identifies a point.
+    let mut text = String::from("id,curve,x,y,z,nx,ny,nz,deviation\n");
+    for (k, r) in naive(CLEAN).iter().enumerate() {
+        text.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{}\n",
+            k % 25 + 1,
+            r.curve,
+            r.nominal[0],
+            r.nominal[1],
+            r.nominal[2],
+            r.normal[0],
+            r.normal[1],
+            r.normal[2],
+            r.deviation
+        ));
+    }
+    let f = read_cmm(text.as_bytes(), "per_curve.csv").unwrap();
+    assert_eq!(f.points.len(), 100);
+    // Without the curve column they are duplicates.
+    let no_curve: String = text
+        .lines()
+        .map(|l| {
+            let mut v: Vec<&str> = l.split(',').collect();
+            v.remove(1);
+            v.join(",") + "\n"
+        })
+        .collect();
+    let err = read_cmm(no_curve.as_bytes(), "ids.csv").unwrap_err();
+    assert_eq!(err.row_problems().len(), 75);
+    assert!(
+        err.to_string()
+            .contains("line 27, column 1 'id': duplicate id: found '1'"),
+        "{err}"
+    );
+}
+
+#[test]
+fn powerinspect_with_numeric_names() {
+    let text: String = naive(CLEAN)
+        .iter()
+        .map(|r| {
+            format!(
+                "{} {} {} {} {} {} {} {} -0.05 0.05\n",
+                r.id,
+                r.nominal[0],
+                r.nominal[1],
+                r.nominal[2],
+                r.normal[0],
+                r.normal[1],
+                r.normal[2],
+                r.deviation
+            )
+        })
+        .collect();
+    let f = read_cmm(text.as_bytes(), "pi.txt").unwrap();
+    assert_eq!(f.format.kind, FormatKind::PowerInspect);
+    assert_eq!(f.points.len(), 100);
+    assert_eq!(f.points[99].id, "100");
+}

@@ -109,3 +109,33 @@ fn minimal_sets_are_independent_on_tool_pose() {
         assert_eq!(rank(&m), params.len(), "{}", chain.code());
     }
 }
+
+#[test]
+fn rigid_nominal_equals_error_model_at_zero() {
+    // `nominal` (plain rigid motions) and `tool_point` with no errors (eq. 12, 4×4) agree.
+    use testpiece::machine::direct::tool_point;
+    let chains = [
+        Chain::paper000(L0),
+        Chain::paper001(200.0, 120.0),
+        Chain::paper002()
+            .with_offset(
+                testpiece::machine::AxisName::B,
+                Vector3::new(0.033, 0.033, -139.192),
+            )
+            .unwrap()
+            .with_tool_offset(Vector3::new(0.0, 0.0, -120.0)),
+    ];
+    for c in chains {
+        let q = AxisValues {
+            x: 12.0,
+            y: -7.0,
+            z: 250.0,
+            a: 0.3,
+            b: -0.4,
+            c: 2.2,
+        };
+        let a = nominal(&c, &q, 16.0);
+        let b = tool_point(&c, &q, 16.0, &MachineErrors::none()).unwrap();
+        assert!((a.point - b.point).norm() < 1e-12 && (a.direction - b.direction).norm() < 1e-15);
+    }
+}

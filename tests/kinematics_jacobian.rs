@@ -166,3 +166,34 @@ fn paper002_error_motions_are_eq1() {
     // second-order terms: |ε|²·|p| ≈ 1e-9·150
     assert!((got - want).norm() < 1e-6, "{got} vs {want}");
 }
+
+#[test]
+fn tool_direction_deviation_is_eq_s3_and_first_order_in_the_jacobian() {
+    // Paper 004 eq. S3: ΔV = w(ξ) − w(0). Tilts of the B axis line (EA0B, EC0B) tilt the tool;
+    // position errors (EX0B) and a pure positioning error of X (EXX) leave it unchanged.
+    use testpiece::machine::direct::deviation;
+    let chain = Chain::paper000(L0);
+    let q = AxisValues::xyzbc(10.0, -20.0, 480.0, 0.3, 0.8);
+    let tilt = MachineErrors::none().with(ErrorParam::parse("EA0B").unwrap(), 2e-4);
+    let (dp, dv) = deviation(&chain, &q, 0.0, &tilt).unwrap();
+    let (jp, jd) = jacobian(
+        &chain,
+        &q,
+        0.0,
+        &MachineErrors::none(),
+        &[ErrorParam::parse("EA0B").unwrap()],
+    )
+    .unwrap();
+    // Second-order remainder: |ξ|² = 4e-8.
+    assert!(
+        (dv - jd.column(0) * 2e-4).norm() < 1e-7 && dv.norm() > 1e-4,
+        "{dv}"
+    );
+    // Position: |ξ|²·L0 = 2e-5 mm.
+    assert!((dp - jp.column(0) * 2e-4).norm() < 5e-5);
+    for p in ["EX0B", "EXX"] {
+        let e = MachineErrors::none().with(ErrorParam::parse(p).unwrap(), 0.01);
+        let (_, dv) = deviation(&chain, &q, 0.0, &e).unwrap();
+        assert!(dv.norm() < 1e-15, "{p}: {dv}");
+    }
+}

@@ -93,3 +93,41 @@ fn cli_forward_reproduces_peer_tips() {
     assert_eq!(n, 2068);
     assert!(worst <= KINEMATICS_MM, "max distance {worst:e} mm");
 }
+
+#[test]
+fn cli_forward_reports_bad_input_with_the_offending_values() {
+    let run = |machine: &str, stdin: &str| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_testpiece"))
+            .args(["forward", "--machine", machine])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(stdin.as_bytes())
+            .unwrap();
+        let out = child.wait_with_output().unwrap();
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stderr).to_string(),
+        )
+    };
+    let m = path("peer_bc_table.json");
+    let (ok, err) = run(&m, "X,Y,Z,B\n1,2,3,4\n");
+    assert!(!ok && err.contains("no column `C`"), "{err}");
+    let (ok, err) = run(&m, "X,Y,Z,B,C\n1,2,x3,4,5\n");
+    assert!(!ok && err.contains("Z = `x3`"), "{err}");
+    let dir = std::env::temp_dir().join(format!("tp_forward_{}.json", std::process::id()));
+    std::fs::write(
+        &dir,
+        r#"{"code": "w C' B' b X Y Z t", "tool_ofset": [0, 0, 1]}"#,
+    )
+    .unwrap();
+    let (ok, err) = run(dir.to_str().unwrap(), "X,Y,Z,B,C\n0,0,0,0,0\n");
+    std::fs::remove_file(&dir).ok();
+    assert!(!ok && err.contains("tool_ofset"), "{err}");
+}

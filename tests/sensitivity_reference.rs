@@ -135,3 +135,32 @@ fn table4_linear_and_exact() {
     // 1e-6 of the 0.2 mm range.
     assert!(wl < 2e-7 && we < 2e-7, "linear {wl:e}, exact {we:e}");
 }
+
+#[test]
+fn exact_and_linear_defect_agree_to_first_order_in_both_modes() {
+    // s-shape.md: exact eq. 12 and its linearisation differ by < 0.1 µm at |ξ| = 3e-4 rad,
+    // EX0B = 0.03 mm (the second-order terms, |ξ|²·L0 ≈ 5e-5 mm at most).
+    let part = SShape::iso();
+    let pts = builtin_points(&part);
+    let xi = [3e-4, -3e-4, 2e-4, -1e-4, 3e-4, 0.03, -3e-4, 2.5e-4];
+    for mode in [Mode::Physical, Mode::Paper] {
+        let opts = SensitivityOptions::default().with_mode(mode);
+        let exact = testpiece::sensitivity::defect_xi(&part, &pts, &xi, &opts).unwrap();
+        let m = sensitivity_matrix(&part, &pts, &opts).unwrap();
+        let lin = &m.values * nalgebra::DVector::from_row_slice(&xi);
+        let worst = exact
+            .iter()
+            .zip(lin.iter())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0f64, f64::max);
+        eprintln!("{mode:?}: max |exact - linear| = {worst:e} mm");
+        assert!(worst < 1e-4, "{mode:?}: {worst:e}");
+    }
+    assert!(testpiece::sensitivity::defect_xi(
+        &part,
+        &pts,
+        &xi[..3],
+        &SensitivityOptions::default()
+    )
+    .is_err());
+}

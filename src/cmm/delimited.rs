@@ -94,14 +94,15 @@ pub fn split_all(data: &[(usize, &str)], sep: Separator) -> Vec<Record> {
             .collect();
     };
     let joined = data.iter().map(|(_, t)| *t).collect::<Vec<_>>().join("\n");
+    // No csv-level trimming (it copies every record); fields are trimmed when made Strings.
     let mut reader = csv::ReaderBuilder::new()
         .delimiter(b)
         .has_headers(false)
         .flexible(true)
-        .trim(csv::Trim::All)
         .from_reader(joined.as_bytes());
     let mut starts: Vec<(usize, Vec<String>)> = Vec::with_capacity(data.len());
     let mut record = csv::ByteRecord::new();
+    let last = data.len().saturating_sub(1);
     // Reading from a byte slice cannot fail (no I/O, byte records need no UTF-8 check).
     while let Ok(true) = reader.read_byte_record(&mut record) {
         let index = record
@@ -109,21 +110,29 @@ pub fn split_all(data: &[(usize, &str)], sep: Separator) -> Vec<Record> {
             .map_or(starts.len(), |p| (p.line() as usize).saturating_sub(1));
         let fields = record
             .iter()
-            .map(|f| String::from_utf8_lossy(f).into_owned())
+            .map(|f| match std::str::from_utf8(f) {
+                Ok(t) => t.trim().to_string(),
+                Err(_) => String::from_utf8_lossy(f).trim().to_string(),
+            })
             .collect();
-        starts.push((index.min(data.len().saturating_sub(1)), fields));
+        starts.push((index.min(last), fields));
     }
-    let mut out = Vec::with_capacity(starts.len());
-    for (k, (index, fields)) in starts.iter().enumerate() {
-        let end = starts.get(k + 1).map_or(data.len(), |n| n.0);
-        out.push(Record {
-            index: *index,
-            line: data[*index].0,
-            fields: fields.clone(),
+    let ends: Vec<usize> = starts
+        .iter()
+        .skip(1)
+        .map(|s| s.0)
+        .chain(std::iter::once(data.len()))
+        .collect();
+    starts
+        .into_iter()
+        .zip(ends)
+        .map(|((index, fields), end)| Record {
+            index,
+            line: data[index].0,
+            fields,
             spans_to: (end > index + 1).then(|| data[end - 1].0),
-        });
-    }
-    out
+        })
+        .collect()
 }
 
 /// Splits a header row; with runs of spaces a bracketed unit standing alone (`dev (um)`) is

@@ -139,7 +139,7 @@ pub enum CmmError {
         limit_mb: f64,
     },
 
-    #[error("the file has more than {limit} data rows (counted {rows} before stopping), over the limit of {limit} rows")]
+    #[error("the file has more than {limit} data rows ({rows}), over the limit of {limit} rows")]
     TooManyRows { rows: usize, limit: usize },
 
     #[error("line {line}: no recognisable header: found '{found}', expected column names such as id, curve, x, y, z, nx, ny, nz, deviation (or xmeas, ymeas, zmeas), or a PC-DMIS XYZIJK / PowerInspect file{hint}")]

@@ -173,8 +173,9 @@ pub fn xyzijk(content: &[(usize, &str)]) -> Result<ParsedTable, CmmError> {
     })
 }
 
-/// Number of leading name fields if `line` looks like a PowerInspect row (the last 9 fields
-/// numeric, at least one name field before them).
+/// Number of leading name fields if `line` looks like a PowerInspect row: the last 9 fields
+/// numeric after one name field, or after several where the first is not a number (names with
+/// spaces).
 pub fn powerinspect_name_fields(line: &str) -> Option<usize> {
     let fields = split(line, Separator::Spaces);
     if fields.len() < 10 {
@@ -183,8 +184,9 @@ pub fn powerinspect_name_fields(line: &str) -> Option<usize> {
     let numeric = fields[fields.len() - 9..]
         .iter()
         .all(|f| parse_number(f, true).is_ok());
+    // A numeric name is accepted only with exactly one name field (10 fields in all).
     let name_numeric = parse_number(&fields[0], true).is_ok();
-    (numeric && !name_numeric).then_some(fields.len() - 9)
+    (numeric && (!name_numeric || fields.len() == 10)).then_some(fields.len() - 9)
 }
 
 /// Reads a PowerInspect ASCII file whose rows have `name_fields` name tokens.

@@ -91,34 +91,42 @@ fn parse_table(content: &[(usize, &str)]) -> Result<ParsedTable, CmmError> {
     })
 }
 
-/// Moves rows whose id was used before into problems.
+/// Moves rows whose id was used before into problems. With a curve column the identity of a
+/// point is (curve, id): exports that number the points of each curve from 1 are accepted.
 fn duplicates(points: &mut Vec<CmmPoint>, table: &ParsedTable) -> Vec<RowProblem> {
     let Some(k) = table.layout.id else {
         return Vec::new();
     };
     let col = &table.layout.columns[k];
-    let mut first: HashMap<String, usize> = HashMap::with_capacity(points.len());
+    let mut first: HashMap<(Option<String>, String), usize> = HashMap::with_capacity(points.len());
     let mut problems = Vec::new();
-    points.retain(|p| match first.get(&p.id) {
-        Some(&line) => {
-            problems.push(RowProblem {
-                line: p.line,
-                column: Some(ColumnRef {
-                    number: col.number,
-                    name: col.header.clone(),
-                }),
-                kind: RowProblemKind::DuplicateId,
-                found: p.id.clone(),
-                expected: format!(
-                    "a unique point id ('{}' is already used on line {line})",
-                    p.id
-                ),
-            });
-            false
-        }
-        None => {
-            first.insert(p.id.clone(), p.line);
-            true
+    points.retain(|p| {
+        let key = (p.curve.clone(), p.id.clone());
+        match first.get(&key) {
+            Some(&line) => {
+                let within = match &p.curve {
+                    Some(c) => format!(" in curve '{c}'"),
+                    None => String::new(),
+                };
+                problems.push(RowProblem {
+                    line: p.line,
+                    column: Some(ColumnRef {
+                        number: col.number,
+                        name: col.header.clone(),
+                    }),
+                    kind: RowProblemKind::DuplicateId,
+                    found: p.id.clone(),
+                    expected: format!(
+                        "a unique point id ('{}'{within} is already used on line {line})",
+                        p.id
+                    ),
+                });
+                false
+            }
+            None => {
+                first.insert(key, p.line);
+                true
+            }
         }
     });
     problems

@@ -26,6 +26,22 @@
 //! the tool direction in the workpiece frame are (paper 000 eq. 12)
 //! `p = W⁻¹ · T · (o_tool + h·ẑ, 1)`, `w = W⁻¹ · T · (ẑ, 0)`.
 //! Paper 000: `p = Rz(C)ᵀ([X, Y, Z] + Ry(B)·[0, 0, -L0])`, `w = (sinB cosC, -sinB sinC, cosB)`.
+//!
+//! ```
+//! use testpiece::machine::{AxisValues, Chain};
+//! use testpiece::machine::direct::nominal;
+//! use testpiece::machine::location_errors::minimal_set;
+//! let chain = Chain::paper000(499.889); // = "w C Y' b X Z B t" with the tip 499.889 below B
+//! // B = C = 0: the tip is L0 below the spindle point, the tool vertical.
+//! let p = nominal(&chain, &AxisValues::xyzbc(1.0, 2.0, 499.889, 0.0, 0.0), 0.0);
+//! assert!((p.point - nalgebra::Vector3::new(1.0, 2.0, 0.0)).norm() < 1e-12);
+//! assert_eq!(p.direction, nalgebra::Vector3::z());
+//! // Paper 000 Table 3, derived from the chain:
+//! assert_eq!(
+//!     minimal_set(&chain).names(),
+//!     ["EC0Y", "EA0Z", "EB0Z", "EA0C", "EB0C", "EX0B", "EA0B", "EC0B"]
+//! );
+//! ```
 
 use nalgebra::{Matrix4, Vector3};
 use serde::{Deserialize, Serialize};

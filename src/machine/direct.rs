@@ -14,12 +14,12 @@
 use nalgebra::{Matrix3xX, Matrix4, Vector3, Vector4};
 use serde::{Deserialize, Serialize};
 
-use super::chain::{AxisName, AxisValues, Chain, ChainAxis};
+use super::chain::{AxisKind, AxisName, AxisValues, Chain, ChainAxis};
 use super::error_motion::{motion_name, parse_motion_name, ErrorMotion, MotionComponent};
 use super::location_errors::LocationError;
 use super::transform::{
     affine_inverse, location_matrix, location_matrix_derivative, motion_matrix,
-    motion_matrix_derivative, translation,
+    motion_matrix_derivative, translation, Rigid,
 };
 use super::MachineError;
 
@@ -236,9 +236,29 @@ fn tool_vectors(chain: &Chain, h: f64) -> (Vector4<f64>, Vector4<f64>) {
 }
 
 /// Nominal direct kinematics (no errors): tool point `h` above the tip and tool direction.
+/// Evaluated on rigid motions directly (the same chain as [`tool_point`] with all errors 0).
 pub fn nominal(chain: &Chain, q: &AxisValues, h: f64) -> ToolPoint {
-    // Without errors every factor is a rigid motion: the inverse exists.
-    tool_point(chain, q, h, &MachineErrors::none()).expect("rigid motions are invertible")
+    let side = |axes: &[ChainAxis]| {
+        axes.iter().fold(Rigid::IDENTITY, |acc, a| {
+            let v = q.get(a.name);
+            let m = match a.name.kind() {
+                AxisKind::Linear => {
+                    let mut d = Vector3::zeros();
+                    d[a.name.direction()] = a.sign * v;
+                    Rigid::translation(&d)
+                }
+                AxisKind::Rotary => Rigid::rotation(a.name.direction(), a.sign * v),
+            };
+            acc.then(&Rigid::translation(&a.offset)).then(&m)
+        })
+    };
+    let w = side(chain.workpiece_axes()).inverse();
+    let t = side(chain.tool_axes());
+    let o = chain.tool_offset();
+    ToolPoint {
+        point: w.point(&t.point(&Vector3::new(o.x, o.y, o.z + h))),
+        direction: w.vector(&t.vector(&Vector3::z())),
+    }
 }
 
 /// Exact direct kinematics with errors (eq. 12): tool point `h` above the tip (mm) and tool
@@ -260,6 +280,19 @@ pub fn tool_point(
         point: p.xyz(),
         direction: d.xyz(),
     })
+}
+
+/// Paper 004 eq. S3: tool-point deviation `ΔP = p(ξ) − p(0)` (mm) and tool-direction deviation
+/// `ΔV = w(ξ) − w(0)` of the exact model at pose `q`, for the tool point `h` above the tip.
+pub fn deviation(
+    chain: &Chain,
+    q: &AxisValues,
+    h: f64,
+    errors: &MachineErrors,
+) -> Result<(Vector3<f64>, Vector3<f64>), MachineError> {
+    let real = tool_point(chain, q, h, errors)?;
+    let ideal = nominal(chain, q, h);
+    Ok((real.point - ideal.point, real.direction - ideal.direction))
 }
 
 fn derivative_factor(
@@ -315,9 +348,41 @@ pub fn jacobian(
 ) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
     errors.validate(chain)?;
     let f = factors(chain, q, errors);
+    let (vp, _) = tool_vectors(chain, h);
+    jacobian_of(chain, q, errors, params, &f, vp)
+}
+
+/// Jacobian of the displacement of the **tool-body point** that sits at `x` (workpiece frame, mm)
+/// at pose `q` with `errors` (e.g. the contact point of a flank-milled wall, off the tool axis):
+/// `∂x/∂θ_k` (3 × n) and the tool-direction columns `∂w/∂θ_k` (3 × n).
+pub fn jacobian_body_point(
+    chain: &Chain,
+    q: &AxisValues,
+    x: &Vector3<f64>,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
+    errors.validate(chain)?;
+    let f = factors(chain, q, errors);
+    let t = product(&f.t);
+    let ti = affine_inverse(&t).ok_or_else(|| MachineError::SingularErrorMatrix {
+        det: t.fixed_view::<3, 3>(0, 0).determinant(),
+    })?;
+    let vp = ti * product(&f.w) * Vector4::new(x.x, x.y, x.z, 1.0);
+    jacobian_of(chain, q, errors, params, &f, vp)
+}
+
+fn jacobian_of(
+    chain: &Chain,
+    q: &AxisValues,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+    f: &Factors,
+    vp: Vector4<f64>,
+) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
     let wi = inverse_product(&f.w)?;
     let t = product(&f.t);
-    let (vp, vd) = tool_vectors(chain, h);
+    let vd = Vector4::new(0.0, 0.0, 1.0, 0.0);
     let tp = t * vp;
     let td = t * vd;
     let mut jp = Matrix3xX::zeros(params.len());

@@ -304,12 +304,12 @@ where
     g.sort_by(f64::total_cmp);
     g.dedup();
     let sing = |u: f64| pair.solutions(&pose_at(u).1).1 == 0.0;
-    let solved: Vec<([(f64, f64); 2], bool)> = g
+    let poses: Vec<(Vector3<f64>, Vector3<f64>)> = g.iter().map(|&u| pose_at(u)).collect();
+    let solved: Vec<([(f64, f64); 2], bool)> = poses
         .iter()
-        .map(|&u| {
-            let w = pose_at(u).1;
-            check_direction(&w)?;
-            let (s, perp) = pair.solutions(&w);
+        .map(|(_, w)| {
+            check_direction(w)?;
+            let (s, perp) = pair.solutions(w);
             Ok((s, perp == 0.0))
         })
         .collect::<Result<_, MachineError>>()?;
@@ -375,7 +375,7 @@ where
             let j = g
                 .binary_search_by(|x| x.total_cmp(&u))
                 .map_err(|_| MachineError::Path(format!("u = {u} lost from the grid")))?;
-            let (tip, w) = pose_at(u);
+            let (tip, w) = poses[j];
             let (o, i) = if solved[j].1 {
                 (outer[j], pair.inner_at(&w, outer[j]))
             } else {

@@ -164,3 +164,71 @@ mod tests {
         assert!(p.norm() < 1e-14, "{p}");
     }
 }
+
+/// A rigid motion `x ↦ R·x + t` on plain arrays: the nominal chain evaluated without the 4×4
+/// machinery (fast also in unoptimised builds; the inverse kinematics calls it per path sample).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Rigid {
+    r: [[f64; 3]; 3],
+    t: [f64; 3],
+}
+
+impl Rigid {
+    pub(crate) const IDENTITY: Rigid = Rigid {
+        r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        t: [0.0; 3],
+    };
+    pub(crate) fn translation(v: &Vector3<f64>) -> Self {
+        Rigid {
+            t: [v.x, v.y, v.z],
+            ..Self::IDENTITY
+        }
+    }
+    /// Same convention as [`rotation3`].
+    pub(crate) fn rotation(k: usize, angle: f64) -> Self {
+        let (s, c) = angle.sin_cos();
+        let r = match k {
+            0 => [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]],
+            1 => [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]],
+            _ => [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]],
+        };
+        Rigid { r, t: [0.0; 3] }
+    }
+    /// `self ∘ o` (apply `o` first).
+    pub(crate) fn then(&self, o: &Rigid) -> Rigid {
+        let col = |j: usize| [o.r[0][j], o.r[1][j], o.r[2][j]];
+        let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let row = |i: usize| {
+            let a = &self.r[i];
+            [dot(a, &col(0)), dot(a, &col(1)), dot(a, &col(2))]
+        };
+        let tr = |i: usize| dot(&self.r[i], &o.t) + self.t[i];
+        Rigid {
+            r: [row(0), row(1), row(2)],
+            t: [tr(0), tr(1), tr(2)],
+        }
+    }
+    pub(crate) fn inverse(&self) -> Rigid {
+        let m = &self.r;
+        let r = [
+            [m[0][0], m[1][0], m[2][0]],
+            [m[0][1], m[1][1], m[2][1]],
+            [m[0][2], m[1][2], m[2][2]],
+        ];
+        let t = |i: usize| -(r[i][0] * self.t[0] + r[i][1] * self.t[1] + r[i][2] * self.t[2]);
+        Rigid {
+            r,
+            t: [t(0), t(1), t(2)],
+        }
+    }
+    pub(crate) fn point(&self, v: &Vector3<f64>) -> Vector3<f64> {
+        let p = [v.x, v.y, v.z];
+        let f = |i: usize| (0..3).map(|k| self.r[i][k] * p[k]).sum::<f64>() + self.t[i];
+        Vector3::new(f(0), f(1), f(2))
+    }
+    pub(crate) fn vector(&self, v: &Vector3<f64>) -> Vector3<f64> {
+        let p = [v.x, v.y, v.z];
+        let f = |i: usize| (0..3).map(|k| self.r[i][k] * p[k]).sum::<f64>();
+        Vector3::new(f(0), f(1), f(2))
+    }
+}

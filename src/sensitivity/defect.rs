@@ -237,3 +237,22 @@ pub fn linear_defect(
         .copied()
         .collect())
 }
+
+/// [`defect`] for a vector `xi` of the minimal-set errors of `opts.chain`, in the order of
+/// [`SensitivityOptions::params`] (paper 000: EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B, EA0B, EC0B;
+/// rad, EX0B in mm). Exact eq. 12.
+pub fn defect_xi(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    xi: &[f64],
+    opts: &SensitivityOptions,
+) -> Result<Vec<f64>, SensitivityError> {
+    let params = opts.params();
+    if xi.len() != params.len() {
+        return Err(SensitivityError::ErrorCount {
+            values: xi.len(),
+            params: params.len(),
+        });
+    }
+    defect(part, points, &MachineErrors::from_pairs(&params, xi), opts)
+}

@@ -14,11 +14,15 @@
 //! Sign: defect = displacement · N, **+ = material left, − = overcut**. Units: mm; sensitivities
 //! in mm per rad (mm per mm for position errors such as `EX0B`).
 
+pub mod cone_frustum;
 pub mod defect;
+pub mod frenet;
 pub mod path;
+pub mod reversal;
 
 pub use defect::{
-    defect, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions,
+    defect, defect_xi, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix,
+    SensitivityOptions,
 };
 pub use path::{machine_path, PATH_GRID};
 

@@ -81,7 +81,7 @@ write("misaligned.csv", body(shifted))
 write("zero_normal.csv", body(edit(15, 5, "0", edit(15, 6, "0", edit(15, 7, "0")))))
 write("duplicate_column.csv", body([H.replace("deviation", "X nom")] + lines[1:]))
 write("single_implausible_deviation.csv", body(edit(25, 8, "5.250000")))
-many = edit(33, 3, "12.3.4", edit(66, 0, "2"))
+many = edit(33, 3, "12.3.4", edit(66, 0, "60"))
 many = many[:79] + [",".join(many[79].split(",")[:6])] + many[80:]
 write("several_bad_rows.csv", body(many))
 pi = [" ".join(["P" + f[0]] + f[2:] + ["-0.05", "0.05"]) for f in (l.split(",") for l in lines[1:])]
