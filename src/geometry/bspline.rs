@@ -62,7 +62,10 @@ impl BSplineCurve {
                 expected: points.len() + degree + 1,
             });
         }
-        if let Some(i) = knots.windows(2).position(|w| w[1].partial_cmp(&w[0]).is_none_or(|o| o.is_lt())) {
+        if let Some(i) = knots
+            .windows(2)
+            .position(|w| w[1].partial_cmp(&w[0]).is_none_or(|o| o.is_lt()))
+        {
             return Err(GeometryError::KnotsNotIncreasing {
                 index: i + 1,
                 previous: knots[i],

@@ -70,7 +70,7 @@ impl Combination {
 #[serde(rename_all = "snake_case")]
 pub enum GroupKind {
     /// The design cannot separate these parameters (null space or condition index ≥ limit); the
-    /// solution is the minimum-norm one along the unresolved directions.
+    /// unresolved combination is fixed at 0 in the scaled space (minimum norm within the group).
     NotSeparable,
     /// Estimated, but the noise leaves a std above the weak limit along these directions.
     Weak,
@@ -296,14 +296,14 @@ pub fn not_separable_groups(
             .collect();
         let explanation = if estimable.is_empty() {
             format!(
-                "the data do not determine {} at all; the minimum-norm solution sets {} to 0",
+                "the data do not determine {} at all; the solution sets {} to 0",
                 pnames.join(", "),
                 unresolved.join(" and ")
             )
         } else {
             format!(
                 "{} cannot be separated (the data do not determine {}); only {} are identified; \
-                 the solution is the minimum-norm one in the scaled space along the unresolved direction",
+                 the unresolved combination is set to 0 in the scaled space (minimum norm within the group)",
                 pnames.join(", "),
                 unresolved.join(" and "),
                 estimable.iter().map(|e| e.combination.text.clone()).collect::<Vec<_>>().join(", ")

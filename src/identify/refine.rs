@@ -9,9 +9,9 @@
 //! by < 0.1 µm at the magnitudes of real machines, against σ ≈ 1.5 µm, so LM normally is skipped
 //! and the report says so.
 //!
-//! LM works in the kept directions only: `x = x̂ + D⁻¹ V_kept z`, so the directions the part cannot
-//! separate stay at their minimum-norm values instead of drifting. Residual
-//! `r(z) = W^½ (f(x(z)) - y)` over the used points; Jacobian `W^½ (∂f/∂x) D⁻¹ V_kept`.
+//! LM works in the solved subspace only: `x = x̂ + K z` with `K = D⁻¹ N V'` ([`Factored::kept_basis`]),
+//! so the combinations the part cannot separate stay fixed as in the linear solution instead of
+//! drifting. Residual `r(z) = W^½ (f(x(z)) - y)` over the used points; Jacobian `W^½ (∂f/∂x) K`.
 
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
