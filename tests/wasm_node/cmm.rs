@@ -1,0 +1,1 @@
+//! wasm exports of the `cmm` stage, run under Node.

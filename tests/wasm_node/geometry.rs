@@ -1,0 +1,1 @@
+//! wasm exports of the `geometry` stage, run under Node.

@@ -1,0 +1,1 @@
+//! wasm exports of the `identify` stage, run under Node.

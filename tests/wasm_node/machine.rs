@@ -1,0 +1,1 @@
+//! wasm exports of the `machine` stage, run under Node.

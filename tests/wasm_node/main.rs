@@ -1,0 +1,9 @@
+//! Tests of the core compiled to wasm and run under Node: `wasm-pack test --node -- --test wasm_node`.
+//! One file per stage; each asserts the exported calls give the core's numbers.
+#![cfg(target_arch = "wasm32")]
+
+mod cmm;
+mod geometry;
+mod identify;
+mod machine;
+mod summary;
