@@ -302,7 +302,7 @@ pub fn not_separable_groups(
             )
         } else {
             format!(
-                "{} cannot be separated (the data do not determine {}); only {} are identified; \
+                "{} cannot be separated: the data do not determine {}, they determine only {}; \
                  the unresolved combination is set to 0 in the scaled space (minimum norm within the group)",
                 pnames.join(", "),
                 unresolved.join(" and "),
