@@ -1,9 +1,13 @@
 //! Curves and surfaces of the test pieces (paper 000 §2): B-splines, ruled surfaces, frames,
 //! closest-point projection. Units: mm; parameters unitless.
 
+pub mod arc_length;
 pub mod bspline;
+pub mod projection;
 
+pub use arc_length::ArcLength;
 pub use bspline::{BSplineCurve, CurveDerivs};
+pub use projection::{project, project_on, Projection};
 
 /// Failures of geometric construction and evaluation, with the offending values.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -24,4 +28,17 @@ pub enum GeometryError {
     BadWeight { index: usize, value: f64 },
     #[error("the two curves have different degrees or knot vectors")]
     IncompatibleCurves,
+    #[error("arc length {length} mm is outside the curve's length 0..{total} mm")]
+    ArcLengthOutOfRange { length: f64, total: f64 },
+    #[error("unknown measurement curve `{name}` (expected A_Z11, A_Z25, B_Z11 or B_Z25)")]
+    UnknownCurve { name: String },
+    #[error("point ({x}, {y}, {z}) has a coordinate that is not a finite number")]
+    NonFinitePoint { x: f64, y: f64, z: f64 },
+    #[error("closest-point projection of ({x}, {y}, {z}) onto surface {surface} did not converge")]
+    ProjectionDidNotConverge {
+        x: f64,
+        y: f64,
+        z: f64,
+        surface: &'static str,
+    },
 }

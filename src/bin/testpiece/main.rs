@@ -22,6 +22,8 @@ Usage: testpiece <command> [options]
 
 Commands:
   info        lengths of the four measurement curves of the built-in S-shape (mm)
+  points      the 100 built-in measurement points: id,curve,u,v,x,y,z,nx,ny,nz,h
+  envelope    flank-path deviation at the points (id,curve,deviation); --surface-max per surface
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
 Options for all: --version prints the version.

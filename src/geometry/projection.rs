@@ -1,0 +1,221 @@
+//! Closest-point projection of a 3-D point onto the nominal S-shape surfaces.
+//!
+//! For one surface, minimise `f(u,v) = ½|S(u,v) - p|²` (eq. 1 surface) with `u ∈ [0, 1]` and `v`
+//! free (the ruled surface extends linearly past Z 0..30, so a point measured slightly above or
+//! below the part still projects orthogonally):
+//!
+//! 1. start: the best of 401 rulings, each with its own closest `v = (p - C0)·D/|D|²`;
+//! 2. Newton on `∇f = [(S-p)·S_u, (S-p)·S_v]` with the Hessian
+//!    `[[S_u·S_u + (S-p)·S_uu, S_u·S_v + (S-p)·D'], [·, S_v·S_v]]` (`S_vv = 0`, `S_uv = D'`),
+//!    falling back to the Gauss–Newton matrix when that is not positive definite, with step
+//!    halving on `f`; when `u` reaches 0 or 1 it is clamped there and only `v` is solved.
+//!
+//! Over both surfaces the one with the smaller `|p - foot|` wins. The result is the foot point,
+//! its `(u, v)`, the outward normal `N(u,v)` there and the signed distance `(p - foot)·N` (mm):
+//! **positive = outside the material** (same sign as a deviation, s-shape.md). At an interior
+//! foot `p - foot ∥ N`; at a clamped end it is not, and `clamped` says so.
+
+use nalgebra::{Matrix2, Vector2, Vector3};
+use serde::Serialize;
+
+use super::GeometryError;
+use crate::part::{SShape, Surface};
+
+/// Result of a closest-point projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Projection {
+    pub surface: Surface,
+    /// surface parameters of the foot point (`u ∈ [0,1]`, `v = z/30` for the nominal part)
+    pub u: f64,
+    pub v: f64,
+    /// closest point on the surface (mm)
+    pub foot: Vector3<f64>,
+    /// outward unit normal `N(u,v)` at the foot
+    pub normal: Vector3<f64>,
+    /// `(p - foot)·N` (mm): + outside the material, - inside
+    pub distance: f64,
+    /// true when the foot is on the end `u = 0` or `u = 1` (then `p - foot` need not be ∥ `N`)
+    pub clamped: bool,
+}
+
+/// Flat serde form: `{surface, u, v, x, y, z, nx, ny, nz, distance, clamped}`.
+impl Serialize for Projection {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut st = s.serialize_struct("Projection", 11)?;
+        st.serialize_field("surface", &self.surface)?;
+        st.serialize_field("u", &self.u)?;
+        st.serialize_field("v", &self.v)?;
+        st.serialize_field("x", &self.foot.x)?;
+        st.serialize_field("y", &self.foot.y)?;
+        st.serialize_field("z", &self.foot.z)?;
+        st.serialize_field("nx", &self.normal.x)?;
+        st.serialize_field("ny", &self.normal.y)?;
+        st.serialize_field("nz", &self.normal.z)?;
+        st.serialize_field("distance", &self.distance)?;
+        st.serialize_field("clamped", &self.clamped)?;
+        st.end()
+    }
+}
+
+const START_SAMPLES: usize = 400;
+const MAX_ITER: usize = 100;
+
+/// Projects `p` (mm) onto the nearer of the two surfaces.
+pub fn project(part: &SShape, p: &Vector3<f64>) -> Result<Projection, GeometryError> {
+    let a = project_on(part, Surface::A, p)?;
+    let b = project_on(part, Surface::B, p)?;
+    let da = (p - a.foot).norm();
+    let db = (p - b.foot).norm();
+    Ok(if da <= db { a } else { b })
+}
+
+/// Projects `p` (mm) onto surface `s`.
+pub fn project_on(
+    part: &SShape,
+    s: Surface,
+    p: &Vector3<f64>,
+) -> Result<Projection, GeometryError> {
+    if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+        return Err(GeometryError::NonFinitePoint {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        });
+    }
+    // 1. start on the best ruling
+    let ruling_fit = |u: f64| {
+        let sec = part.section_at(s, u);
+        let d = sec.d.point;
+        let v = (p - sec.c0.point).dot(&d) / d.norm_squared();
+        let q = sec.c0.point + d * v;
+        ((q - p).norm_squared(), v)
+    };
+    let (mut u, mut v, mut best) = (0.0, 0.0, f64::INFINITY);
+    for i in 0..=START_SAMPLES {
+        let ui = i as f64 / START_SAMPLES as f64;
+        let (f, vi) = ruling_fit(ui);
+        if f < best {
+            (u, v, best) = (ui, vi, f);
+        }
+    }
+    // 2. safeguarded Newton
+    let objective = |u: f64, v: f64| 0.5 * (part.point_at(s, u, v) - p).norm_squared();
+    let mut converged = false;
+    for _ in 0..MAX_ITER {
+        let f = part.frame_derivs_at(s, u, v);
+        let r = f.frame.point - p;
+        let d1 = part.section_at(s, u).d.d1;
+        let g = Vector2::new(r.dot(&f.s_u), r.dot(&f.s_v));
+        let at_lo = u <= 0.0 && g[0] > 0.0;
+        let at_hi = u >= 1.0 && g[0] < 0.0;
+        let gn = Matrix2::new(
+            f.s_u.dot(&f.s_u),
+            f.s_u.dot(&f.s_v),
+            f.s_u.dot(&f.s_v),
+            f.s_v.dot(&f.s_v),
+        );
+        let full = gn + Matrix2::new(r.dot(&f.s_uu), r.dot(&d1), r.dot(&d1), 0.0);
+        let step = if at_lo || at_hi {
+            // u held on the end: minimise in v only
+            Vector2::new(0.0, -g[1] / gn[(1, 1)])
+        } else {
+            let pd = full[(0, 0)] > 0.0 && full.determinant() > 0.0;
+            let h = if pd { full } else { gn };
+            match h.lu().solve(&(-g)) {
+                Some(st) => st,
+                None => Vector2::new(-g[0] / gn[(0, 0)], -g[1] / gn[(1, 1)]),
+            }
+        };
+        // Step halving on f for large steps only: near the foot f changes by less than its
+        // rounding, and the full Newton step is what converges there.
+        let size = (step[0] * f.s_u.norm()).abs() + (step[1] * f.s_v.norm()).abs();
+        let f0 = objective(u, v);
+        let mut lambda = 1.0;
+        let (mut un, mut vn) = (u, v);
+        for _ in 0..40 {
+            un = (u + lambda * step[0]).clamp(0.0, 1.0);
+            vn = v + lambda * step[1];
+            if size < 1e-4 || objective(un, vn) <= f0 {
+                break;
+            }
+            lambda *= 0.5;
+        }
+        let moved = ((un - u) * f.s_u.norm()).abs() + ((vn - v) * f.s_v.norm()).abs();
+        (u, v) = (un, vn);
+        if moved < 1e-13 {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        return Err(GeometryError::ProjectionDidNotConverge {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+            surface: s.name(),
+        });
+    }
+    let fr = part.frame_at(s, u, v);
+    Ok(Projection {
+        surface: s,
+        u,
+        v,
+        foot: fr.point,
+        normal: fr.n,
+        distance: (p - fr.point).dot(&fr.n),
+        clamped: u <= 0.0 || u >= 1.0,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assert_near;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+        /// A point offset by d along N from S(u,v) projects back to (u,v) with distance d,
+        /// and p - foot is parallel to N.
+        #[test]
+        fn offset_points_project_back(
+            on_a in any::<bool>(), u in 0.002f64..0.998, v in -0.1f64..1.1, d in -2.5f64..2.5
+        ) {
+            let part = SShape::iso();
+            let s = if on_a { Surface::A } else { Surface::B };
+            let f = part.frame_at(s, u, v);
+            let p = f.point + f.n * d;
+            let pr = project(&part, &p).unwrap();
+            prop_assert_eq!(pr.surface, s);
+            prop_assert!((pr.foot - f.point).norm() < 1e-8, "foot off by {}", (pr.foot - f.point).norm());
+            prop_assert!((pr.distance - d).abs() < 1e-9);
+            prop_assert!((p - pr.foot).cross(&pr.normal).norm() < 1e-9, "cross {} foot {} dist {} {}", (p - pr.foot).cross(&pr.normal).norm(), (pr.foot - f.point).norm(), pr.distance, d);
+            prop_assert!((pr.foot - part.point_at(s, pr.u, pr.v)).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn vertical_zone_and_ends() {
+        let part = SShape::iso();
+        // On the vertical zone the surface is a plane strip; N is horizontal.
+        let f = part.frame_at(Surface::B, 0.5, 0.4);
+        assert_near!(f.n.z, 0.0, 1e-15);
+        let pr = project(&part, &(f.point + f.n * 0.3)).unwrap();
+        assert_near!(pr.u, 0.5, 1e-10);
+        assert_near!(pr.distance, 0.3, 1e-12);
+        // Beyond the end u = 1 (along the tangent): clamped to the end ruling.
+        let e = part.frame_at(Surface::A, 1.0, 0.5);
+        let p = e.point + e.t * 2.0 + e.n * 0.1;
+        let pr = project_on(&part, Surface::A, &p).unwrap();
+        assert_eq!(pr.u, 1.0);
+        assert!(pr.clamped);
+        assert_near!(pr.v, 0.5, 0.1);
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let e = project(&SShape::iso(), &Vector3::new(f64::NAN, 0.0, 0.0)).unwrap_err();
+        assert!(e.to_string().contains("NaN"), "{e}");
+    }
+}
