@@ -1,1 +1,39 @@
-//! The sim-to-real gap: candidate unmodelled effects (`shared/spec/effects.md`) and diagnosis.
+//! The sim-to-real gap: after the baseline (location errors, `physical` mode) is fitted to a
+//! measured part, where the residual lies, which unmodelled effect of `shared/spec/effects.md`
+//! causes it, and how far it shrinks when that effect is added.
+//!
+//! The engine works on plain data ([`GapInput`]: deviations, point metadata, a named baseline
+//! design and named candidate signatures), so the same call serves measured files, simulated
+//! parts and the reference vectors. Pipeline of [`diagnose`]:
+//! 1. baseline least squares ([`lsq`]) and its residual;
+//! 2. WHERE ([`location`], [`regions`], [`noise`]): per curve, region, lean, reversal, trends;
+//!    noise σ independent of smooth structure; runs / lag-1 / χ² tests;
+//! 3. WHICH ([`which`], [`folds`]): each candidate added on its own; F-test with Bonferroni, BIC,
+//!    k-fold by curve and by region; equivalences from the unabsorbed spans ([`equivalence`]);
+//! 4. VERDICT ([`verdict`]) by the decision rule of effects.md; HOW FAR per curve;
+//! 5. a serialisable [`DiagnosisReport`] with a plain-language summary ([`report`]).
+//!
+//! Units: mm (deviations, residuals, RMS), parameters in their own units. Sign: deviation =
+//! `(measured − nominal)·N`, + = material left, − = overcut.
+
+pub mod catalog;
+pub mod data;
+pub mod diagnose;
+pub mod equivalence;
+pub mod error;
+pub mod folds;
+pub mod location;
+pub mod lsq;
+pub mod noise;
+pub mod regions;
+pub mod report;
+pub mod smooth_noise;
+pub mod stats;
+pub mod table;
+pub mod verdict;
+pub mod which;
+
+pub use data::{Candidate, GapInput, NamedColumns, PointMeta, Reversal};
+pub use diagnose::{diagnose, diagnose_with, DiagnoseOptions};
+pub use error::GapError;
+pub use report::DiagnosisReport;

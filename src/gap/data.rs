@@ -1,0 +1,204 @@
+//! The plain-data inputs of a diagnosis: deviations, point metadata, the baseline design and the
+//! candidate signatures. Nothing here knows where the numbers came from (CMM file, simulation,
+//! reference vectors), so the engine can be tested with any of them.
+//!
+//! Units: mm for deviations, lengths and heights; parameters in the units of their column
+//! (mm/rad for an angle, mm/mm for a length). Deviation sign (s-shape.md):
+//! `(measured − nominal)·N`, + = material left, − = overcut.
+
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+use super::GapError;
+use crate::part::Surface;
+
+/// Where a measured point lies on the part and on the tool path.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PointMeta {
+    /// Point id as in the file.
+    pub id: u32,
+    /// Curve label: `A_Z11`, `A_Z25`, `B_Z11`, `B_Z25` (any label works: points are grouped by it).
+    pub curve: String,
+    /// Surface machined by the pass that generated the point.
+    pub surface: Surface,
+    /// Curve parameter `u ∈ [0, 1]` of the nominal point (s-shape.md).
+    pub u: f64,
+    /// Contact height: height of the generating tool point above the tool tip (mm).
+    pub h: f64,
+    /// Tool-tip path length from the start of surface A to the point's generating pose (mm).
+    pub s: f64,
+    /// Machining order (0 = first point machined): A before B, increasing `u`.
+    pub order: usize,
+    /// Z component of the outward normal at the point (sign of the wall's lean).
+    pub nz: f64,
+}
+
+/// A matrix with one named column per parameter (`n × p`, one row per point).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedColumns {
+    pub names: Vec<String>,
+    pub matrix: DMatrix<f64>,
+}
+
+impl NamedColumns {
+    /// Checks that there is one name per column and that every entry is finite.
+    pub fn try_new(names: Vec<String>, matrix: DMatrix<f64>) -> Result<Self, GapError> {
+        if names.len() != matrix.ncols() {
+            return Err(GapError::NameMismatch {
+                what: "named columns".into(),
+                count: names.len(),
+                columns: matrix.ncols(),
+            });
+        }
+        for (j, name) in names.iter().enumerate() {
+            for i in 0..matrix.nrows() {
+                let v = matrix[(i, j)];
+                if !v.is_finite() {
+                    return Err(GapError::NotFinite {
+                        what: format!("column `{name}`"),
+                        index: i,
+                        value: v,
+                    });
+                }
+            }
+        }
+        Ok(Self { names, matrix })
+    }
+
+    /// Builds the matrix from columns (each of length `n`).
+    pub fn from_columns(names: Vec<String>, columns: &[Vec<f64>]) -> Result<Self, GapError> {
+        let n = columns.first().map_or(0, Vec::len);
+        for (name, c) in names.iter().zip(columns) {
+            if c.len() != n {
+                return Err(GapError::LengthMismatch {
+                    what: format!("column `{name}`"),
+                    got: c.len(),
+                    expected: n,
+                });
+            }
+        }
+        let matrix = DMatrix::from_fn(n, columns.len(), |i, j| columns[j][i]);
+        Self::try_new(names, matrix)
+    }
+
+    pub fn nrows(&self) -> usize {
+        self.matrix.nrows()
+    }
+    pub fn ncols(&self) -> usize {
+        self.matrix.ncols()
+    }
+
+    /// The rows `rows` (in that order).
+    pub fn select_rows(&self, rows: &[usize]) -> Self {
+        Self {
+            names: self.names.clone(),
+            matrix: self.matrix.select_rows(rows),
+        }
+    }
+}
+
+/// A candidate unmodelled effect: its id (effects.md) and its signature per unit of each
+/// parameter (`n × q`, column names = parameter names, e.g. `dR0`, `g`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    pub id: String,
+    pub signature: NamedColumns,
+}
+
+/// Everything a diagnosis needs, as plain data.
+#[derive(Debug, Clone)]
+pub struct GapInput {
+    /// Measured normal deviations (mm), one per point.
+    pub deviations: Vec<f64>,
+    /// Metadata of the points, same order.
+    pub points: Vec<PointMeta>,
+    /// The baseline design: defect per unit of each baseline parameter (location errors).
+    pub baseline: NamedColumns,
+    /// The candidates tried one at a time on top of the baseline.
+    pub candidates: Vec<Candidate>,
+    /// CMM repeatability (mm, 1σ) when known; otherwise the noise is estimated from the data.
+    pub noise_sigma: Option<f64>,
+    /// Axis reversals along the tool path, when known (for the WHERE part).
+    pub reversals: Vec<Reversal>,
+}
+
+/// An axis reversal along the tool path: the axis and the tool-tip path length where it happens.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Reversal {
+    /// `X`, `Y`, `Z`, `B` or `C`.
+    pub axis: String,
+    /// Tool-tip path length from the start of A (mm).
+    pub s: f64,
+}
+
+impl GapInput {
+    /// Validates lengths, finiteness, the sigma and candidate ids.
+    pub fn validate(&self) -> Result<(), GapError> {
+        let n = self.deviations.len();
+        for (i, &y) in self.deviations.iter().enumerate() {
+            if !y.is_finite() {
+                return Err(GapError::NotFinite {
+                    what: "deviation".into(),
+                    index: i,
+                    value: y,
+                });
+            }
+        }
+        if self.points.len() != n {
+            return Err(GapError::LengthMismatch {
+                what: "point metadata".into(),
+                got: self.points.len(),
+                expected: n,
+            });
+        }
+        for (i, p) in self.points.iter().enumerate() {
+            for (what, v) in [("u", p.u), ("h", p.h), ("s", p.s), ("nz", p.nz)] {
+                if !v.is_finite() {
+                    return Err(GapError::NotFinite {
+                        what: format!("point metadata `{what}`"),
+                        index: i,
+                        value: v,
+                    });
+                }
+            }
+        }
+        if self.baseline.nrows() != n {
+            return Err(GapError::LengthMismatch {
+                what: "baseline design rows".into(),
+                got: self.baseline.nrows(),
+                expected: n,
+            });
+        }
+        let p = self.baseline.ncols();
+        let needed = p + 6;
+        if n < needed {
+            return Err(GapError::TooFewPoints {
+                points: n,
+                parameters: p,
+                needed,
+            });
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        for c in &self.candidates {
+            if !seen.insert(c.id.as_str()) {
+                return Err(GapError::DuplicateCandidate(c.id.clone()));
+            }
+            if c.signature.ncols() == 0 {
+                return Err(GapError::EmptyCandidate(c.id.clone()));
+            }
+            if c.signature.nrows() != n {
+                return Err(GapError::LengthMismatch {
+                    what: format!("signature of `{}`", c.id),
+                    got: c.signature.nrows(),
+                    expected: n,
+                });
+            }
+        }
+        if let Some(s) = self.noise_sigma {
+            if !(s.is_finite() && s > 0.0) {
+                return Err(GapError::BadSigma(s));
+            }
+        }
+        Ok(())
+    }
+}

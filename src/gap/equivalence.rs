@@ -1,0 +1,80 @@
+//! Candidates this part cannot tell apart, found from the signatures themselves.
+//!
+//! Only what the baseline cannot absorb can be seen, so candidates are compared through their
+//! unabsorbed spans `U_c = (I − P) S_c` (orthonormal bases `Q_c`):
+//! - **pairwise**: the cosine of the smallest principal angle between `span U_a` and `span U_b`,
+//!   the largest singular value of `Q_aᵀ Q_b` (for one-parameter candidates, the |cosine| of their
+//!   unabsorbed columns). `a_within_b` is the smallest singular value when `dim a ≤ dim b`: 1 means
+//!   every effect of `a` is also an effect of `b` (`tool_radius` ⊂ `tool_taper`, `c_index` ⊂
+//!   `setup_error`). Pairs at or above [`EQUIVALENT_COS`] are reported as near-equivalent;
+//! - **for a fitted effect** `e`: `cos(U e, span U_b) = ‖Q_bᵀ U e‖ / ‖U e‖`, how well candidate `b`
+//!   reproduces the part of `e` that is visible (the `equivalence_corr` of the examples' keys).
+//!
+//! Threshold: a cosine of 0.98 leaves `√(1 − 0.98²) ≈ 20 %` of the visible effect unexplained by
+//! the other candidate, which stays below the 2.5 σ detection limit unless the effect's visible
+//! part exceeds 12.5 σ: at ordinary magnitudes the two cannot be told apart.
+
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+/// Cosine at or above which two candidates are reported as near-equivalent on this part.
+pub const EQUIVALENT_COS: f64 = 0.98;
+
+/// A pair of candidates that this part can hardly tell apart.
+#[derive(Debug, Clone, Serialize)]
+pub struct Equivalence {
+    pub a: String,
+    pub b: String,
+    /// Cosine of the smallest principal angle between the unabsorbed spans.
+    pub cosine: f64,
+    /// Smallest singular value of `Q_aᵀ Q_b` when `dim a ≤ dim b` (1 = `a` inside `b`).
+    pub a_within_b: Option<f64>,
+}
+
+/// Singular values of `Q_aᵀ Q_b` (cosines of the principal angles), largest first.
+pub fn principal_cosines(qa: &DMatrix<f64>, qb: &DMatrix<f64>) -> Vec<f64> {
+    if qa.ncols() == 0 || qb.ncols() == 0 {
+        return Vec::new();
+    }
+    let m = qa.transpose() * qb;
+    let mut sv: Vec<f64> = m.singular_values().iter().map(|v| v.min(1.0)).collect();
+    sv.sort_by(|a, b| b.total_cmp(a));
+    sv
+}
+
+/// `‖Q_bᵀ v‖ / ‖v‖`: how much of the vector `v` lies in the span with orthonormal basis `qb`.
+pub fn cos_to_span(v: &DVector<f64>, qb: &DMatrix<f64>) -> f64 {
+    let nv = v.norm();
+    if nv == 0.0 || qb.ncols() == 0 {
+        return 0.0;
+    }
+    ((qb.transpose() * v).norm() / nv).min(1.0)
+}
+
+/// All pairs whose unabsorbed spans are within [`EQUIVALENT_COS`].
+pub fn near_equivalent_pairs(spans: &[(String, DMatrix<f64>)]) -> Vec<Equivalence> {
+    let mut out = Vec::new();
+    for i in 0..spans.len() {
+        for j in i + 1..spans.len() {
+            let (na, qa) = &spans[i];
+            let (nb, qb) = &spans[j];
+            // Put the smaller span first so that `a_within_b` is meaningful.
+            let (na, qa, nb, qb) = if qa.ncols() <= qb.ncols() {
+                (na, qa, nb, qb)
+            } else {
+                (nb, qb, na, qa)
+            };
+            let sv = principal_cosines(qa, qb);
+            let Some(&first) = sv.first() else { continue };
+            if first >= EQUIVALENT_COS {
+                out.push(Equivalence {
+                    a: na.clone(),
+                    b: nb.clone(),
+                    cosine: first,
+                    a_within_b: sv.get(qa.ncols() - 1).copied(),
+                });
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,46 @@
+//! The one error type of the gap stage: every message carries the offending values.
+
+use thiserror::Error;
+
+/// Why a diagnosis (or one of its inputs) was rejected.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum GapError {
+    #[error("{what}: {got} values, expected {expected} (one per point)")]
+    LengthMismatch {
+        what: String,
+        got: usize,
+        expected: usize,
+    },
+    #[error("{what}: {count} names for {columns} columns")]
+    NameMismatch {
+        what: String,
+        count: usize,
+        columns: usize,
+    },
+    #[error("{what} is not finite at point index {index} (value {value})")]
+    NotFinite {
+        what: String,
+        index: usize,
+        value: f64,
+    },
+    #[error("too few points: {points} points for {parameters} baseline parameters (need at least {needed})")]
+    TooFewPoints {
+        points: usize,
+        parameters: usize,
+        needed: usize,
+    },
+    #[error("noise sigma must be positive and finite, got {0}")]
+    BadSigma(f64),
+    #[error("candidate `{0}` appears twice")]
+    DuplicateCandidate(String),
+    #[error("candidate `{0}` has no signature column")]
+    EmptyCandidate(String),
+    #[error("table line {line}: {reason}")]
+    Table { line: usize, reason: String },
+    #[error("column `{0}` not found in the table")]
+    MissingColumn(String),
+    #[error("unknown effect id `{0}` (see shared/spec/effects.md)")]
+    UnknownEffect(String),
+    #[error("{0}")]
+    Invalid(String),
+}

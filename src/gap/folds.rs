@@ -1,0 +1,89 @@
+//! Cross-validation folds: points withheld from the fit, by curve and by region of the S.
+//!
+//! Two schemes, both used, so every point is withheld twice:
+//! - **by curve**: 4 folds, each withholds one curve (`A_Z11`, `A_Z25`, `B_Z11`, `B_Z25`) and fits
+//!   the other three; an effect must predict a curve it has not seen (e.g. the Z25 curve of the
+//!   same surface, at another contact height);
+//! - **by region**: 5 folds, each withholds one band of `u` ([`super::regions::Region`]) on all
+//!   curves; an effect must predict a part of the S it has not seen (steps at reversals, trends).
+//!
+//! The baseline design restricted to each training set is factorised once per fold
+//! ([`FoldFactor`]) and reused for every candidate.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::data::PointMeta;
+use super::location::curve_sequences;
+use super::lsq::Factor;
+use super::regions::Region;
+
+/// One fold: which points are fitted and which are withheld, with the baseline factorised on the
+/// fitted ones.
+#[derive(Debug, Clone)]
+pub struct FoldFactor {
+    pub name: String,
+    pub train: Vec<usize>,
+    pub test: Vec<usize>,
+    pub base: Factor,
+    pub a_test: DMatrix<f64>,
+    pub y_train: DVector<f64>,
+    pub y_test: DVector<f64>,
+    /// Training deviations minus their projection on the baseline.
+    pub r0_train: DVector<f64>,
+}
+
+/// The withheld sets: `(name, test indices)`, curve folds then region folds; empty ones skipped.
+pub fn withheld_sets(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
+    let mut out: Vec<(String, Vec<usize>)> = curve_sequences(points)
+        .into_iter()
+        .map(|(c, idx)| (format!("curve:{c}"), idx))
+        .collect();
+    for reg in Region::ALL {
+        let idx: Vec<usize> = (0..points.len())
+            .filter(|&i| Region::of_u(points[i].u) == reg)
+            .collect();
+        if !idx.is_empty() {
+            out.push((format!("region:{}", reg.name()), idx));
+        }
+    }
+    out
+}
+
+/// Factorises the baseline on each fold's training set. Folds whose training set has fewer than
+/// `min_train` points, or that withhold every point, are skipped.
+pub fn build_folds(
+    points: &[PointMeta],
+    a: &DMatrix<f64>,
+    y: &DVector<f64>,
+    min_train: usize,
+) -> Vec<FoldFactor> {
+    let n = points.len();
+    withheld_sets(points)
+        .into_iter()
+        .filter_map(|(name, test)| {
+            let mut is_test = vec![false; n];
+            for &i in &test {
+                is_test[i] = true;
+            }
+            let train: Vec<usize> = (0..n).filter(|&i| !is_test[i]).collect();
+            if train.len() < min_train || test.is_empty() {
+                return None;
+            }
+            let a_train = a.select_rows(&train);
+            let base = Factor::new(&a_train, None);
+            let y_train = DVector::from_iterator(train.len(), train.iter().map(|&i| y[i]));
+            let y_test = DVector::from_iterator(test.len(), test.iter().map(|&i| y[i]));
+            let r0_train = base.unabsorbed_vec(&y_train);
+            Some(FoldFactor {
+                name,
+                a_test: a.select_rows(&test),
+                train,
+                test,
+                base,
+                y_train,
+                y_test,
+                r0_train,
+            })
+        })
+        .collect()
+}

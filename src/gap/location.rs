@@ -1,0 +1,235 @@
+//! WHERE the residual lies: per curve, per region of the S, per lean of the wall, near axis
+//! reversals, and as trends against contact height, machining order and tool-path length; and
+//! whether it is noise or structure.
+//!
+//! Structure test: with `σ` the noise (given, or the second-difference estimate of
+//! [`super::noise`]), the excess of the residual variance over noise is
+//! `structure_rms = √max(0, RSS/(n − rank) − σ²)`; the residual is *structured* when
+//! `structure_rms > 2.5 σ` (the decision rule of effects.md), and the runs / lag-1 tests and
+//! `χ² = RSS/σ²` are reported as supporting evidence.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use super::data::{PointMeta, Reversal};
+use super::lsq::{max_abs, rms};
+use super::noise::{self, NoiseEstimate, Randomness};
+use super::regions::{Lean, Region};
+use super::stats;
+
+/// Factor of σ above which an effect (or structure) counts (effects.md).
+pub const DETECT_FACTOR: f64 = 2.5;
+
+/// Half-width (mm of tool-tip path) of the window around an axis reversal.
+pub const REVERSAL_WINDOW_MM: f64 = 10.0;
+
+/// Residual statistics of one group of points.
+#[derive(Debug, Clone, Serialize)]
+pub struct WhereEntry {
+    /// `curve`, `region`, `lean` or `reversal`.
+    pub group: String,
+    /// The group's name (`A_Z11`, `turn_1`, `open_angle`, `C@672.3` …).
+    pub name: String,
+    pub n: usize,
+    /// RMS of the residual in the group (mm).
+    pub rms: f64,
+    pub max_abs: f64,
+    pub mean: f64,
+    /// Share of the total residual sum of squares divided by the share of points (1 = average).
+    pub concentration: f64,
+}
+
+/// A linear trend of the residual against one variable.
+#[derive(Debug, Clone, Serialize)]
+pub struct Trend {
+    /// `contact_height` (mm), `order` (points), `path_length` (mm).
+    pub against: String,
+    /// Slope (mm per unit of the variable).
+    pub slope: f64,
+    pub std: f64,
+    /// Two-sided p-value of the slope (normal approximation).
+    pub p_value: f64,
+    /// Residual change over the range of the variable (mm).
+    pub change_over_range: f64,
+}
+
+/// The WHERE part of a diagnosis.
+#[derive(Debug, Clone, Serialize)]
+pub struct WhereReport {
+    pub entries: Vec<WhereEntry>,
+    pub trends: Vec<Trend>,
+    pub noise: NoiseEstimate,
+    pub randomness_per_curve: BTreeMap<String, Randomness>,
+    pub randomness: Randomness,
+    pub chi2: f64,
+    pub chi2_dof: usize,
+    pub chi2_p: f64,
+    /// RMS of the residual in excess of noise (mm).
+    pub structure_rms: f64,
+    /// `structure_rms > 2.5 σ`.
+    pub structured: bool,
+    /// The curve or region where the residual is most concentrated, if markedly so (> 1.5).
+    pub concentrated_in: Option<String>,
+}
+
+/// Indices of the points of each curve, in increasing `u`, curves in order of first appearance.
+pub fn curve_sequences(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
+    let mut out: Vec<(String, Vec<usize>)> = Vec::new();
+    for (i, p) in points.iter().enumerate() {
+        match out.iter_mut().find(|(c, _)| *c == p.curve) {
+            Some((_, v)) => v.push(i),
+            None => out.push((p.curve.clone(), vec![i])),
+        }
+    }
+    for (_, v) in &mut out {
+        v.sort_by(|&a, &b| points[a].u.total_cmp(&points[b].u));
+    }
+    out
+}
+
+fn entry(group: &str, name: String, idx: &[usize], r: &[f64], total_ss: f64) -> WhereEntry {
+    let vals: Vec<f64> = idx.iter().map(|&i| r[i]).collect();
+    let ss: f64 = vals.iter().map(|v| v * v).sum();
+    let n = r.len() as f64;
+    let concentration = if total_ss > 0.0 && !idx.is_empty() {
+        (ss / total_ss) / (idx.len() as f64 / n)
+    } else {
+        0.0
+    };
+    WhereEntry {
+        group: group.into(),
+        name,
+        n: idx.len(),
+        rms: rms(&vals),
+        max_abs: max_abs(&vals),
+        mean: if vals.is_empty() {
+            0.0
+        } else {
+            vals.iter().sum::<f64>() / vals.len() as f64
+        },
+        concentration,
+    }
+}
+
+fn trend(against: &str, x: &[f64], r: &[f64]) -> Trend {
+    let n = x.len() as f64;
+    let mx = x.iter().sum::<f64>() / n;
+    let my = r.iter().sum::<f64>() / n;
+    let sxx: f64 = x.iter().map(|v| (v - mx).powi(2)).sum();
+    let sxy: f64 = x.iter().zip(r).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    let rss: f64 = x
+        .iter()
+        .zip(r)
+        .map(|(a, b)| (b - my - slope * (a - mx)).powi(2))
+        .sum();
+    let std = if sxx > 0.0 && n > 2.0 {
+        (rss / (n - 2.0) / sxx).sqrt()
+    } else {
+        f64::INFINITY
+    };
+    let range = x.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+        - x.iter().cloned().fold(f64::INFINITY, f64::min);
+    Trend {
+        against: against.into(),
+        slope,
+        std,
+        p_value: if std.is_finite() && std > 0.0 {
+            stats::normal_two_sided(slope / std)
+        } else {
+            1.0
+        },
+        change_over_range: slope * range,
+    }
+}
+
+/// Locates the residual `r` (mm) of a fit with `rank` parameters on the part.
+pub fn locate(
+    r: &[f64],
+    points: &[PointMeta],
+    rank: usize,
+    given_sigma: Option<f64>,
+    smooth_sigma: Option<(f64, f64)>,
+    reversals: &[Reversal],
+) -> WhereReport {
+    let total_ss: f64 = r.iter().map(|v| v * v).sum();
+    let seqs = curve_sequences(points);
+    let mut entries = Vec::new();
+    for (c, idx) in &seqs {
+        entries.push(entry("curve", c.clone(), idx, r, total_ss));
+    }
+    for reg in Region::ALL {
+        let idx: Vec<usize> = (0..r.len())
+            .filter(|&i| Region::of_u(points[i].u) == reg)
+            .collect();
+        if !idx.is_empty() {
+            entries.push(entry("region", reg.name().into(), &idx, r, total_ss));
+        }
+    }
+    for lean in Lean::ALL {
+        let idx: Vec<usize> = (0..r.len())
+            .filter(|&i| Lean::of_nz(points[i].nz) == lean)
+            .collect();
+        if !idx.is_empty() {
+            entries.push(entry("lean", lean.name().into(), &idx, r, total_ss));
+        }
+    }
+    for rev in reversals {
+        let idx: Vec<usize> = (0..r.len())
+            .filter(|&i| (points[i].s - rev.s).abs() <= REVERSAL_WINDOW_MM)
+            .collect();
+        if !idx.is_empty() {
+            entries.push(entry(
+                "reversal",
+                format!("{}@{:.1}", rev.axis, rev.s),
+                &idx,
+                r,
+                total_ss,
+            ));
+        }
+    }
+    let h: Vec<f64> = points.iter().map(|p| p.h).collect();
+    let order: Vec<f64> = points.iter().map(|p| p.order as f64).collect();
+    let s: Vec<f64> = points.iter().map(|p| p.s).collect();
+    let trends = vec![
+        trend("contact_height", &h, r),
+        trend("order", &order, r),
+        trend("path_length", &s, r),
+    ];
+
+    let seq_vals: Vec<Vec<f64>> = seqs
+        .iter()
+        .map(|(_, idx)| idx.iter().map(|&i| r[i]).collect())
+        .collect();
+    let noise = noise::estimate_noise(&seq_vals, given_sigma, smooth_sigma);
+    let randomness_per_curve = seqs
+        .iter()
+        .zip(&seq_vals)
+        .map(|((c, _), v)| (c.clone(), noise::randomness(v)))
+        .collect();
+    let randomness = noise::randomness_pooled(&seq_vals);
+    let sigma = noise.used.max(f64::MIN_POSITIVE);
+    let dof = r.len().saturating_sub(rank).max(1);
+    let chi2 = total_ss / (sigma * sigma);
+    let structure_rms = (total_ss / dof as f64 - sigma * sigma).max(0.0).sqrt();
+    let concentrated_in = entries
+        .iter()
+        .filter(|e| e.group == "curve" || e.group == "region")
+        .filter(|e| e.concentration > 1.5)
+        .max_by(|a, b| a.concentration.total_cmp(&b.concentration))
+        .map(|e| e.name.clone());
+    WhereReport {
+        entries,
+        trends,
+        noise,
+        randomness_per_curve,
+        randomness,
+        chi2,
+        chi2_dof: dof,
+        chi2_p: stats::chi2_sf(chi2, dof as f64),
+        structure_rms,
+        structured: structure_rms > DETECT_FACTOR * sigma,
+        concentrated_in,
+    }
+}

@@ -1,0 +1,120 @@
+//! The serialisable report of a diagnosis (the JSON of `testpiece diagnose`, shared/spec/cli.md)
+//! and its plain-language summary.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use super::equivalence::Equivalence;
+use super::location::{WhereEntry, WhereReport};
+use super::verdict::Verdict;
+use super::which::{CandidateFit, Estimate};
+
+/// The baseline fit (location errors only).
+#[derive(Debug, Clone, Serialize)]
+pub struct BaselineReport {
+    /// Residual RMS (mm).
+    pub rms: f64,
+    pub max_abs: f64,
+    /// RMS on withheld points (mm).
+    pub cv_rms: f64,
+    pub parameters: BTreeMap<String, Estimate>,
+    pub rank: usize,
+    pub condition: f64,
+    pub points: usize,
+}
+
+/// Everything a diagnosis found.
+#[derive(Debug, Clone, Serialize)]
+pub struct DiagnosisReport {
+    pub baseline: BaselineReport,
+    /// WHERE: residual per curve, region, lean, reversal.
+    #[serde(rename = "where")]
+    pub where_: Vec<WhereEntry>,
+    /// Noise versus structure, trends.
+    pub structure: WhereReport,
+    /// WHICH: every candidate, best (lowest `cv_score`) first.
+    pub candidates: Vec<CandidateFit>,
+    /// Candidate pairs this part can hardly tell apart.
+    pub equivalences: Vec<Equivalence>,
+    /// Names of the folds of points withheld for cross-validation.
+    pub folds: Vec<String>,
+    pub verdict: Verdict,
+    /// Plain-language summary; the first line is `Verdict: <plain name> (`<id>`)`.
+    pub summary: String,
+}
+
+fn um(x: f64) -> String {
+    format!("{:.1} µm", x * 1e3)
+}
+
+/// The plain-language summary of a report (first line: the verdict).
+pub fn summary(r: &DiagnosisReport) -> String {
+    let v = &r.verdict;
+    let mut s = format!("Verdict: {} (`{}`)\n", v.plain_name, v.effect);
+    s += &format!("Why: {}.\n", v.reason);
+    if !v.parameters.is_empty() {
+        let ps: Vec<String> = v
+            .parameters
+            .iter()
+            .map(|(k, e)| format!("{k} = {:.4e} ± {:.1e}", e.value, e.std))
+            .collect();
+        s += &format!("Fitted: {}.\n", ps.join(", "));
+    }
+    if !v.equivalent.is_empty() {
+        s += &format!(
+            "This part cannot tell it apart from: {}.\n",
+            v.equivalent.join(", ")
+        );
+    }
+    s += &format!(
+        "How far: residual RMS {} -> {} in-sample, {} -> {} on withheld points; max {} -> {}.\n",
+        um(v.rms_before),
+        um(v.rms_after),
+        um(v.cv_rms_before),
+        um(v.cv_rms_after),
+        um(v.max_before),
+        um(v.max_after)
+    );
+    s += &format!(
+        "Noise: σ = {} ({}); detection limit {} RMS of an effect's visible part.\n",
+        um(v.sigma),
+        if r.structure.noise.given.is_some() {
+            "CMM repeatability, given"
+        } else {
+            "estimated from the data: residual of the fit plus a smooth basis per curve"
+        },
+        um(v.detection_limit)
+    );
+    s += &format!(
+        "Where: baseline residual {} RMS, {} of it beyond noise ({}){}.\n",
+        um(r.baseline.rms),
+        um(r.structure.structure_rms),
+        if r.structure.structured {
+            "structured"
+        } else {
+            "consistent with noise"
+        },
+        r.structure
+            .concentrated_in
+            .as_ref()
+            .map(|c| format!(", concentrated in {c}"))
+            .unwrap_or_default()
+    );
+    if let Some(p) = &v.partial {
+        s += &format!("Partly explained by `{p}`.\n");
+    }
+    if !v.possible_below_limit.is_empty() {
+        s += &format!(
+            "Possible, below the detection limit: {}.\n",
+            v.possible_below_limit.join(", ")
+        );
+    }
+    for e in &r.equivalences {
+        s += &format!(
+            "Near-equivalent on this part: `{}` and `{}` (cosine {:.3}).\n",
+            e.a, e.b, e.cosine
+        );
+    }
+    s
+}

@@ -1,0 +1,105 @@
+//! Noise σ independent of smooth structure: the residual of the baseline augmented with a smooth
+//! basis along each curve.
+//!
+//! On each curve, with `t ∈ [−1, 1]` the tool-path length `s` mapped linearly over the curve's
+//! points, the Legendre polynomials `P₀(t) … P_d(t)` (d = [`SMOOTH_DEGREE`]) are added to the
+//! baseline design `A`. Any effect that varies smoothly along the curves (a constant such as a
+//! tool-radius error, a taper, a drift, a scale error, a waviness longer than about a sixth of the
+//! curve), and every combination of the baseline's own signatures, is then fitted away, so
+//! `σ² = RSS/(n − rank)` of this augmented fit estimates the measurement noise alone. Also
+//! returned, a robust version `1.4826·median|r|·√(n/(n − rank))` that ignores the few points a
+//! step (an axis reversal) leaves unfitted.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::data::PointMeta;
+use super::location::curve_sequences;
+use super::lsq::Factor;
+
+/// Degree of the per-curve Legendre basis.
+pub const SMOOTH_DEGREE: usize = 5;
+
+/// Legendre polynomials `P_0..P_d` at `t` (Bonnet's recursion).
+pub fn legendre(t: f64, d: usize) -> Vec<f64> {
+    let mut p = vec![1.0, t];
+    for k in 1..d {
+        let kf = k as f64;
+        let next = ((2.0 * kf + 1.0) * t * p[k] - kf * p[k - 1]) / (kf + 1.0);
+        p.push(next);
+    }
+    p.truncate(d + 1);
+    p
+}
+
+/// The `n × 4(d+1)` per-curve smooth basis.
+pub fn smooth_basis(points: &[PointMeta], degree: usize) -> DMatrix<f64> {
+    let seqs = curve_sequences(points);
+    let k = degree + 1;
+    let mut m = DMatrix::zeros(points.len(), k * seqs.len());
+    for (c, (_, idx)) in seqs.iter().enumerate() {
+        let lo = idx
+            .iter()
+            .map(|&i| points[i].s)
+            .fold(f64::INFINITY, f64::min);
+        let hi = idx
+            .iter()
+            .map(|&i| points[i].s)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let span = (hi - lo).max(1e-12);
+        for &i in idx {
+            let t = 2.0 * (points[i].s - lo) / span - 1.0;
+            for (j, v) in legendre(t, degree).into_iter().enumerate() {
+                m[(i, c * k + j)] = v;
+            }
+        }
+    }
+    m
+}
+
+/// `(σ, σ_robust, dof)` from the residual of `[A | smooth basis]`.
+pub fn smooth_noise(points: &[PointMeta], a: &DMatrix<f64>, y: &DVector<f64>) -> (f64, f64, usize) {
+    smooth_noise_with(&smooth_basis(points, SMOOTH_DEGREE), a, y)
+}
+
+/// Same, with the smooth basis `b` already built.
+pub fn smooth_noise_with(
+    b: &DMatrix<f64>,
+    a: &DMatrix<f64>,
+    y: &DVector<f64>,
+) -> (f64, f64, usize) {
+    let aug = DMatrix::from_fn(a.nrows(), a.ncols() + b.ncols(), |i, j| {
+        if j < a.ncols() {
+            a[(i, j)]
+        } else {
+            b[(i, j - a.ncols())]
+        }
+    });
+    let f = Factor::new(&aug, None);
+    let r = f.unabsorbed_vec(y);
+    let n = y.len();
+    let dof = n.saturating_sub(f.rank).max(1);
+    let sigma = (r.norm_squared() / dof as f64).sqrt();
+    let mut abs: Vec<f64> = r.iter().map(|v| v.abs()).collect();
+    abs.sort_by(f64::total_cmp);
+    let med = if abs.is_empty() {
+        0.0
+    } else {
+        abs[abs.len() / 2]
+    };
+    let robust = 1.482_6 * med * (n as f64 / dof as f64).sqrt();
+    (sigma, robust, dof)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assert_near;
+
+    #[test]
+    fn legendre_closed_forms() {
+        let t: f64 = 0.3;
+        let p = legendre(t, 3);
+        assert_near!(p[2], 0.5 * (3.0 * t * t - 1.0), 1e-15);
+        assert_near!(p[3], 0.5 * (5.0 * t.powi(3) - 3.0 * t), 1e-15);
+    }
+}
