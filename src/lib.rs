@@ -13,6 +13,7 @@
 //! (`shared/spec/s-shape.md`): a deviation is `(machined or measured − nominal) · N` with `N` the
 //! outward normal; **positive = material left, negative = overcut**.
 
+pub mod analysis;
 pub mod cmm;
 pub mod gap;
 pub mod geometry;

@@ -4,6 +4,7 @@
 
 use wasm_bindgen::prelude::*;
 
+mod analysis;
 mod cmm;
 mod examples;
 mod gap;

@@ -1,0 +1,247 @@
+//! One measured part through the whole pipeline, as one call: the page's "analyse" action, the
+//! CLI's `identify`, and the tests share it (DESIGN.md: file bytes → cmm → part projection →
+//! sensitivity → identify → gap → one report).
+//!
+//! 1. [`crate::cmm::read_and_match`]: every row read (or reported), every point matched to the
+//!    nominal S-shape by projection of its own coordinates, deviation `(measured − nominal)·N`
+//!    (mm, + = material left, − = overcut).
+//! 2. Each matched point becomes a [`MeasurementPoint`] at its own `(surface, u, v)`, labelled with
+//!    the nearer measurement curve (Z = 11 or 25 mm) for grouping; its contact height `h` follows
+//!    from `v` (s-shape.md).
+//! 3. [`crate::sensitivity::sensitivity_matrix`] at those points: the defect per unit of each
+//!    location error of the configured machine (paper 000 eq. 14, mode and branch as set),
+//!    optionally with the tool-radius column `−1` (`dR`, mm, + = a larger tool).
+//! 4. [`crate::identify::identify`]: weighted least squares, rank, groups, uncertainty.
+
+use nalgebra::DMatrix;
+use serde::Serialize;
+
+use crate::cmm::{read_and_match, CmmError, MatchedPart, ReadOptions};
+use crate::identify::{
+    identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
+};
+use crate::machine::chain::PAPER000_L0;
+use crate::machine::{Branch, Chain};
+use crate::part::{Curve, MeasurementPoint, SShape, Surface};
+use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
+
+/// Settings of an analysis; `Default` is the spec's default (physical mode, signed B, paper
+/// 000's machine with L0 = 499.889 mm, no tool-radius term, rows with problems reject the file).
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct AnalysisOptions {
+    /// `physical` (default) or `paper` (s-shape.md "Errors and machined defect").
+    pub mode: Mode,
+    /// `signed` (default) or `positive` B branch.
+    pub branch: Branch,
+    /// Pivot-to-tip length of the B-head / C-table machine (mm).
+    pub l0: f64,
+    /// Fit the tool-radius error `dR` (mm) with the location errors.
+    pub tool_radius: bool,
+    /// Exclude the rows the reader lists instead of rejecting the file (shown in every result).
+    pub exclude_bad_rows: bool,
+    /// CMM standard uncertainty of one deviation (mm, 1σ); `None` uses the residual.
+    pub noise_sigma: Option<f64>,
+}
+
+impl Default for AnalysisOptions {
+    fn default() -> Self {
+        Self {
+            mode: Mode::Physical,
+            branch: Branch::Signed,
+            l0: PAPER000_L0,
+            tool_radius: false,
+            exclude_bad_rows: false,
+            noise_sigma: None,
+        }
+    }
+}
+
+/// Failures of an analysis, each with the stage's own message.
+#[derive(Debug, thiserror::Error)]
+pub enum AnalysisError {
+    #[error("{0}")]
+    File(#[from] CmmError),
+    #[error("sensitivity: {0}")]
+    Sensitivity(#[from] SensitivityError),
+    #[error("identification: {0}")]
+    Identify(#[from] IdentifyError),
+    #[error("L0 = {0} mm is not a positive finite length")]
+    BadL0(f64),
+    #[error("CMM uncertainty σ = {0} mm is not a positive finite number")]
+    BadSigma(f64),
+}
+
+/// The design at the measured points: one row per point, one column per parameter.
+#[derive(Debug, Clone, Serialize)]
+pub struct DesignColumns {
+    /// Parameter names (`EC0Y` … `EC0B`, then `dR` when fitted).
+    pub params: Vec<String>,
+    /// `mm` or `rad` per parameter.
+    pub units: Vec<String>,
+    /// `columns[k][i]`: defect at point `i` per unit of parameter `k` (mm/rad or mm/mm).
+    pub columns: Vec<Vec<f64>>,
+}
+
+/// Everything one analysis reports.
+#[derive(Debug, Clone, Serialize)]
+pub struct Analysis {
+    pub version: &'static str,
+    pub settings: AnalysisOptions,
+    /// The file as read and matched: format, points, excluded rows, warnings.
+    pub file: MatchedPart,
+    /// The measurement points at the matched positions (same order as `file.points`).
+    pub points: Vec<MeasurementPoint>,
+    pub design: DesignColumns,
+    pub identification: Identification,
+}
+
+/// The measurement curve (Z = 11 or 25 mm) nearer to height `z` on surface `s`.
+pub fn nearest_curve(s: Surface, z: f64) -> Curve {
+    let near = |c: &Curve| (c.z() - z).abs();
+    Curve::ALL
+        .into_iter()
+        .filter(|c| c.surface() == s)
+        .min_by(|a, b| near(a).total_cmp(&near(b)))
+        .unwrap_or(Curve::ALL[0])
+}
+
+/// The measurement points of a matched part, at each point's own `(surface, u, v)`.
+pub fn measurement_points(part: &SShape, matched: &MatchedPart) -> Vec<MeasurementPoint> {
+    matched
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let curve = nearest_curve(p.surface, p.foot[2]);
+            let mut m = MeasurementPoint::at(part, i + 1, curve, p.u, p.v);
+            m.surface = p.surface;
+            m
+        })
+        .collect()
+}
+
+/// The sensitivity design at `points` for `opts` (plus the `dR` column when asked).
+pub fn design_at(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &AnalysisOptions,
+) -> Result<(Design, DesignColumns), AnalysisError> {
+    if !(opts.l0.is_finite() && opts.l0 > 0.0) {
+        return Err(AnalysisError::BadL0(opts.l0));
+    }
+    let sopts = SensitivityOptions::default()
+        .with_mode(opts.mode)
+        .with_branch(opts.branch)
+        .with_chain(Chain::paper000(opts.l0));
+    let m = sensitivity_matrix(part, points, &sopts)?;
+    let n = points.len();
+    let mut params: Vec<Parameter> = m.params.iter().map(|p| Parameter::named(p)).collect();
+    let mut matrix = m.values;
+    if opts.tool_radius {
+        params.push(Parameter::named(crate::identify::TOOL_RADIUS));
+        matrix = matrix.insert_column(params.len() - 1, -1.0);
+    }
+    let columns = DesignColumns {
+        params: params.iter().map(|p| p.name.clone()).collect(),
+        units: params.iter().map(|p| p.unit.clone()).collect(),
+        columns: (0..matrix.ncols())
+            .map(|k| matrix.column(k).iter().copied().collect())
+            .collect(),
+    };
+    debug_assert_eq!(matrix.nrows(), n);
+    let design = Design::try_new(params, DMatrix::from(matrix))?;
+    Ok((design, columns))
+}
+
+/// Reads, matches and identifies one CMM file.
+pub fn analyse(
+    bytes: &[u8],
+    name: &str,
+    opts: &AnalysisOptions,
+) -> Result<Analysis, AnalysisError> {
+    if let Some(s) = opts.noise_sigma {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(AnalysisError::BadSigma(s));
+        }
+    }
+    let part = SShape::iso();
+    let ropts = ReadOptions::default().with_exclude_bad_rows(opts.exclude_bad_rows);
+    let matched = read_and_match(bytes, name, &ropts)?;
+    let points = measurement_points(&part, &matched);
+    let (design, columns) = design_at(&part, &points, opts)?;
+    let obs = Observations::new(
+        matched.points.iter().map(|p| p.file.id.clone()).collect(),
+        points.iter().map(|p| p.curve.name().to_string()).collect(),
+        matched.deviations(),
+    );
+    let mut iopts = IdentifyOptions::default();
+    if let Some(s) = opts.noise_sigma {
+        iopts = iopts.with_sigma(s);
+    }
+    let identification = identify(&design, &obs, &iopts)?;
+    Ok(Analysis {
+        version: crate::VERSION,
+        settings: opts.clone(),
+        file: matched,
+        points,
+        design: columns,
+        identification,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CLEAN: &str = include_str!("../tests/data/reference/examples/example_clean.csv");
+
+    #[test]
+    fn the_clean_example_matches_the_builtin_points_and_their_design() {
+        let a = analyse(
+            CLEAN.as_bytes(),
+            "example_clean.csv",
+            &AnalysisOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(a.points.len(), 100);
+        let part = SShape::iso();
+        let builtin = crate::part::builtin_points(&part);
+        // The file's points are the built-in ones written with 6 decimals: the projection finds
+        // the same (u, v) to the rounding of the file (5e-7 mm over |dS/du| ≈ 650 mm).
+        for (p, q) in a.points.iter().zip(&builtin) {
+            assert_eq!(p.curve, q.curve);
+            assert!(
+                (p.u - q.u).abs() < 1e-8,
+                "id {}: u {} vs {}",
+                q.id,
+                p.u,
+                q.u
+            );
+            assert!((p.h - q.h).abs() < 1e-6);
+        }
+        assert_eq!(a.design.params.len(), 8);
+        assert_eq!(a.identification.points_used, 100);
+    }
+
+    #[test]
+    fn tool_radius_term_adds_a_minus_one_column() {
+        let o = AnalysisOptions {
+            tool_radius: true,
+            ..Default::default()
+        };
+        let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
+        assert_eq!(a.design.params.last().map(String::as_str), Some("dR"));
+        assert!(a.design.columns[8].iter().all(|&v| v == -1.0));
+    }
+
+    #[test]
+    fn bad_settings_are_named() {
+        let o = AnalysisOptions {
+            l0: -1.0,
+            ..Default::default()
+        };
+        let e = analyse(CLEAN.as_bytes(), "x.csv", &o).unwrap_err();
+        assert_eq!(e.to_string(), "L0 = -1 mm is not a positive finite length");
+    }
+}

@@ -1,0 +1,21 @@
+//! The page's main call: one measured part through the whole pipeline.
+
+use wasm_bindgen::prelude::*;
+
+use crate::analysis::{analyse as run, AnalysisOptions};
+
+/// Reads, matches and identifies one CMM file. `options` is `{mode, branch, l0, tool_radius,
+/// exclude_bad_rows, noise_sigma}` (any may be absent: defaults of `AnalysisOptions`).
+/// Returns the [`crate::analysis::Analysis`] as a plain object; a bad file throws the reader's
+/// message (line, column, text found, what was expected).
+#[wasm_bindgen]
+pub fn analyse(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, JsError> {
+    let opts: AnalysisOptions = if options.is_undefined() || options.is_null() {
+        AnalysisOptions::default()
+    } else {
+        serde_wasm_bindgen::from_value(options)
+            .map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))?
+    };
+    let a = run(bytes, name, &opts).map_err(|e| JsError::new(&e.to_string()))?;
+    super::to_js(&a)
+}
