@@ -1,0 +1,229 @@
+// The page's views: pure functions from the core's results to DOM. No computation of results
+// here: every number shown comes from the core (src/analysis.rs, src/sensitivity/ …).
+import { chart } from './plot.js';
+import { exportButtons, toCsv } from './export.js';
+
+export const CURVES = ['A_Z11', 'A_Z25', 'B_Z11', 'B_Z25'];
+
+export function h(tag, attrs = {}, ...children) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (v === undefined || v === null || v === false) continue;
+    if (k === 'class') e.className = v;
+    else if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
+    else if (k === 'dataset') Object.assign(e.dataset, v);
+    else e.setAttribute(k, v === true ? '' : v);
+  }
+  for (const c of children.flat()) if (c !== null && c !== undefined && c !== false) e.append(c instanceof Node ? c : String(c));
+  return e;
+}
+
+/** A number with a sensible precision for its unit. */
+export function fmtNum(v, unit) {
+  if (v === null || v === undefined || !Number.isFinite(v)) return '—';
+  if (unit === 'rad') return v.toExponential(3);
+  if (unit === 'µm') return v.toFixed(2);
+  if (unit === 'mm') return Math.abs(v) >= 0.1 ? v.toFixed(4) : v.toFixed(5);
+  return String(Number(v.toPrecision(4)));
+}
+
+/** A table with a caption, header and rows of [text, {num, value}] cells, plus a CSV button. */
+export function table(name, caption, header, rows) {
+  const t = h('table', { 'data-table': name },
+    h('caption', {}, caption),
+    h('thead', {}, h('tr', {}, header.map((c) => h('th', { scope: 'col' }, c)))),
+    h('tbody', {}, rows.map((r) => h('tr', {}, r.map((c) => (typeof c === 'object' && c !== null && !(c instanceof Node)
+      ? h('td', { class: c.num ? 'num' : c.class, 'data-value': c.value ?? undefined }, c.text)
+      : h('td', {}, c)))))));
+  const bar = h('div', { class: 'bar' });
+  exportButtons(bar, { name, table: () => t });
+  return h('div', {}, bar, h('div', { class: 'scroll' }, t));
+}
+
+/** x positions and groups for points laid out curve by curve. */
+function layout(curves, ids) {
+  const x = [];
+  const groups = [];
+  let pos = 0;
+  for (const c of [...CURVES, ...new Set(curves.filter((k) => !CURVES.includes(k)))]) {
+    const idx = curves.map((k, i) => (k === c ? i : -1)).filter((i) => i >= 0);
+    if (!idx.length) continue;
+    const from = pos + 1;
+    for (const i of idx) x[i] = ++pos;
+    groups.push({ label: c, from, to: pos });
+    pos += 2;
+  }
+  return { x, groups, xNames: ids.map((id, i) => `point ${id} (${curves[i]})`) };
+}
+
+function chartBlock(name, spec, extra) {
+  const holder = h('div', {});
+  const c = chart(holder, spec);
+  const bar = h('div', { class: 'bar' }, extra || '', h('span', { class: 'spacer' }));
+  exportButtons(bar, { name, svg: () => c.svg, csv: () => toCsv(['x', 'label', ...spec.series.map((s) => s.name)],
+    spec.x.map((x, i) => [x, spec.xNames ? spec.xNames[i] : '', ...spec.series.map((s) => s.y[i])])) });
+  return { el: h('div', { class: 'chart-block', 'data-chart': name }, bar, holder), chart: c };
+}
+
+// ---------------------------------------------------------------- Data
+export function dataView(root, st) {
+  root.textContent = '';
+  root.append(h('h2', {}, 'Files'));
+  root.append(h('ul', { class: 'files' }, st.files.map((f, i) => h('li', { class: i === st.current ? 'active' : '' },
+    h('button', { type: 'button', class: 'link-button', onclick: () => st.select(i) }, f.name),
+    ` · ${f.bytes.length} bytes · `, f.error ? h('span', { class: 'warn' }, 'not analysed') : f.analysis ? `${f.analysis.file.points.length} points` : 'computing…'))));
+  const f = st.files[st.current];
+  if (!f) return;
+  if (f.error) {
+    root.append(h('h2', {}, `Problems in ${f.name}`), h('pre', { class: 'error', id: 'file-error' }, f.error));
+    if (/line \d+/.test(f.error) && !st.settings.exclude_bad_rows) {
+      root.append(h('button', { type: 'button', id: 'exclude-rows', onclick: () => st.excludeAndRetry() },
+        'Exclude the listed rows and analyse the rest'));
+    }
+    return;
+  }
+  const a = f.analysis;
+  if (!a) return;
+  const file = a.file;
+  root.append(h('h2', {}, `${f.name}`),
+    h('p', {}, `Format: ${file.format.description}. ${file.points.length} points used.`),
+    h('p', {}, `SHA-256: `, h('code', { id: 'checksum' }, f.sha256 || '…')));
+  if (file.excluded.length) {
+    root.append(h('h2', {}, `Rows excluded at your request (${file.excluded.length})`),
+      table('excluded-rows', 'These rows are left out of every result.', ['line', 'column', 'found', 'expected'],
+        file.excluded.map((p) => [{ text: p.line, num: true }, p.column ? (p.column.name || p.column.index) : '', p.found, p.expected])));
+  }
+  if (file.warnings.length) {
+    root.append(h('h2', {}, 'Warnings'), h('ul', { id: 'warnings' }, file.warnings.map((w) => h('li', { class: 'warn' }, w.line ? `line ${w.line}: ${w.message}` : w.message))));
+  }
+  root.append(table('points', 'Matched points: nominal foot on the surface, outward normal, measured normal deviation (+ = material left, − = overcut)',
+    ['id', 'line', 'curve', 'u', 'x (mm)', 'y (mm)', 'z (mm)', 'nx', 'ny', 'nz', 'deviation (µm)'],
+    file.points.map((p, i) => [p.file.id, { text: p.file.line, num: true }, a.points[i].curve, { text: p.u.toFixed(5), num: true, value: p.u },
+      ...p.foot.map((v) => ({ text: v.toFixed(4), num: true, value: v })), ...p.normal.map((v) => ({ text: v.toFixed(5), num: true, value: v })),
+      { text: (p.deviation * 1000).toFixed(2), num: true, value: p.deviation * 1000 }])));
+}
+
+// ---------------------------------------------------------------- Figure 19
+/** Figure-19 curves: `sens` = {ids, curves, params, rows, cols, values (column-major, mm per unit)}. */
+export function fig19View(root, sens, st) {
+  root.textContent = '';
+  const scaleOf = (p) => (p === 'EX0B' ? 0.01 : 1e-4);
+  root.append(h('h2', {}, 'Machined defect per error, at the 100 built-in points (paper 000 Figure 19)'),
+    h('p', {}, `Mode ${st.settings.mode}, ${st.settings.branch} B. Each curve: the normal defect (µm) that one error alone leaves at each point, for 1e-4 rad (angles) or 0.01 mm (EX0B). Points are grouped by measurement curve; hover for the value.`));
+  const L = layout(sens.curves, sens.ids);
+  const series = sens.params.map((p, k) => ({
+    name: p,
+    y: Array.from({ length: sens.rows }, (_, i) => sens.values[k * sens.rows + i] * scaleOf(p) * 1000),
+    visible: st.fig19Visible ? st.fig19Visible[p] !== false : true,
+  }));
+  const spec = { title: 'Figure 19: defect per error', x: L.x, xNames: L.xNames, groups: L.groups, series,
+    xLabel: 'measurement point (grouped by curve)', yLabel: 'defect (µm per 1e-4 rad; per 0.01 mm for EX0B)', yUnit: 'µm' };
+  const toggles = h('div', { class: 'toggles', role: 'group', 'aria-label': 'parameters shown' });
+  const block = chartBlock('figure19', spec, toggles);
+  for (const s of series) {
+    const cb = h('input', { type: 'checkbox', 'data-param': s.name });
+    cb.checked = s.visible !== false;
+    cb.addEventListener('change', () => { s.visible = cb.checked; st.fig19Visible = { ...(st.fig19Visible || {}), [s.name]: cb.checked }; block.chart.update({}); });
+    toggles.append(h('label', {}, cb, ` ${s.name}`));
+  }
+  root.append(block.el);
+  root.append(table('figure19-ranges', 'Range of each curve (µm per 1e-4 rad; per 0.01 mm for EX0B)', ['parameter', 'min (µm)', 'max (µm)'],
+    series.map((s) => [s.name, { text: Math.min(...s.y).toFixed(1), num: true, value: Math.min(...s.y) }, { text: Math.max(...s.y).toFixed(1), num: true, value: Math.max(...s.y) }])));
+}
+
+// ---------------------------------------------------------------- Identification
+export function identifyView(root, a) {
+  root.textContent = '';
+  if (!a) { root.append(h('p', {}, 'Load a measured part to identify the machine.')); return; }
+  const id = a.identification;
+  const params = Object.entries(id.parameters);
+  root.append(h('h2', {}, 'Identified parameters'),
+    h('p', {}, `${id.points_used} points, rank ${id.rank} of ${params.length}, condition number ${fmtNum(id.condition)} (unit-scaled design), σ ${id.sigma ? (id.sigma * 1000).toFixed(2) + ' µm' : '—'} (${id.sigma_source}). Residual RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`));
+  root.append(table('parameters', 'ISO 230-1 location errors (rad; EX0B and dR in mm). std: one standard deviation; t = |value|/std.',
+    ['parameter', 'value', 'unit', 'std', 't', 'status'],
+    params.map(([n, p]) => [n, { text: fmtNum(p.value, p.unit), num: true, value: p.value }, p.unit,
+      { text: fmtNum(p.std, p.unit), num: true, value: p.std ?? '' }, { text: p.t === null || p.t === undefined ? '—' : p.t.toFixed(1), num: true, value: p.t ?? '' },
+      { text: p.status.replace('_', ' '), class: `status-${p.status}` }])));
+  root.append(h('h2', {}, 'What this part cannot separate'));
+  if (!id.groups.length) root.append(h('p', {}, 'Every parameter is separately determined by this part.'));
+  root.append(h('ul', { id: 'groups' }, id.groups.map((g) => h('li', {}, h('strong', {}, `${g.kind.replace('_', ' ')}: ${g.parameters.join(', ')}. `), g.explanation))));
+  if (id.notes && id.notes.length) root.append(h('ul', {}, id.notes.map((n) => h('li', {}, n))));
+  // measured vs simulated vs residual
+  const curves = id.points.map((p) => p.curve);
+  const L = layout(curves, id.points.map((p) => p.id));
+  root.append(chartBlock('measured-simulated-residual', { title: 'Measured, simulated (identified model) and residual', x: L.x, xNames: L.xNames, groups: L.groups,
+    series: [
+      { name: 'measured', y: id.points.map((p) => p.measured * 1000), points: true },
+      { name: 'simulated', y: id.points.map((p) => p.fitted * 1000) },
+      { name: 'residual', y: id.points.map((p) => p.residual * 1000), dashed: true },
+    ], xLabel: 'measurement point (grouped by curve)', yLabel: 'normal deviation (µm)', yUnit: 'µm' }).el);
+  root.append(planView(a));
+  root.append(table('residual-per-curve', 'Residual per curve (paper 001 eq. 15-17)', ['curve', 'n', 'RMS (µm)', 'max |r| (µm)', 'MAD (µm)', 'RMSE (µm)', 'MAPE (%)'],
+    id.per_curve.map((c) => [c.curve, { text: c.n, num: true }, ...[c.rms, c.max_abs, c.mad, c.rmse].map((v) => ({ text: (v * 1000).toFixed(2), num: true, value: v * 1000 })),
+      { text: c.mape === null ? '—' : c.mape.toFixed(1), num: true, value: c.mape ?? '' }])));
+}
+
+/** Plan view of the part (x–y) with the residual drawn as coloured arrows along the normal. */
+function planView(a) {
+  const pts = a.file.points;
+  const res = a.identification.points.map((p) => p.residual);
+  const maxr = Math.max(1e-9, ...res.map(Math.abs));
+  const W = 640, H = 540, pad = 30;
+  const xs = pts.map((p) => p.foot[0]), ys = pts.map((p) => p.foot[1]);
+  const x0 = Math.min(...xs) - 15, x1 = Math.max(...xs) + 15, y0 = Math.min(...ys) - 15, y1 = Math.max(...ys) + 15;
+  const k = Math.min((W - 2 * pad) / (x1 - x0), (H - 2 * pad) / (y1 - y0));
+  const X = (x) => pad + (x - x0) * k, Y = (y) => H - pad - (y - y0) * k;
+  const arrowMm = 12; // the largest residual is drawn 12 mm long
+  const NS = 'http://www.w3.org/2000/svg';
+  const svg = document.createElementNS(NS, 'svg');
+  svg.setAttribute('viewBox', `0 0 ${W} ${H}`); svg.setAttribute('class', 'chart'); svg.setAttribute('role', 'img');
+  svg.setAttribute('aria-label', 'plan view with residual arrows'); svg.setAttribute('xmlns', NS);
+  svg.setAttribute('font-family', 'system-ui, sans-serif'); svg.setAttribute('font-size', '11');
+  const add = (name, attrs) => { const e = document.createElementNS(NS, name); for (const [kk, v] of Object.entries(attrs)) e.setAttribute(kk, v); svg.appendChild(e); return e; };
+  add('rect', { x: 0, y: 0, width: W, height: H, fill: '#fff' });
+  add('text', { x: pad, y: 18, 'font-weight': 600, 'font-size': 13 }).textContent = `Plan view: residual along the outward normal (largest ${(maxr * 1000).toFixed(1)} µm = ${arrowMm} mm arrow)`;
+  for (const c of CURVES) {
+    const idx = a.points.map((p, i) => (p.curve === c ? i : -1)).filter((i) => i >= 0);
+    add('polyline', { points: idx.map((i) => `${X(xs[i]).toFixed(1)},${Y(ys[i]).toFixed(1)}`).join(' '), fill: 'none', stroke: '#bbb' });
+  }
+  pts.forEach((p, i) => {
+    const r = res[i], len = (r / maxr) * arrowMm;
+    const color = r >= 0 ? '#1f77b4' : '#d62728';
+    const xa = X(p.foot[0]), ya = Y(p.foot[1]);
+    const xb = X(p.foot[0] + p.normal[0] * len), yb = Y(p.foot[1] + p.normal[1] * len);
+    add('line', { x1: xa, y1: ya, x2: xb, y2: yb, stroke: color, 'stroke-width': 2 });
+    add('circle', { cx: xb, cy: yb, r: 2, fill: color }).appendChild(document.createElementNS(NS, 'title')).textContent = `point ${p.file.id}: residual ${(r * 1000).toFixed(2)} µm`;
+  });
+  add('text', { x: W - pad, y: H - 8, 'text-anchor': 'end', fill: '#555' }).textContent = 'blue: material left (+), red: overcut (−); x, y in mm';
+  const holder = h('div', { 'data-chart': 'plan-view' });
+  const bar = h('div', { class: 'bar' }, h('span', { class: 'spacer' }));
+  exportButtons(bar, { name: 'plan-view', svg: () => svg });
+  holder.append(bar, svg);
+  return holder;
+}
+
+// ---------------------------------------------------------------- Report
+export function reportView(root, st) {
+  root.textContent = '';
+  const f = st.files[st.current];
+  const a = f && f.analysis;
+  root.append(h('h2', {}, 'Report'),
+    h('div', { class: 'bar no-print' },
+      h('button', { type: 'button', id: 'print', onclick: () => window.print() }, 'Print / save as PDF'),
+      h('button', { type: 'button', id: 'export-json', onclick: () => st.exportJson() }, 'Export the whole analysis (JSON)')));
+  if (!a) { root.append(h('p', {}, f && f.error ? 'The file could not be analysed: see Data.' : 'No analysis yet.')); return; }
+  const s = a.settings;
+  root.append(table('report-inputs', 'Inputs and settings', ['item', 'value'], [
+    ['software', `testpiece ${a.version}`],
+    ['file', f.name], ['SHA-256', f.sha256 || ''], ['format', a.file.format.description],
+    ['points used', String(a.identification.points_used)], ['rows excluded', a.file.excluded.map((p) => p.line).join(' ') || 'none'],
+    ['machine', 'B head / C table (paper 000)'], ['L0', `${s.l0} mm`], ['mode', s.mode], ['branch', s.branch],
+    ['tool-radius term', s.tool_radius ? 'fitted (dR)' : 'not fitted'], ['CMM σ', s.noise_sigma ? `${(s.noise_sigma * 1000).toFixed(2)} µm` : 'from the residual'],
+  ]));
+  const id = a.identification;
+  root.append(table('report-parameters', 'Identified parameters (value ± 1 std)', ['parameter', 'value', 'std', 'unit', 'status'],
+    Object.entries(id.parameters).map(([n, p]) => [n, { text: fmtNum(p.value, p.unit), num: true, value: p.value }, { text: fmtNum(p.std, p.unit), num: true, value: p.std ?? '' }, p.unit, p.status.replace('_', ' ')])));
+  root.append(h('p', {}, `Residual RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm; rank ${id.rank}, condition ${fmtNum(id.condition)}.`));
+  root.append(h('ul', {}, id.groups.map((g) => h('li', {}, g.explanation))));
+  root.append(h('p', { class: 'signature' }, 'Checked by: ____________________   Date: ____________'));
+}
