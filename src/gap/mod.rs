@@ -19,6 +19,7 @@
 pub mod catalog;
 pub mod data;
 pub mod diagnose;
+pub mod effects;
 pub mod equivalence;
 pub mod error;
 pub mod folds;

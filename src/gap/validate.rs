@@ -299,8 +299,7 @@ pub fn validate(
         let report = diagnose(&input)?;
         let v = &report.verdict;
         let exact = v.effect == expected;
-        let correct =
-            exact || v.equivalent.contains(&expected) || near(&v.effect, &expected);
+        let correct = exact || v.equivalent.contains(&expected) || near(&v.effect, &expected);
         let achievable_rms_after = match &design {
             Some(s) => {
                 let f = Factor::new(&hstack(a, s), None);
