@@ -20,6 +20,7 @@ pub mod identify;
 pub mod machine;
 pub mod part;
 pub mod sensitivity;
+pub mod simulate;
 pub mod summary;
 pub mod tolerance;
 pub mod toolpath;

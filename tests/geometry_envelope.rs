@@ -58,3 +58,32 @@ fn surface_max_overcut_matches_the_reference() {
         assert!((m.z - want[2]).abs() < 0.5);
     }
 }
+
+#[test]
+fn no_sampled_point_overcuts_more_than_the_surface_maximum() {
+    // Independent of the search: exact deviations on a 201 x 3 grid and around the reported
+    // maximum never go below -max_overcut.
+    use testpiece::toolpath::{FlankPath, TOOL_RADIUS};
+    let part = SShape::iso();
+    for s in Surface::BOTH {
+        let m = surface_max_overcut(&part, s).unwrap();
+        let path = FlankPath::new(&part, s);
+        let mut lowest = f64::INFINITY;
+        let grid = (0..=200).flat_map(|i| [0.0, 0.5, 1.0].map(|v| (i as f64 / 200.0, v)));
+        let near = (-20..=20)
+            .flat_map(|i| [0.0, 0.01, 0.05].map(|v| ((m.u + i as f64 * 1e-4).clamp(0.0, 1.0), v)));
+        for (u, v) in grid.chain(near) {
+            let d = path.deviation_at_uv(u, v, TOOL_RADIUS).unwrap().deviation;
+            lowest = lowest.min(d);
+        }
+        println!(
+            "surface {:?}: lowest sampled {lowest}, reported -{}",
+            s, m.max_overcut
+        );
+        assert!(lowest >= -m.max_overcut - 1e-12);
+        assert!(
+            lowest <= -m.max_overcut + 1e-6,
+            "the maximum is where the samples say"
+        );
+    }
+}

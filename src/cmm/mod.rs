@@ -1,1 +1,385 @@
 //! Reading CMM exports (`shared/spec/cmm-csv.md`) and matching points to the nominal part.
+//!
+//! Bytes → text ([`decode`]) → lines without comments and blanks ([`lines`]) → a table: a
+//! delimited table with a header ([`delimited`], [`header`]) or a fixed format ([`fixed`]:
+//! PC-DMIS XYZIJK, PowerInspect ASCII) → numbers in mm ([`rows`], [`number`], [`units`]) →
+//! checks of ids, units and count ([`plausibility`]) → [`CmmFile`].
+//!
+//! Tolerant in what it accepts, strict in what it reports: every non-blank, non-comment row is
+//! either a point or a [`RowProblem`] with its line, column, the text found and what was
+//! expected. A file with bad rows is rejected as a whole ([`CmmError::BadRows`], all rows
+//! listed) unless [`ReadOptions::exclude_bad_rows`] is set; the excluded rows are then in
+//! [`CmmFile::excluded`] for every later result to show.
+//!
+//! Units: every length returned is in mm. Sign convention (s-shape.md): deviation =
+//! `(measured − nominal)·N`, N the outward normal; + = material left, − = overcut.
+
+pub mod decode;
+pub mod delimited;
+pub mod error;
+pub mod fixed;
+pub mod header;
+pub mod lines;
+pub mod matching;
+pub mod number;
+pub mod options;
+pub mod plausibility;
+pub mod rows;
+pub mod table;
+pub mod units;
+
+use std::collections::HashMap;
+
+pub use delimited::Separator;
+pub use error::{CmmError, ColumnRef, RowProblem, RowProblemKind};
+pub use header::{Column, Role};
+pub use matching::{match_points, read_and_match, DeviationRule, MatchedPart, MatchedPoint};
+pub use options::ReadOptions;
+pub use table::{CmmFile, CmmPoint, CmmWarning, FormatInfo, FormatKind};
+pub use units::LengthUnit;
+
+use rows::ParsedTable;
+
+/// Reads a CMM file with the default (strict) options. `name` is used in messages.
+pub fn read_cmm(bytes: &[u8], name: &str) -> Result<CmmFile, CmmError> {
+    read_cmm_with(bytes, name, &ReadOptions::default())
+}
+
+/// Finds the format of the content lines and splits them into rows.
+fn parse_table(content: &[(usize, &str)]) -> Result<ParsedTable, CmmError> {
+    let (first_line, first) = content[0];
+    if fixed::is_xyzijk(first) {
+        return fixed::xyzijk(content);
+    }
+    if let Some(h) = delimited::find_header(content) {
+        let layout = header::layout_from_header(&h.fields, h.line)?;
+        let data = &content[h.content_index + 1..];
+        let split = delimited::split_rows(data, h.separator, &layout);
+        return Ok(ParsedTable {
+            kind: FormatKind::Delimited,
+            layout,
+            rows: split.rows,
+            problems: split.problems,
+            separator: Some(h.separator),
+            decimal_comma: split.decimal_comma,
+            header_line: Some(h.line),
+            preamble: content[..h.content_index].iter().map(|c| c.0).collect(),
+            label: format!("{}-separated table", h.separator.describe()),
+        });
+    }
+    if let Some(name_fields) = fixed::powerinspect_name_fields(first) {
+        return fixed::powerinspect(content, name_fields);
+    }
+    let fields: Vec<String> = Separator::ALL
+        .iter()
+        .map(|&s| delimited::split(first, s))
+        .max_by_key(Vec::len)
+        .unwrap_or_default();
+    let numeric = fields
+        .iter()
+        .filter(|f| number::parse_number(f, true).is_ok())
+        .count();
+    let hint = if numeric * 2 >= fields.len() && !fields.is_empty() {
+        "; the first line holds numbers: the header row is missing".to_string()
+    } else {
+        String::new()
+    };
+    Err(CmmError::NoHeader {
+        line: first_line,
+        found: delimited::excerpt(first),
+        hint,
+    })
+}
+
+/// Moves rows whose id was used before into problems. With a curve column the identity of a
+/// point is (curve, id): exports that number the points of each curve from 1 are accepted.
+fn duplicates(points: &mut Vec<CmmPoint>, table: &ParsedTable) -> Vec<RowProblem> {
+    let Some(k) = table.layout.id else {
+        return Vec::new();
+    };
+    let col = &table.layout.columns[k];
+    let mut first: HashMap<(Option<String>, String), usize> = HashMap::with_capacity(points.len());
+    let mut problems = Vec::new();
+    points.retain(|p| {
+        let key = (p.curve.clone(), p.id.clone());
+        match first.get(&key) {
+            Some(&line) => {
+                let within = match &p.curve {
+                    Some(c) => format!(" in curve '{c}'"),
+                    None => String::new(),
+                };
+                problems.push(RowProblem {
+                    line: p.line,
+                    column: Some(ColumnRef {
+                        number: col.number,
+                        name: col.header.clone(),
+                    }),
+                    kind: RowProblemKind::DuplicateId,
+                    found: p.id.clone(),
+                    expected: format!(
+                        "a unique point id ('{}'{within} is already used on line {line})",
+                        p.id
+                    ),
+                });
+                false
+            }
+            None => {
+                first.insert(key, p.line);
+                true
+            }
+        }
+    });
+    problems
+}
+
+/// What the columns hold, in words.
+fn content_summary(t: &ParsedTable) -> String {
+    let l = &t.layout;
+    let mut parts = Vec::new();
+    if l.id.is_some() {
+        parts.push("id");
+    }
+    if l.curve.is_some() {
+        parts.push("curve");
+    }
+    if l.nominal.is_some() {
+        parts.push("nominal position");
+    }
+    if l.measured.is_some() {
+        parts.push("measured position");
+    }
+    if l.normal.is_some() {
+        parts.push("normal");
+    }
+    if l.deviation.is_some() {
+        parts.push("deviation");
+    }
+    parts.join(" + ")
+}
+
+fn units_summary(t: &ParsedTable, default: LengthUnit) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    for c in &t.layout.columns {
+        if let Some(role) = c.role.filter(|r| r.is_length()) {
+            let u = c.unit.unwrap_or(default);
+            if u != LengthUnit::Mm {
+                parts.push(format!("{} in {}", role.describe(), u.symbol()));
+            }
+        }
+    }
+    if parts.is_empty() {
+        "lengths in mm".into()
+    } else {
+        format!("{} (converted to mm)", parts.join(", "))
+    }
+}
+
+/// Reads a CMM file. See the module docs for what is accepted and reported.
+pub fn read_cmm_with(bytes: &[u8], name: &str, opts: &ReadOptions) -> Result<CmmFile, CmmError> {
+    let decoded = decode::decode(bytes, name, opts.max_bytes)?;
+    let lines = lines::classify(&decoded.text);
+    if lines.content.is_empty() {
+        let detail = if lines.comments > 0 {
+            format!(
+                "only comment and blank lines ({} comment, {} blank)",
+                lines.comments, lines.blanks
+            )
+        } else {
+            format!(
+                "only white space ({} bytes, {} lines)",
+                bytes.len(),
+                lines.all.len()
+            )
+        };
+        return Err(CmmError::Empty {
+            name: name.to_string(),
+            detail,
+        });
+    }
+    if lines.content.len() > opts.max_rows.saturating_add(1) {
+        return Err(CmmError::TooManyRows {
+            rows: lines.content.len() - 1,
+            limit: opts.max_rows,
+        });
+    }
+    let table = parse_table(&lines.content)?;
+    let data_rows = table.rows.len() + table.problems.len();
+    if data_rows == 0 {
+        return Err(CmmError::Empty {
+            name: name.to_string(),
+            detail: format!(
+                "a header on line {} but no data rows",
+                table.header_line.unwrap_or(lines.content[0].0)
+            ),
+        });
+    }
+    if data_rows > opts.max_rows {
+        return Err(CmmError::TooManyRows {
+            rows: data_rows,
+            limit: opts.max_rows,
+        });
+    }
+    let default_unit = opts.length_unit.unwrap_or(LengthUnit::Mm);
+    let decimal_comma_allowed = table.separator != Some(Separator::Comma);
+    let converted = rows::convert(
+        &table.rows,
+        &table.layout,
+        decimal_comma_allowed,
+        default_unit,
+    );
+    let mut points = converted.points;
+    let mut problems = table.problems.clone();
+    problems.extend(converted.problems);
+    problems.extend(duplicates(&mut points, &table));
+    let mut warnings = Vec::new();
+
+    // Units: positions against the part, deviations against the distance limit.
+    let position_cols: Vec<&Column> = table
+        .layout
+        .columns
+        .iter()
+        .filter(|c| matches!(c.role, Some(Role::Nominal(_) | Role::Measured(_))))
+        .collect();
+    let unit_explicit =
+        opts.length_unit.is_some() || position_cols.iter().any(|c| c.unit.is_some());
+    let unit_text = position_cols
+        .iter()
+        .find_map(|c| c.unit)
+        .unwrap_or(default_unit)
+        .symbol();
+    plausibility::check_positions(&points, plausibility::iso_box(), unit_explicit, unit_text)?;
+    let dev_problems = plausibility::check_deviations(
+        &points,
+        &table.layout,
+        opts.max_distance_mm,
+        &mut warnings,
+    )?;
+    if !dev_problems.is_empty() {
+        points.retain(|p| !dev_problems.iter().any(|d| d.line == p.line));
+        problems.extend(dev_problems);
+    }
+    problems.sort_by_key(|p| p.line);
+
+    let mut excluded = Vec::new();
+    if !problems.is_empty() {
+        if !opts.exclude_bad_rows {
+            return Err(CmmError::bad_rows(problems, data_rows));
+        }
+        let lines_out = {
+            let mut l: Vec<usize> = problems.iter().map(|p| p.line).collect();
+            l.dedup();
+            l
+        };
+        warnings.push(CmmWarning::file(format!(
+            "{} row(s) excluded at your request (lines {}); every result is computed without them",
+            lines_out.len(),
+            lines_out
+                .iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+        excluded = problems;
+    }
+    if points.len() < opts.min_points {
+        let excluded_note = if excluded.is_empty() {
+            String::new()
+        } else {
+            format!(" after excluding {} bad row(s)", {
+                let mut l: Vec<usize> = excluded.iter().map(|p| p.line).collect();
+                l.dedup();
+                l.len()
+            })
+        };
+        return Err(CmmError::TooFewPoints {
+            found: points.len(),
+            needed: opts.min_points,
+            excluded_note,
+        });
+    }
+
+    if !table.preamble.is_empty() {
+        let first = table.preamble[0];
+        warnings.push(CmmWarning::at(
+            first,
+            format!(
+                "{} line(s) before the header on line {} were not read as data (first: '{}')",
+                table.preamble.len(),
+                table.header_line.unwrap_or(0),
+                delimited::excerpt(lines.all[first - 1])
+            ),
+        ));
+    }
+    if table.layout.positions_read_as_measured {
+        warnings.push(CmmWarning::file(
+            "the file has positions x, y, z but neither a deviation nor measured columns: they are read as measured positions and projected onto the nominal part (cmm-csv.md rule 3)",
+        ));
+    }
+    let odd_normals: Vec<(usize, f64)> = points
+        .iter()
+        .filter_map(|p| {
+            let n = p.normal?;
+            let len = n.iter().map(|v| v * v).sum::<f64>().sqrt();
+            ((len - 1.0).abs() > 1e-2).then_some((p.line, len))
+        })
+        .collect();
+    if let Some(&(line, len)) = odd_normals.first() {
+        warnings.push(CmmWarning::at(
+            line,
+            format!(
+                "{} normal(s) are not of unit length (this one {len:.6}); they are normalised where used",
+                odd_normals.len()
+            ),
+        ));
+    }
+
+    let extra_columns: Vec<String> = table
+        .layout
+        .extra
+        .iter()
+        .map(|&k| table.layout.columns[k].header.clone())
+        .collect();
+    let mut description = format!(
+        "{}{}{}: {}; {}; {}",
+        table.label,
+        if table.decimal_comma {
+            " with decimal comma"
+        } else {
+            ""
+        },
+        match (table.kind, table.header_line) {
+            (FormatKind::Delimited, Some(h)) => format!(", header on line {h}"),
+            _ => String::new(),
+        },
+        content_summary(&table),
+        units_summary(&table, default_unit),
+        decoded.encoding
+    );
+    if table.layout.id.is_none() {
+        description.push_str("; no id column: points numbered 1.. in file order");
+    }
+    if !extra_columns.is_empty() {
+        description.push_str(&format!(
+            "; extra columns kept: {}",
+            extra_columns.join(", ")
+        ));
+    }
+    Ok(CmmFile {
+        name: name.to_string(),
+        format: FormatInfo {
+            kind: table.kind,
+            description,
+            encoding: decoded.encoding.to_string(),
+            separator: table.separator,
+            decimal_comma: table.decimal_comma,
+            header_line: table.header_line,
+            columns: table.layout.columns.clone(),
+        },
+        extra_columns,
+        points,
+        excluded,
+        warnings,
+        comment_lines: lines.comments,
+        blank_lines: lines.blanks,
+    })
+}

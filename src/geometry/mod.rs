@@ -32,6 +32,14 @@ pub enum GeometryError {
     ArcLengthOutOfRange { length: f64, total: f64 },
     #[error("unknown measurement curve `{name}` (expected A_Z11, A_Z25, B_Z11 or B_Z25)")]
     UnknownCurve { name: String },
+    #[error("cone frustum D = {bottom_diameter} mm, t = {thickness} mm, beta = {inclination} rad, theta = {half_apex} rad is not valid (needs D, t > 0, 0 < theta < pi/2, |beta| < pi/2, finite offsets; top radius {top_radius} mm must be > 0)")]
+    BadCone {
+        bottom_diameter: f64,
+        thickness: f64,
+        inclination: f64,
+        half_apex: f64,
+        top_radius: f64,
+    },
     #[error("point ({x}, {y}, {z}) has a coordinate that is not a finite number")]
     NonFinitePoint { x: f64, y: f64, z: f64 },
     #[error("closest-point projection of ({x}, {y}, {z}) onto surface {surface} did not converge")]

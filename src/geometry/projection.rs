@@ -1,4 +1,6 @@
-//! Closest-point projection of a 3-D point onto the nominal S-shape surfaces.
+//! Closest-point projection of a 3-D point onto the nominal S-shape surfaces (or the surfaces of
+//! any [`RuledPart`]; on a closed part such as a cone frustum `u` wraps around instead of being
+//! clamped).
 //!
 //! For one surface, minimise `f(u,v) = ½|S(u,v) - p|²` (eq. 1 surface) with `u ∈ [0, 1]` and `v`
 //! free (the ruled surface extends linearly past Z 0..30, so a point measured slightly above or
@@ -10,7 +12,7 @@
 //!    falling back to the Gauss–Newton matrix when that is not positive definite, with step
 //!    halving on `f`; when `u` reaches 0 or 1 it is clamped there and only `v` is solved.
 //!
-//! Over both surfaces the one with the smaller `|p - foot|` wins. The result is the foot point,
+//! Over the part's surfaces the one with the smaller `|p - foot|` wins. The result is the foot point,
 //! its `(u, v)`, the outward normal `N(u,v)` there and the signed distance `(p - foot)·N` (mm):
 //! **positive = outside the material** (same sign as a deviation, s-shape.md). At an interior
 //! foot `p - foot ∥ N`; at a clamped end it is not, and `clamped` says so.
@@ -19,7 +21,9 @@ use nalgebra::{Matrix2, Vector2, Vector3};
 use serde::Serialize;
 
 use super::GeometryError;
-use crate::part::{SShape, Surface};
+#[cfg(test)]
+use crate::part::SShape;
+use crate::part::{RuledPart, Surface};
 
 /// Result of a closest-point projection.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,18 +65,28 @@ impl Serialize for Projection {
 const START_SAMPLES: usize = 400;
 const MAX_ITER: usize = 100;
 
-/// Projects `p` (mm) onto the nearer of the two surfaces.
-pub fn project(part: &SShape, p: &Vector3<f64>) -> Result<Projection, GeometryError> {
-    let a = project_on(part, Surface::A, p)?;
-    let b = project_on(part, Surface::B, p)?;
-    let da = (p - a.foot).norm();
-    let db = (p - b.foot).norm();
-    Ok(if da <= db { a } else { b })
+/// Projects `p` (mm) onto the nearest surface of the part (S-shape: A or B).
+pub fn project<P: RuledPart + ?Sized>(
+    part: &P,
+    p: &Vector3<f64>,
+) -> Result<Projection, GeometryError> {
+    let mut best: Option<Projection> = None;
+    for &s in part.surfaces() {
+        let pr = project_on(part, s, p)?;
+        if best.is_none_or(|b| (p - pr.foot).norm() < (p - b.foot).norm()) {
+            best = Some(pr);
+        }
+    }
+    best.ok_or(GeometryError::NonFinitePoint {
+        x: p.x,
+        y: p.y,
+        z: p.z,
+    })
 }
 
 /// Projects `p` (mm) onto surface `s`.
-pub fn project_on(
-    part: &SShape,
+pub fn project_on<P: RuledPart + ?Sized>(
+    part: &P,
     s: Surface,
     p: &Vector3<f64>,
 ) -> Result<Projection, GeometryError> {
@@ -107,8 +121,9 @@ pub fn project_on(
         let r = f.frame.point - p;
         let d1 = part.section_at(s, u).d.d1;
         let g = Vector2::new(r.dot(&f.s_u), r.dot(&f.s_v));
-        let at_lo = u <= 0.0 && g[0] > 0.0;
-        let at_hi = u >= 1.0 && g[0] < 0.0;
+        let closed = part.closed();
+        let at_lo = !closed && u <= 0.0 && g[0] > 0.0;
+        let at_hi = !closed && u >= 1.0 && g[0] < 0.0;
         let gn = Matrix2::new(
             f.s_u.dot(&f.s_u),
             f.s_u.dot(&f.s_v),
@@ -134,16 +149,27 @@ pub fn project_on(
         let mut lambda = 1.0;
         let (mut un, mut vn) = (u, v);
         for _ in 0..40 {
-            un = (u + lambda * step[0]).clamp(0.0, 1.0);
+            un = if closed {
+                (u + lambda * step[0]).rem_euclid(1.0)
+            } else {
+                (u + lambda * step[0]).clamp(0.0, 1.0)
+            };
             vn = v + lambda * step[1];
             if size < 1e-4 || objective(un, vn) <= f0 {
                 break;
             }
             lambda *= 0.5;
         }
-        let moved = ((un - u) * f.s_u.norm()).abs() + ((vn - v) * f.s_v.norm()).abs();
+        let du = if closed {
+            (un - u + 0.5).rem_euclid(1.0) - 0.5
+        } else {
+            un - u
+        };
+        let moved = (du * f.s_u.norm()).abs() + ((vn - v) * f.s_v.norm()).abs();
         (u, v) = (un, vn);
-        if moved < 1e-13 {
+        // converged when the Newton step is below 1e-11 mm (at the foot, rounding makes the
+        // iterate hop by an ulp of u, i.e. ~1e-13 mm, forever)
+        if moved < 1e-13 || size < 1e-11 {
             converged = true;
             break;
         }
@@ -164,7 +190,7 @@ pub fn project_on(
         foot: fr.point,
         normal: fr.n,
         distance: (p - fr.point).dot(&fr.n),
-        clamped: u <= 0.0 || u >= 1.0,
+        clamped: !part.closed() && (u <= 0.0 || u >= 1.0),
     })
 }
 

@@ -131,32 +131,36 @@ impl SShape {
 
     /// The frame with its first derivatives in `u` and `v` (see the module doc for the formulas).
     pub fn frame_derivs_at(&self, s: Surface, u: f64, v: f64) -> FrameDerivs {
-        let sec = self.section_at(s, u);
-        let dd = sec.d;
-        let point = sec.c0.point * (1.0 - v) + sec.c1.point * v;
-        let s_u = sec.c0.d1 * (1.0 - v) + sec.c1.d1 * v;
-        let s_uu = sec.c0.d2 * (1.0 - v) + sec.c1.d2 * v;
-        let r = dd.point.normalize();
-        let r_u = unit_derivative(&dd.point, &dd.d1);
-        let t = s_u.normalize();
-        let sign = s.normal_sign();
-        let w = r.cross(&s_u);
-        let w_u = r_u.cross(&s_u) + r.cross(&s_uu);
-        let w_v = r.cross(&dd.d1);
-        FrameDerivs {
-            frame: Frame {
-                point,
-                r,
-                t,
-                n: w.normalize() * sign,
-            },
-            s_u,
-            s_v: dd.point,
-            s_uu,
-            r_u,
-            n_u: unit_derivative(&w, &w_u) * sign,
-            n_v: unit_derivative(&w, &w_v) * sign,
-        }
+        frame_derivs_from(&self.section_at(s, u), v, s.normal_sign())
+    }
+}
+
+/// The frame of any ruled surface `(1-v)·C0 + v·C1` from its section at one `u`, with the normal
+/// sign `sign` (`N = sign·unit(R × S_u)`); the formulas of the module doc.
+pub fn frame_derivs_from(sec: &Section, v: f64, sign: f64) -> FrameDerivs {
+    let dd = sec.d;
+    let point = sec.c0.point * (1.0 - v) + sec.c1.point * v;
+    let s_u = sec.c0.d1 * (1.0 - v) + sec.c1.d1 * v;
+    let s_uu = sec.c0.d2 * (1.0 - v) + sec.c1.d2 * v;
+    let r = dd.point.normalize();
+    let r_u = unit_derivative(&dd.point, &dd.d1);
+    let t = s_u.normalize();
+    let w = r.cross(&s_u);
+    let w_u = r_u.cross(&s_u) + r.cross(&s_uu);
+    let w_v = r.cross(&dd.d1);
+    FrameDerivs {
+        frame: Frame {
+            point,
+            r,
+            t,
+            n: w.normalize() * sign,
+        },
+        s_u,
+        s_v: dd.point,
+        s_uu,
+        r_u,
+        n_u: unit_derivative(&w, &w_u) * sign,
+        n_v: unit_derivative(&w, &w_v) * sign,
     }
 }
 

@@ -1,10 +1,15 @@
-//! Test pieces as data: the ISO 10791-7 S-shape (paper 000) and, later, the cone frustums
-//! M3_15 / M3_45 (paper 002 Table 3).
+//! Test pieces as data: the ISO 10791-7 S-shape (paper 000) and the cone frustums M3_15 / M3_45
+//! (paper 002 Table 3), both ruled parts ([`RuledPart`]) that the flank path, envelope and
+//! projection accept.
 
+pub mod cone;
 pub mod frame;
 pub mod points;
+pub mod ruled;
 pub mod s_shape;
 
+pub use cone::{ConeFrustum, ConePoint};
 pub use frame::{Frame, FrameDerivs, Section};
 pub use points::{builtin_points, Curve, MeasurementPoint};
+pub use ruled::RuledPart;
 pub use s_shape::{SShape, Surface, HEIGHT};

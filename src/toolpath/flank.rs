@@ -1,4 +1,5 @@
-//! The flank tool path of the S-shape (paper 000 eq. 2, `shared/spec/s-shape.md`).
+//! The flank tool path of the S-shape (paper 000 eq. 2, `shared/spec/s-shape.md`), and of any
+//! [`RuledPart`] with its own tip offset `L_tool` (the cone frustums).
 //!
 //! `T_tool(u) = C1(u) + R_tool·N(u,1) - L_tool·R(u)`, tool axis `w(u) = R(u)`, with
 //! `R_tool = 10 mm` (radius) and `L_tool = 35 mm` (the tool tip is 35 mm below the top curve along
@@ -8,7 +9,9 @@
 
 use nalgebra::Vector3;
 
-use crate::part::{SShape, Surface};
+#[cfg(test)]
+use crate::part::SShape;
+use crate::part::{RuledPart, Surface};
 
 /// Nominal tool radius `R_tool` (mm), paper 000 §3.1.
 pub const TOOL_RADIUS: f64 = 10.0;
@@ -35,16 +38,17 @@ pub struct ToolPoseDerivs {
 }
 
 /// The tool pose of eq. 2 at path parameter `u ∈ [0, 1]` (clamped) for surface `s`.
-pub fn tool_pose(part: &SShape, s: Surface, u: f64) -> ToolPose {
+pub fn tool_pose<P: RuledPart + ?Sized>(part: &P, s: Surface, u: f64) -> ToolPose {
     tool_pose_derivs(part, s, u).pose
 }
 
 /// The tool pose of eq. 2 and its first derivative in `u`.
-pub fn tool_pose_derivs(part: &SShape, s: Surface, u: f64) -> ToolPoseDerivs {
+pub fn tool_pose_derivs<P: RuledPart + ?Sized>(part: &P, s: Surface, u: f64) -> ToolPoseDerivs {
     let f = part.frame_derivs_at(s, u, 1.0);
     let c1 = f.frame.point;
-    let tip = c1 + f.frame.n * TOOL_RADIUS - f.frame.r * TIP_OFFSET;
-    let tip_u = f.s_u + f.n_u * TOOL_RADIUS - f.r_u * TIP_OFFSET;
+    let l_tool = part.tip_offset();
+    let tip = c1 + f.frame.n * TOOL_RADIUS - f.frame.r * l_tool;
+    let tip_u = f.s_u + f.n_u * TOOL_RADIUS - f.r_u * l_tool;
     ToolPoseDerivs {
         pose: ToolPose {
             tip,
@@ -58,8 +62,8 @@ pub fn tool_pose_derivs(part: &SShape, s: Surface, u: f64) -> ToolPoseDerivs {
 /// Contact height `h` of the surface point `S(u,v)` above the tool tip along the axis (mm):
 /// `h = L_tool - (1-v)·|C1(u) - C0(u)|`, since `S(u,v) = C1 - (1-v)·D` lies on the ruling
 /// that the tool touches from `C1` down.
-pub fn contact_height(part: &SShape, s: Surface, u: f64, v: f64) -> f64 {
-    TIP_OFFSET - (1.0 - v) * part.section_at(s, u).d.point.norm()
+pub fn contact_height<P: RuledPart + ?Sized>(part: &P, s: Surface, u: f64, v: f64) -> f64 {
+    part.tip_offset() - (1.0 - v) * part.section_at(s, u).d.point.norm()
 }
 
 #[cfg(test)]

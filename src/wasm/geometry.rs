@@ -36,3 +36,65 @@ pub fn surface_max_overcut_js() -> Result<JsValue, JsError> {
         .map_err(|e| JsError::new(&e.to_string()))?;
     to_js(&maxima)
 }
+
+/// Multi-layer flank milling with a tool rotation-profile error (paper 001 §2-3) at the 100
+/// built-in points. `heights`/`radii`: the measured profile (mm above the tip, mm; same length,
+/// heights increasing); `rho` (mm), `phi` (rad): tool setup error; `layers`, `pitch` (mm),
+/// `cutting_length` (mm): the layer plan (last layer = nominal path, each earlier one `pitch`
+/// higher). Returns `[{id, curve, deviation, layer, height, own_layer, own_deviation}]` (mm).
+#[wasm_bindgen(js_name = multilayerDeviation)]
+#[allow(clippy::too_many_arguments)]
+pub fn multilayer_deviation_js(
+    heights: Vec<f64>,
+    radii: Vec<f64>,
+    rho: f64,
+    phi: f64,
+    layers: usize,
+    pitch: f64,
+    cutting_length: f64,
+) -> Result<JsValue, JsError> {
+    use crate::toolpath::{multilayer_deviation, LayerPlan, ToolProfile};
+    let err = |e: crate::toolpath::ToolpathError| JsError::new(&e.to_string());
+    if heights.len() != radii.len() {
+        return Err(JsError::new(&format!(
+            "{} profile heights but {} radii",
+            heights.len(),
+            radii.len()
+        )));
+    }
+    let table: Vec<(f64, f64)> = heights.into_iter().zip(radii).collect();
+    let profile = ToolProfile::try_new(&table)
+        .and_then(|p| p.with_setup_error(rho, phi))
+        .map_err(err)?;
+    let plan = LayerPlan::try_new(layers, pitch, cutting_length).map_err(err)?;
+    let part = SShape::iso();
+    let res = multilayer_deviation(&part, &builtin_points(&part), &profile, &plan).map_err(err)?;
+    to_js(&res)
+}
+
+/// The built-in points of a cone-frustum test piece (paper 002 Table 3): `kind` is `"M3_15"` or
+/// `"M3_45"`, `offsets` places it with the paper's centre and height offsets (62.5 and 30 mm).
+/// Returns `{cone: {name, bottom_diameter, thickness, inclination, half_apex, center_offset,
+/// height_offset}, points: [{id, level, u, v, x, y, z, nx, ny, nz, h}]}` (mm, rad).
+#[wasm_bindgen(js_name = conePoints)]
+pub fn cone_points_js(kind: &str, offsets: bool) -> Result<JsValue, JsError> {
+    use crate::part::ConeFrustum;
+    let cone = match kind.trim().to_ascii_uppercase().as_str() {
+        "M3_15" => ConeFrustum::m3_15(offsets),
+        "M3_45" => ConeFrustum::m3_45(offsets),
+        other => {
+            return Err(JsError::new(&format!(
+                "unknown cone frustum `{other}` (expected M3_15 or M3_45)"
+            )))
+        }
+    };
+    #[derive(serde::Serialize)]
+    struct Out<'a> {
+        cone: &'a ConeFrustum,
+        points: Vec<crate::part::ConePoint>,
+    }
+    to_js(&Out {
+        cone: &cone,
+        points: cone.builtin_points(),
+    })
+}

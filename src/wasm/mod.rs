@@ -5,6 +5,7 @@
 use wasm_bindgen::prelude::*;
 
 mod cmm;
+mod examples;
 mod gap;
 mod geometry;
 mod identify;

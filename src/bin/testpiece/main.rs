@@ -22,8 +22,12 @@ Usage: testpiece <command> [options]
 
 Commands:
   info        lengths of the four measurement curves of the built-in S-shape (mm)
+  sensitivity Figure-19 defect per unit of each of the 8 location errors [--mode] [--branch]
+  forward     tool tip and axis from axis values on stdin through --machine FILE (JSON chain)
   points      the 100 built-in measurement points: id,curve,u,v,x,y,z,nx,ny,nz,h
   envelope    flank-path deviation at the points (id,curve,deviation); --surface-max per surface
+  simulate    a synthetic measured part for given errors: id,curve,x,y,z,nx,ny,nz,deviation
+  identify    the machine errors, groups, uncertainty and residuals from a measured part
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
 Options for all: --version prints the version.

@@ -1,5 +1,111 @@
-//! `testpiece simulate`: a synthetic measured part.
+//! `testpiece simulate`: a synthetic measured part in the canonical CSV format.
 
-pub fn run(_rest: &[String]) -> Result<(), String> {
-    Err("`testpiece simulate` is not available in this version yet (issue 5)".to_string())
+use crate::args::Args;
+use testpiece::identify::{Design, ISO_LOCATION_ERRORS};
+use testpiece::part::{builtin_points, SShape};
+use testpiece::simulate::{parse_errors, simulate_deviation};
+
+const HELP: &str = "\
+testpiece simulate --errors EX0B=0.03,EA0B=3e-4 [--noise 0.0015] [--seed 7]
+                   [--mode physical|paper] [--branch signed|positive]
+
+Prints a synthetic measured part at the 100 built-in points in the canonical format
+`id,curve,x,y,z,nx,ny,nz,deviation` (mm; deviation = (machined - nominal)·N, + = material left).
+The deviation is the linearised machined defect of paper 000 eq. 14 for the given errors
+(EC0Y EA0Z EB0Z EA0C EB0C EA0B EC0B in rad, EX0B in mm; others 0), plus dR (mm, a tool larger by
+dR overcuts by dR) if given in --errors, plus Gaussian noise of σ = --noise mm (default 0) drawn
+from a ChaCha8 stream seeded by --seed (default 7): the same seed gives the same part.
+";
+
+/// The design of the 100 built-in points for a mode and branch, with the dR column if asked.
+pub fn design_for(mode: &str, branch: &str, tool_radius: bool) -> Result<Design, String> {
+    // Placeholder until the sensitivity stage lands (it provides the 100 x 8 matrix per mode/branch).
+    let d: Design = Err(format!(
+        "the sensitivity matrix for mode {mode}, branch {branch} is not available in this version yet"
+    ))?;
+    if tool_radius {
+        d.with_tool_radius().map_err(|e| e.to_string())
+    } else {
+        Ok(d)
+    }
+}
+
+/// `--mode` and `--branch` values, checked.
+pub fn mode_and_branch(args: &Args) -> Result<(String, String), String> {
+    let mode = args.value("mode").unwrap_or("physical").to_string();
+    if mode != "physical" && mode != "paper" {
+        return Err(format!("--mode `{mode}`: expected physical or paper"));
+    }
+    let branch = args.value("branch").unwrap_or("signed").to_string();
+    if branch != "signed" && branch != "positive" {
+        return Err(format!("--branch `{branch}`: expected signed or positive"));
+    }
+    Ok((mode, branch))
+}
+
+pub fn run(rest: &[String]) -> Result<(), String> {
+    if crate::wants_help(rest, HELP) {
+        return Ok(());
+    }
+    let args = Args::parse(
+        rest,
+        &["errors", "noise", "seed", "mode", "branch", "effect"],
+    )?;
+    let errors = args
+        .value("errors")
+        .ok_or("--errors is required, e.g. --errors EX0B=0.03,EA0B=3e-4")?;
+    let noise: f64 = match args.value("noise") {
+        Some(t) => t
+            .parse()
+            .map_err(|_| format!("--noise `{t}`: expected a number of mm, e.g. 0.0015"))?,
+        None => 0.0,
+    };
+    let seed: u64 = match args.value("seed") {
+        Some(t) => t
+            .parse()
+            .map_err(|_| format!("--seed `{t}`: expected a non-negative integer"))?,
+        None => 7,
+    };
+    let (mode, branch) = mode_and_branch(&args)?;
+    if let Some(e) = args.value("effect") {
+        return Err(format!(
+            "--effect {e}: effects are simulated by the gap-diagnosis stage, not available in this version yet"
+        ));
+    }
+    args.reject_unknown("simulate")?;
+    if !args.positional.is_empty() {
+        return Err(format!(
+            "`testpiece simulate` takes no file, found `{}`",
+            args.positional.join(" ")
+        ));
+    }
+    let errs = parse_errors(errors).map_err(|e| e.to_string())?;
+    for (name, _) in &errs {
+        if name != "dR" && !ISO_LOCATION_ERRORS.contains(&name.as_str()) {
+            return Err(format!(
+                "--errors: unknown error `{name}`; known: {}, dR",
+                ISO_LOCATION_ERRORS.join(", ")
+            ));
+        }
+    }
+    let tool_radius = errs.iter().any(|(n, _)| n == "dR");
+    let design = design_for(&mode, &branch, tool_radius)?;
+    let dev = simulate_deviation(&design, &errs, noise, seed).map_err(|e| e.to_string())?;
+    let pts = builtin_points(&SShape::iso());
+    if pts.len() != dev.len() {
+        return Err(format!(
+            "internal: {} built-in points but {} design rows",
+            pts.len(),
+            dev.len()
+        ));
+    }
+    let mut out = String::from("id,curve,x,y,z,nx,ny,nz,deviation\n");
+    for (p, d) in pts.iter().zip(&dev) {
+        out.push_str(&format!(
+            "{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?}\n",
+            p.id, p.curve, p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z, d
+        ));
+    }
+    print!("{out}");
+    Ok(())
 }

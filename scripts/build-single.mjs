@@ -1,0 +1,70 @@
+// Builds dist/testpiece.html: the whole page in one file that works when double-clicked from
+// file:// (a lab machine with no web server). The wasm is inlined as base64 and started with
+// initSync on the main thread; the page's ES modules are folded into one inline module script
+// (file:// forbids loading other modules, module workers and service workers).
+// Needs www/pkg/ (scripts/build-wasm.sh). Usage: node scripts/build-single.mjs
+import fs from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
+const WWW = path.join(ROOT, 'www');
+const OUT = path.join(ROOT, 'dist', 'testpiece.html');
+
+/** Turns one ES module into `const __m_<name> = (() => { …; return {exports}; })();`. */
+function fold(name, code) {
+  const exported = [];
+  code = code.replace(/^import\s+\{([^}]*)\}\s+from\s+'\.\/([\w/.-]+)\.js';?$/gm, (_, names, from) => {
+    const fields = names.split(',').map((s) => s.trim()).filter(Boolean)
+      .map((s) => s.replace(/\s+as\s+/, ': '));
+    return `const { ${fields.join(', ')} } = __m_${from.replace(/\W/g, '_')};`;
+  });
+  if (/^import\s/m.test(code)) throw new Error(`${name}: an import form the single-file build cannot fold`);
+  code = code.replace(/^export\s+(async\s+function|function|const|let|class)\s+(\w+)/gm, (_, kind, id) => {
+    exported.push(id);
+    return `${kind} ${id}`;
+  });
+  if (/^export\s/m.test(code)) throw new Error(`${name}: an export form the single-file build cannot fold`);
+  return `const __m_${name.replace(/\W/g, '_')} = (() => {\n${code}\nreturn { ${exported.join(', ')} };\n})();\n`;
+}
+
+/** The wasm-bindgen glue (--target web) as a module-free block exposing initSync and the exports. */
+function foldGlue(code) {
+  const names = [...code.matchAll(/^export function (\w+)/gm)].map((m) => m[1]);
+  code = code.replace(/^export function /gm, 'function ')
+    .replace(/^export\s*\{[^}]*\};?\s*$/gm, '')
+    .replace(/^export default \w+;?\s*$/gm, '');
+  if (/^export\s/m.test(code) || /^import\s/m.test(code)) throw new Error('unexpected module syntax in the wasm glue');
+  return `const __m_pkg_testpiece = (() => {\n${code}\nreturn { initSync, exports: { ${names.join(', ')} } };\n})();\n`;
+}
+
+const read = (f) => fs.readFileSync(path.join(WWW, f), 'utf8');
+const wasm = fs.readFileSync(path.join(WWW, 'pkg', 'testpiece_bg.wasm'));
+const glue = foldGlue(read('pkg/testpiece.js'));
+// Dependency order: each module after the ones it imports.
+const modules = ['pkg/build', 'plot', 'export', 'core', 'views', 'app'].filter((m) => fs.existsSync(path.join(WWW, `${m}.js`)));
+let app = modules.map((m) => fold(m, read(`${m}.js`))).join('\n');
+const boot = `
+globalThis.__TESTPIECE_INLINE__ = (() => {
+  const b64 = document.getElementById('testpiece-wasm').textContent.trim();
+  const bin = atob(b64);
+  const bytes = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+  return { initSync: __m_pkg_testpiece.initSync, module: bytes, exports: __m_pkg_testpiece.exports };
+})();
+`;
+// app.js starts itself; the inline core must exist before it runs.
+app = app.replace('const __m_app = (() => {', `${boot}\nconst __m_app = (() => {`);
+
+let html = read('index.html');
+const css = read('style.css');
+html = html.replace(/<link rel="stylesheet" href="style.css">/, `<style>\n${css}\n</style>`);
+html = html.replace(/<script type="module" src="app.js"><\/script>/,
+  `<script type="application/wasm-base64" id="testpiece-wasm">${wasm.toString('base64')}</script>\n` +
+  `<script type="module">\n${glue}\n${app}\n</script>`);
+// file:// has no origin to connect to: forbid every connection; inline scripts are this file's own.
+html = html.replace(/<meta http-equiv="Content-Security-Policy" content="[^"]*">/,
+  `<meta http-equiv="Content-Security-Policy" content="default-src 'none'; script-src 'unsafe-inline' 'wasm-unsafe-eval'; style-src 'unsafe-inline'; img-src data: blob:; connect-src 'none'; object-src 'none'; base-uri 'none'; form-action 'none'">`);
+fs.mkdirSync(path.dirname(OUT), { recursive: true });
+fs.writeFileSync(OUT, html);
+console.log(`[build-single] ${path.relative(ROOT, OUT)}: ${fs.statSync(OUT).size} bytes`);

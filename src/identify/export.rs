@@ -1,0 +1,80 @@
+//! The identified parameters as a compensation table a controller can take: one row per
+//! parameter with its ISO 230-1 name, value and unit (CSV or JSON).
+//!
+//! Names: ISO 230-1 location errors are written without underscores (`EX0B` for E_X0B,
+//! s-shape.md); `iso_230_1` gives the subscripted form. The value is the identified error itself
+//! (the machine's deviation from its nominal geometry, paper 000 eq. 11), which is what a
+//! controller's kinematic-compensation table holds; its sign is not flipped. Parameters that the
+//! part could not separate carry their minimum-norm value with status `not_separable`: such a value
+//! reproduces the measured part, but not necessarily the machine elsewhere.
+
+use serde::{Deserialize, Serialize};
+
+use super::{Identification, Status};
+
+/// One row of the compensation table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CompensationEntry {
+    /// Name as in files and APIs (`EX0B`, `dR`).
+    pub name: String,
+    /// ISO 230-1 form (`E_X0B`); the name itself for non-ISO parameters.
+    pub iso_230_1: String,
+    /// Identified value.
+    pub value: f64,
+    /// `mm` or `rad`.
+    pub unit: String,
+    /// Standard deviation (same unit), `None` when not separable.
+    pub std: Option<f64>,
+    /// `identified`, `weak` or `not_separable`.
+    pub status: Status,
+}
+
+/// ISO 230-1 subscripted form of a location-error name: `EX0B` → `E_X0B`.
+pub fn iso_230_1_name(name: &str) -> String {
+    let b = name.as_bytes();
+    if b.len() == 4 && b[0] == b'E' && b'A' <= b[1] && b[1] <= b'Z' && b[2] == b'0' {
+        format!("E_{}", &name[1..])
+    } else {
+        name.to_string()
+    }
+}
+
+/// The table, in design order.
+pub fn compensation_table(id: &Identification) -> Vec<CompensationEntry> {
+    id.parameters
+        .0
+        .iter()
+        .map(|p| CompensationEntry {
+            name: p.name.clone(),
+            iso_230_1: iso_230_1_name(&p.name),
+            value: p.value,
+            unit: p.unit.clone(),
+            std: p.std,
+            status: p.status,
+        })
+        .collect()
+}
+
+/// CSV with header `name,iso_230_1,value,unit,std,status` (shortest round-trip numbers; empty std
+/// when not separable).
+pub fn compensation_csv(id: &Identification) -> String {
+    let mut s = String::from("name,iso_230_1,value,unit,std,status\n");
+    for e in compensation_table(id) {
+        let status = match e.status {
+            Status::Identified => "identified",
+            Status::Weak => "weak",
+            Status::NotSeparable => "not_separable",
+        };
+        let std = e.std.map(|v| format!("{v:e}")).unwrap_or_default();
+        s.push_str(&format!(
+            "{},{},{:e},{},{},{}\n",
+            e.name, e.iso_230_1, e.value, e.unit, std, status
+        ));
+    }
+    s
+}
+
+/// JSON array `[{"name","iso_230_1","value","unit","std","status"}, ...]`.
+pub fn compensation_json(id: &Identification) -> String {
+    serde_json::to_string_pretty(&compensation_table(id)).unwrap_or_else(|_| "[]".to_string())
+}

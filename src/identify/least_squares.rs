@@ -1,0 +1,530 @@
+//! Weighted linear least squares on a named design, by SVD in the column-scaled space.
+//!
+//! Minimise `Σ w_i (y_i - (A x)_i)²`. With `B = W^½ A D⁻¹ = U S Vᵀ` ([`ScaledSvd`]) and
+//! `ξ = D x`, a direction `v_k` is *unresolved* when `s_k ≤ τ` (numerical rank) or
+//! `η_k = s₁/s_k ≥ η_max` (default 30, Belsley): along it the noise is amplified 30 times more
+//! than along the best direction, and the part cannot separate the parameters that make it up.
+//!
+//! **What is fixed, and why.** Each unresolved direction is named by its dominant parameters
+//! `J_k` ([`super::groups`]) and fixed by the constraint `Σ_{j∈J_k} v_jk ξ_j = 0`: the minimum-norm
+//! choice in the scaled space, but restricted to the group. (The plain truncated-SVD minimum-norm
+//! solution would also pull the well-determined parameters that have a small share in `v_k`:
+//! on Table 4 it biases `EX0B` by 0.5 %, 5 std.) This is the data-driven analogue of paper 000 §6
+//! fixing `EA0C = -EA0Z`. Then ordinary least squares on the constrained subspace
+//! `ξ = N w` (`N` an orthonormal basis of the constraints' null space), by SVD of `B N`.
+//! Only the group's estimable combinations (orthogonal to `v_k`) carry a std; its individual
+//! parameters are reported as not separable.
+//!
+//! Covariance: `Cov(x) = σ² D⁻¹ N (NᵀBᵀBN)⁻¹ Nᵀ D⁻¹` with `σ² = Σ w_i r_i² / (n - r)` (a posteriori,
+//! `r` solved directions) or a given σ (a priori; then `w_i` should be `1/σ_i²` relative to it).
+//! Without unresolved directions this is `σ² (AᵀWA)⁻¹`.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::groups::{not_separable_groups, weak_groups, GroupKind};
+use super::report::{
+    ColumnCorrelation, CurveStats, ExcludedPoint, Identification, ParameterEstimate, ParameterMap,
+    PointFit, Status,
+};
+use super::scaled_svd::{condition_of, ScaledSvd};
+use super::stats::ResidualStats;
+use super::{Design, IdentifyError, Observations};
+
+/// Options of [`identify`]; `Default` gives the values stated in the module docs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IdentifyOptions {
+    /// Condition index `s₁/s_k` at or above which a direction is not separated (default 30).
+    pub condition_index_limit: f64,
+    /// Std, in typical magnitudes, above which a direction or parameter is weak (default 0.25).
+    pub weak_limit: f64,
+    /// A priori σ of unit weight (mm); `None` uses the residual.
+    pub sigma: Option<f64>,
+    /// Smallest |measured| entering MAPE (mm, default 0.003 = R0 of paper 000 §6).
+    pub mape_floor: f64,
+    /// |cosine| from which a pair of design columns is listed (default 0.7).
+    pub correlation_report: f64,
+    /// Share of a direction's squared norm kept when naming it (default 0.9).
+    pub naming_share: f64,
+}
+
+impl Default for IdentifyOptions {
+    fn default() -> Self {
+        IdentifyOptions {
+            condition_index_limit: 30.0,
+            weak_limit: 0.25,
+            sigma: None,
+            mape_floor: 0.003,
+            correlation_report: 0.7,
+            naming_share: 0.9,
+        }
+    }
+}
+
+impl IdentifyOptions {
+    /// Sets the condition-index limit (> 1).
+    pub fn with_condition_index_limit(mut self, v: f64) -> Self {
+        self.condition_index_limit = v;
+        self
+    }
+    /// Sets the weak limit (std in typical magnitudes, > 0).
+    pub fn with_weak_limit(mut self, v: f64) -> Self {
+        self.weak_limit = v;
+        self
+    }
+    /// Uses an a priori σ (mm) instead of the residual's.
+    pub fn with_sigma(mut self, sigma: f64) -> Self {
+        self.sigma = Some(sigma);
+        self
+    }
+    /// Sets the MAPE floor (mm).
+    pub fn with_mape_floor(mut self, v: f64) -> Self {
+        self.mape_floor = v;
+        self
+    }
+
+    fn validate(&self) -> Result<(), IdentifyError> {
+        let bad = |name, value, expected| {
+            Err(IdentifyError::BadOption {
+                name,
+                value,
+                expected,
+            })
+        };
+        if self.condition_index_limit.is_nan() || self.condition_index_limit <= 1.0 {
+            return bad("condition_index_limit", self.condition_index_limit, "> 1");
+        }
+        if !(self.weak_limit > 0.0 && self.weak_limit.is_finite()) {
+            return bad("weak_limit", self.weak_limit, "> 0 and finite");
+        }
+        if let Some(s) = self.sigma {
+            if !(s > 0.0 && s.is_finite()) {
+                return bad("sigma", s, "> 0 and finite (mm)");
+            }
+        }
+        if !(self.mape_floor >= 0.0 && self.mape_floor.is_finite()) {
+            return bad("mape_floor", self.mape_floor, ">= 0 (mm)");
+        }
+        if !(self.naming_share > 0.0 && self.naming_share <= 1.0) {
+            return bad("naming_share", self.naming_share, "in (0, 1]");
+        }
+        Ok(())
+    }
+}
+
+/// The factored problem: used points, weights, scaled SVD, the constraints that fix the
+/// unresolved directions, and the SVD of the constrained problem.
+#[derive(Debug, Clone)]
+pub struct Factored {
+    /// Indices of the points with weight > 0.
+    pub used: Vec<usize>,
+    /// √w of the used points.
+    pub sqrt_w: Vec<f64>,
+    /// SVD of the scaled weighted design over the used points.
+    pub svd: ScaledSvd,
+    /// Index of the first unresolved singular direction (`svd.v` columns `first_unresolved..p`
+    /// are the unresolved directions, in the scaled space).
+    pub first_unresolved: usize,
+    /// The parameters each unresolved direction is restricted to when it is fixed (naming rule).
+    pub constrained_sets: Vec<Vec<usize>>,
+    /// Number of directions of the solution (columns of `basis_xi`).
+    pub kept: usize,
+    /// Orthonormal basis of the solved subspace in the scaled space (p x kept).
+    pub basis_xi: DMatrix<f64>,
+    /// Singular values of the constrained problem (kept of them).
+    pub s_red: Vec<f64>,
+    /// Left singular vectors of the constrained problem (n_used x kept).
+    pub u_red: DMatrix<f64>,
+}
+
+impl Factored {
+    /// Validates and factors `design` for the points of `obs` with weight > 0.
+    ///
+    /// Unresolved directions `v_k` (condition index ≥ limit or below the rank threshold) are
+    /// fixed by the constraint `Σ_{j∈J_k} v_jk ξ_j = 0`, `J_k` being the parameters that name the
+    /// direction: the minimum-norm choice in the scaled space, restricted to the group so that
+    /// the parameters outside it are not pulled toward 0. Then ordinary least squares on the
+    /// constrained subspace (by SVD; anything still below the rank threshold is dropped).
+    pub fn new(
+        design: &Design,
+        obs: &Observations,
+        opts: &IdentifyOptions,
+    ) -> Result<Self, IdentifyError> {
+        opts.validate()?;
+        obs.validate(design.rows())?;
+        let used: Vec<usize> = (0..obs.len()).filter(|&i| obs.weight(i) > 0.0).collect();
+        if used.is_empty() {
+            return Err(IdentifyError::NoPoints {
+                total: obs.len(),
+                excluded: obs.len(),
+            });
+        }
+        let p = design.cols();
+        let sqrt_w: Vec<f64> = used.iter().map(|&i| obs.weight(i).sqrt()).collect();
+        let a = design.matrix();
+        let b = DMatrix::from_fn(used.len(), p, |r, j| a[(used[r], j)] * sqrt_w[r]);
+        let svd = ScaledSvd::new(&b);
+        let s1 = svd.singular.first().copied().unwrap_or(0.0);
+        let first_unresolved = svd
+            .singular
+            .iter()
+            .take_while(|&&s| s > svd.rank_tolerance && s1 / s < opts.condition_index_limit)
+            .count();
+        // Constraints G ξ = 0, one row per unresolved direction, restricted to its named set.
+        let mut constrained_sets = Vec::new();
+        let t = p - first_unresolved;
+        let mut g = DMatrix::zeros(t.max(1), p);
+        for (r, k) in (first_unresolved..p).enumerate() {
+            let v: Vec<f64> = svd.v.column(k).iter().copied().collect();
+            let set = super::groups::dominant(&v, opts.naming_share);
+            for &j in &set {
+                g[(r, j)] = v[j];
+            }
+            constrained_sets.push(set);
+        }
+        // Orthonormal basis N of null(G): right singular vectors of G beyond its rank.
+        let n_basis = if t == 0 {
+            DMatrix::identity(p, p)
+        } else {
+            let mut padded = DMatrix::zeros(p.max(t), p);
+            padded.view_mut((0, 0), (t, p)).copy_from(&g.rows(0, t));
+            let sv = nalgebra::SVD::new(padded, false, true);
+            let vt = sv.v_t.unwrap_or_else(|| DMatrix::identity(p, p));
+            let smax = sv.singular_values.iter().copied().fold(0.0, f64::max);
+            let tol = (p as f64) * f64::EPSILON * smax.max(f64::MIN_POSITIVE);
+            let cols: Vec<DVector<f64>> = (0..sv.singular_values.len())
+                .filter(|&k| sv.singular_values[k] <= tol)
+                .map(|k| vt.row(k).transpose())
+                .collect();
+            if cols.is_empty() {
+                DMatrix::zeros(p, 0)
+            } else {
+                DMatrix::from_columns(&cols)
+            }
+        };
+        // Constrained problem B_s N = U' S' V'ᵀ (B_s: the scaled design).
+        let mut bs = b;
+        for j in 0..p {
+            let c = svd.scale[j];
+            bs.column_mut(j).scale_mut(1.0 / c);
+        }
+        let (basis_xi, s_red, u_red) = if n_basis.ncols() == 0 {
+            (
+                DMatrix::zeros(p, 0),
+                Vec::new(),
+                DMatrix::zeros(used.len(), 0),
+            )
+        } else {
+            let red = &bs * &n_basis;
+            let q = red.ncols();
+            let rows = red.nrows().max(q);
+            let mut padded = DMatrix::zeros(rows, q);
+            padded.view_mut((0, 0), (red.nrows(), q)).copy_from(&red);
+            let sv = nalgebra::SVD::new(padded, true, true);
+            let u = sv.u.unwrap_or_else(|| DMatrix::zeros(rows, q));
+            let vt = sv.v_t.unwrap_or_else(|| DMatrix::identity(q, q));
+            let tol = svd.rank_tolerance.max(f64::MIN_POSITIVE);
+            let keep: Vec<usize> = (0..sv.singular_values.len())
+                .filter(|&k| sv.singular_values[k] > tol)
+                .collect();
+            let basis = DMatrix::from_fn(p, keep.len(), |j, c| {
+                (n_basis.row(j) * vt.row(keep[c]).transpose())[(0, 0)]
+            });
+            let s: Vec<f64> = keep.iter().map(|&k| sv.singular_values[k]).collect();
+            let ur = DMatrix::from_fn(used.len(), keep.len(), |r, c| u[(r, keep[c])]);
+            (basis, s, ur)
+        };
+        let kept = s_red.len();
+        Ok(Factored {
+            used,
+            sqrt_w,
+            svd,
+            first_unresolved,
+            constrained_sets,
+            kept,
+            basis_xi,
+            s_red,
+            u_red,
+        })
+    }
+
+    /// The linear estimator `x = M y_used` (p x n_used): `D⁻¹ N V' S'⁻¹ U'ᵀ W^½`.
+    pub fn estimator(&self) -> DMatrix<f64> {
+        let p = self.basis_xi.nrows();
+        let n = self.used.len();
+        let mut m = DMatrix::zeros(p, n);
+        for k in 0..self.kept {
+            let s = self.s_red[k];
+            for j in 0..p {
+                let f = self.basis_xi[(j, k)] / (s * self.svd.scale[j]);
+                for r in 0..n {
+                    m[(j, r)] += f * self.u_red[(r, k)] * self.sqrt_w[r];
+                }
+            }
+        }
+        m
+    }
+
+    /// `D⁻¹ N V' S'⁻² V'ᵀ Nᵀ D⁻¹`: the covariance for σ = 1.
+    pub fn unit_covariance(&self) -> DMatrix<f64> {
+        let p = self.basis_xi.nrows();
+        let mut c = DMatrix::zeros(p, p);
+        for k in 0..self.kept {
+            let s2 = self.s_red[k].powi(2);
+            for i in 0..p {
+                for j in 0..p {
+                    c[(i, j)] += self.basis_xi[(i, k)] * self.basis_xi[(j, k)]
+                        / s2
+                        / (self.svd.scale[i] * self.svd.scale[j]);
+                }
+            }
+        }
+        c
+    }
+
+    /// The basis of solved directions in parameter space, `D⁻¹ N V'` (p x kept).
+    pub fn kept_basis(&self) -> DMatrix<f64> {
+        let p = self.basis_xi.nrows();
+        DMatrix::from_fn(p, self.kept, |j, k| {
+            self.basis_xi[(j, k)] / self.svd.scale[j]
+        })
+    }
+}
+
+/// Identifies the parameters of `design` from the measured deviations of `obs`.
+///
+/// Never panics on user data; rank-deficient designs (fewer points than parameters, collinear
+/// or zero columns) give the minimum-norm solution with the unresolved directions named.
+pub fn identify(
+    design: &Design,
+    obs: &Observations,
+    opts: &IdentifyOptions,
+) -> Result<Identification, IdentifyError> {
+    let f = Factored::new(design, obs, opts)?;
+    let names = design.names();
+    let p = design.cols();
+    let y_used = DVector::from_iterator(f.used.len(), f.used.iter().map(|&i| obs.deviation[i]));
+    let x: Vec<f64> = (f.estimator() * &y_used).iter().copied().collect();
+    let fitted = design.predict(&x);
+
+    // Residual and σ.
+    let mut wss = 0.0;
+    for (r, &i) in f.used.iter().enumerate() {
+        let e = obs.deviation[i] - fitted[i];
+        wss += f.sqrt_w[r].powi(2) * e * e;
+    }
+    let dof = f.used.len().saturating_sub(f.kept);
+    let (sigma, sigma_source) = match opts.sigma {
+        Some(s) => (Some(s), "a_priori".to_string()),
+        None if dof > 0 => (Some((wss / dof as f64).sqrt()), "a_posteriori".to_string()),
+        None => (
+            None,
+            "none: no residual degree of freedom and no a priori sigma".to_string(),
+        ),
+    };
+    let cov = sigma.map(|s| f.unit_covariance() * (s * s));
+
+    // Groups.
+    let svd = &f.svd;
+    let dirs: Vec<(Vec<f64>, f64)> = (f.first_unresolved..p)
+        .map(|k| {
+            (
+                svd.v.column(k).iter().copied().collect(),
+                svd.condition_index(k),
+            )
+        })
+        .collect();
+    let mut groups = not_separable_groups(
+        &names,
+        &svd.scale,
+        &dirs,
+        &x,
+        cov.as_ref(),
+        opts.naming_share,
+    );
+    let typical: Vec<f64> = design.parameters().iter().map(|q| q.typical).collect();
+    if let Some(c) = &cov {
+        groups.extend(weak_groups(
+            &names,
+            &typical,
+            &x,
+            c,
+            opts.weak_limit,
+            opts.naming_share,
+        ));
+    }
+
+    // Parameters.
+    let in_kind = |name: &str, kind: GroupKind| {
+        groups
+            .iter()
+            .any(|g| g.kind == kind && g.parameters.iter().any(|n| n == name))
+    };
+    let mut params = Vec::with_capacity(p);
+    for (j, q) in design.parameters().iter().enumerate() {
+        let sd = cov.as_ref().map(|c| c[(j, j)].max(0.0).sqrt());
+        let status = if in_kind(&q.name, GroupKind::NotSeparable) {
+            Status::NotSeparable
+        } else if in_kind(&q.name, GroupKind::Weak)
+            || sd.is_some_and(|s| s > opts.weak_limit * q.typical)
+        {
+            Status::Weak
+        } else {
+            Status::Identified
+        };
+        let std = if status == Status::NotSeparable {
+            None
+        } else {
+            sd
+        };
+        params.push(ParameterEstimate {
+            name: q.name.clone(),
+            value: x[j],
+            std,
+            unit: q.unit.clone(),
+            status,
+            t: std.filter(|s| *s > 0.0).map(|s| x[j].abs() / s),
+        });
+    }
+
+    // Correlations.
+    let mut correlation = vec![vec![None; p]; p];
+    let mut covariance = vec![vec![0.0; p]; p];
+    if let Some(c) = &cov {
+        for i in 0..p {
+            for j in 0..p {
+                covariance[i][j] = c[(i, j)];
+                let (si, sj) = (c[(i, i)].sqrt(), c[(j, j)].sqrt());
+                let ok = params[i].status != Status::NotSeparable
+                    && params[j].status != Status::NotSeparable;
+                if ok && si > 0.0 && sj > 0.0 {
+                    correlation[i][j] = Some(c[(i, j)] / (si * sj));
+                }
+            }
+        }
+    }
+    let a = design.matrix();
+    let mut column_correlations = Vec::new();
+    for i in 0..p {
+        for j in (i + 1)..p {
+            let (mut dot, mut ni, mut nj) = (0.0, 0.0, 0.0);
+            for (r, &k) in f.used.iter().enumerate() {
+                let w = f.sqrt_w[r].powi(2);
+                dot += w * a[(k, i)] * a[(k, j)];
+                ni += w * a[(k, i)].powi(2);
+                nj += w * a[(k, j)].powi(2);
+            }
+            if ni > 0.0 && nj > 0.0 {
+                let c = dot / (ni * nj).sqrt();
+                if c.abs() >= opts.correlation_report {
+                    column_correlations.push(ColumnCorrelation {
+                        a: names[i].clone(),
+                        b: names[j].clone(),
+                        cosine: c,
+                    });
+                }
+            }
+        }
+    }
+
+    // Residual statistics, overall and per curve.
+    let meas: Vec<f64> = f.used.iter().map(|&i| obs.deviation[i]).collect();
+    let fit: Vec<f64> = f.used.iter().map(|&i| fitted[i]).collect();
+    let residual = ResidualStats::of(&meas, &fit, opts.mape_floor);
+    let mut curves: Vec<String> = Vec::new();
+    for &i in &f.used {
+        if !curves.contains(&obs.curves[i]) {
+            curves.push(obs.curves[i].clone());
+        }
+    }
+    let per_curve = curves
+        .into_iter()
+        .map(|c| {
+            let idx: Vec<usize> = f
+                .used
+                .iter()
+                .copied()
+                .filter(|&i| obs.curves[i] == c)
+                .collect();
+            let m: Vec<f64> = idx.iter().map(|&i| obs.deviation[i]).collect();
+            let ft: Vec<f64> = idx.iter().map(|&i| fitted[i]).collect();
+            CurveStats {
+                curve: c,
+                stats: ResidualStats::of(&m, &ft, opts.mape_floor),
+            }
+        })
+        .collect();
+    let points: Vec<PointFit> = (0..obs.len())
+        .map(|i| PointFit {
+            id: obs.ids[i].clone(),
+            curve: obs.curves[i].clone(),
+            measured: obs.deviation[i],
+            fitted: fitted[i],
+            residual: obs.deviation[i] - fitted[i],
+            used: obs.weight(i) > 0.0,
+        })
+        .collect();
+    let points_excluded = (0..obs.len())
+        .filter(|&i| obs.weight(i) <= 0.0)
+        .map(|i| ExcludedPoint {
+            id: obs.ids[i].clone(),
+            reason: "weight 0".to_string(),
+        })
+        .collect();
+
+    // Notes: what was fixed and why.
+    let mut notes = vec![format!(
+        "columns scaled to unit length (weighted); numerical rank {} of {} with threshold max(n,p)*eps*s1 = {:.3e}; \
+         condition number of the scaled design {:.4}",
+        svd.rank,
+        p,
+        svd.rank_tolerance,
+        svd.condition()
+    )];
+    if f.first_unresolved < p {
+        notes.push(format!(
+            "{} direction(s) with condition index >= {} (or below the rank threshold) are not separated; \
+             each is fixed by setting its named combination to 0 in the scaled space (minimum norm within \
+             its group, parameters outside the group unconstrained); only the estimable combinations of \
+             those groups carry a std",
+            p - f.first_unresolved,
+            opts.condition_index_limit
+        ));
+    }
+    if f.used.len() < p {
+        notes.push(format!(
+            "only {} points for {} parameters: at most {} directions can be determined",
+            f.used.len(),
+            p,
+            f.used.len()
+        ));
+    }
+    notes.push(match sigma {
+        Some(s) => format!("covariance scaled with sigma = {s:.4e} mm ({sigma_source}, {dof} dof)"),
+        None => {
+            "no covariance: as many kept directions as points and no a priori sigma".to_string()
+        }
+    });
+
+    Ok(Identification {
+        parameters: ParameterMap(params),
+        groups,
+        rank: svd.rank,
+        rank_used: f.kept,
+        condition: svd.condition(),
+        condition_used: condition_of(&f.s_red),
+        condition_index_limit: opts.condition_index_limit,
+        singular_values: svd.singular.clone(),
+        residual,
+        per_curve,
+        points_used: f.used.len(),
+        points_excluded,
+        sigma,
+        sigma_source,
+        dof,
+        correlation,
+        covariance,
+        column_correlations,
+        points,
+        notes,
+    })
+}

@@ -1,0 +1,426 @@
+//! Direct kinematics with geometric errors (paper 000 eq. 12) and its analytic Jacobian.
+//!
+//! `p = W⁻¹ · T · (o_tool + h·ẑ, 1)` and `w = W⁻¹ · T · (ẑ, 0)` with, for every axis,
+//! `F_i(q) = Trans(o_i) · D_i · M_i(q) · E_i(q)` (see [`super::chain`]): `D_i` the location-error
+//! matrix of eq. 11 (exact, with its square-root diagonal), `E_i(q)` the error-motion matrix of
+//! paper 004 eq. S2. Paper 000: `p = (D_Y T_Y D_C T_C)⁻¹ D_X T_X D_Z T_Z D_B T_B T_tool`.
+//! The tool-point deviation is `ΔP = p(ξ) − p(0)` and the tool-direction deviation
+//! `ΔV = w(ξ) − w(0)` (paper 004 eq. S3). `h` is the height of the tool point above the tip
+//! along the tool axis (mm; `h = 0`: the tip).
+//!
+//! The Jacobian is exact at any error vector (product rule on the factor list:
+//! `∂(W⁻¹) = −W⁻¹ ∂W W⁻¹`), and at ξ = 0 it is the linearised model of eq. 13.
+
+use nalgebra::{Matrix3xX, Matrix4, Vector3, Vector4};
+use serde::{Deserialize, Serialize};
+
+use super::chain::{AxisKind, AxisName, AxisValues, Chain, ChainAxis};
+use super::error_motion::{motion_name, parse_motion_name, ErrorMotion, MotionComponent};
+use super::location_errors::LocationError;
+use super::transform::{
+    affine_inverse, location_matrix, location_matrix_derivative, motion_matrix,
+    motion_matrix_derivative, translation, Rigid,
+};
+use super::MachineError;
+
+/// The tool point (mm) and unit tool direction in the workpiece frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ToolPoint {
+    pub point: Vector3<f64>,
+    pub direction: Vector3<f64>,
+}
+
+/// One scalar error parameter of the chain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum ErrorParam {
+    /// A location error `E{c}0{axis}` (eq. 11).
+    Location(LocationError),
+    /// The coefficient of `q^power` of the error motion `E{component}{axis}` (eq. S2).
+    Motion {
+        component: MotionComponent,
+        axis: AxisName,
+        power: u32,
+    },
+}
+
+impl ErrorParam {
+    /// `EC0Y`, `EXX` (power 0), `EXX1` (coefficient of q¹).
+    pub fn name(&self) -> String {
+        match self {
+            ErrorParam::Location(l) => l.name(),
+            ErrorParam::Motion {
+                component,
+                axis,
+                power,
+            } => {
+                let base = motion_name(*component, *axis);
+                if *power == 0 {
+                    base
+                } else {
+                    format!("{base}{power}")
+                }
+            }
+        }
+    }
+    /// Parses either form (`EC0Y` is a location error, `EXX`/`EXX1` an error motion).
+    pub fn parse(s: &str) -> Result<Self, MachineError> {
+        let t: String = s.chars().filter(|&c| c != '_').collect();
+        let c: Vec<char> = t.chars().collect();
+        if c.len() == 4 && (c[2] == '0' || c[2] == 'O') && c[3].is_ascii_alphabetic() {
+            return LocationError::parse(s).map(ErrorParam::Location);
+        }
+        let (component, axis, power) = parse_motion_name(s)?;
+        Ok(ErrorParam::Motion {
+            component,
+            axis,
+            power,
+        })
+    }
+    pub fn axis(&self) -> AxisName {
+        match self {
+            ErrorParam::Location(l) => l.axis,
+            ErrorParam::Motion { axis, .. } => *axis,
+        }
+    }
+}
+
+/// A set of error values (unlisted errors are zero). Location errors in mm / rad, error-motion
+/// coefficients in mm or rad per unit of `q^k`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct MachineErrors {
+    pub values: Vec<(ErrorParam, f64)>,
+}
+
+impl MachineErrors {
+    pub fn none() -> Self {
+        Self::default()
+    }
+    /// From parameters and values of the same length.
+    pub fn from_pairs(params: &[ErrorParam], values: &[f64]) -> Self {
+        Self {
+            values: params.iter().copied().zip(values.iter().copied()).collect(),
+        }
+    }
+    /// Adds `value` to parameter `p`.
+    pub fn with(mut self, p: ErrorParam, value: f64) -> Self {
+        self.values.push((p, value));
+        self
+    }
+    /// Adds every coefficient of an error motion.
+    pub fn with_motion(mut self, m: &ErrorMotion) -> Self {
+        for (k, c) in m.coefficients.iter().enumerate() {
+            self.values.push((
+                ErrorParam::Motion {
+                    component: m.component,
+                    axis: m.axis,
+                    power: k as u32,
+                },
+                *c,
+            ));
+        }
+        self
+    }
+    fn location_of(&self, axis: AxisName) -> [f64; 6] {
+        let mut e = [0.0; 6];
+        for (p, v) in &self.values {
+            if let ErrorParam::Location(l) = p {
+                if l.axis == axis {
+                    e[l.component_index()] += v;
+                }
+            }
+        }
+        e
+    }
+    fn motion_of(&self, axis: &ChainAxis, q: f64) -> [f64; 6] {
+        let mut m = [0.0; 6];
+        for (p, v) in &self.values {
+            if let ErrorParam::Motion {
+                component,
+                axis: a,
+                power,
+            } = p
+            {
+                if *a == axis.name {
+                    m[component.index()] += axis.sign * v * q.powi(*power as i32);
+                }
+            }
+        }
+        m
+    }
+    /// Checks that every parameter names an axis of the chain and that eq. 11 is defined.
+    pub fn validate(&self, chain: &Chain) -> Result<(), MachineError> {
+        for (p, v) in &self.values {
+            if chain.axis(p.axis()).is_none() {
+                return Err(MachineError::UnknownAxis {
+                    name: p.name(),
+                    axis: p.axis().to_string(),
+                    code: chain.code().to_string(),
+                });
+            }
+            if !v.is_finite() {
+                return Err(MachineError::ErrorTooLarge {
+                    name: p.name(),
+                    value: *v,
+                });
+            }
+        }
+        for axis in chain.axes() {
+            let [_, _, _, a, b, c] = self.location_of(axis.name);
+            if a * a + b * b >= 1.0 || a * a + c * c >= 1.0 || b * b + c * c >= 1.0 {
+                let worst =
+                    [a, b, c]
+                        .into_iter()
+                        .fold(0.0_f64, |m, x| if x.abs() > m.abs() { x } else { m });
+                return Err(MachineError::ErrorTooLarge {
+                    name: format!("E?0{}", axis.name),
+                    value: worst,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Where a parameter acts: side (0 workpiece, 1 tool), factor index, derivative matrix.
+struct FactorDerivative {
+    tool_side: bool,
+    factor: usize,
+    d: Matrix4<f64>,
+}
+
+/// The factor lists `[Trans(o), D, M(q), E(q)]` per axis, per side.
+struct Factors {
+    w: Vec<Matrix4<f64>>,
+    t: Vec<Matrix4<f64>>,
+}
+
+fn factors_of(axes: &[ChainAxis], q: &AxisValues, errors: &MachineErrors) -> Vec<Matrix4<f64>> {
+    let mut f = Vec::with_capacity(4 * axes.len());
+    for a in axes {
+        f.push(translation(&a.offset));
+        f.push(location_matrix(&errors.location_of(a.name)));
+        f.push(Chain::motion(a, q.get(a.name)));
+        f.push(motion_matrix(&errors.motion_of(a, q.get(a.name))));
+    }
+    f
+}
+
+fn factors(chain: &Chain, q: &AxisValues, errors: &MachineErrors) -> Factors {
+    Factors {
+        w: factors_of(chain.workpiece_axes(), q, errors),
+        t: factors_of(chain.tool_axes(), q, errors),
+    }
+}
+
+fn product(f: &[Matrix4<f64>]) -> Matrix4<f64> {
+    f.iter().fold(Matrix4::identity(), |acc, m| acc * m)
+}
+
+fn inverse_product(f: &[Matrix4<f64>]) -> Result<Matrix4<f64>, MachineError> {
+    let mut r = Matrix4::identity();
+    for m in f {
+        let inv = affine_inverse(m).ok_or_else(|| MachineError::SingularErrorMatrix {
+            det: m.fixed_view::<3, 3>(0, 0).determinant(),
+        })?;
+        r = inv * r;
+    }
+    Ok(r)
+}
+
+fn tool_vectors(chain: &Chain, h: f64) -> (Vector4<f64>, Vector4<f64>) {
+    let o = chain.tool_offset();
+    (
+        Vector4::new(o.x, o.y, o.z + h, 1.0),
+        Vector4::new(0.0, 0.0, 1.0, 0.0),
+    )
+}
+
+/// Nominal direct kinematics (no errors): tool point `h` above the tip and tool direction.
+/// Evaluated on rigid motions directly (the same chain as [`tool_point`] with all errors 0).
+pub fn nominal(chain: &Chain, q: &AxisValues, h: f64) -> ToolPoint {
+    let side = |axes: &[ChainAxis]| {
+        axes.iter().fold(Rigid::IDENTITY, |acc, a| {
+            let v = q.get(a.name);
+            let m = match a.name.kind() {
+                AxisKind::Linear => {
+                    let mut d = Vector3::zeros();
+                    d[a.name.direction()] = a.sign * v;
+                    Rigid::translation(&d)
+                }
+                AxisKind::Rotary => Rigid::rotation(a.name.direction(), a.sign * v),
+            };
+            acc.then(&Rigid::translation(&a.offset)).then(&m)
+        })
+    };
+    let w = side(chain.workpiece_axes()).inverse();
+    let t = side(chain.tool_axes());
+    let o = chain.tool_offset();
+    ToolPoint {
+        point: w.point(&t.point(&Vector3::new(o.x, o.y, o.z + h))),
+        direction: w.vector(&t.vector(&Vector3::z())),
+    }
+}
+
+/// Exact direct kinematics with errors (eq. 12): tool point `h` above the tip (mm) and tool
+/// direction (unit when the error matrices are rotations; eq. 11 is only nearly one).
+pub fn tool_point(
+    chain: &Chain,
+    q: &AxisValues,
+    h: f64,
+    errors: &MachineErrors,
+) -> Result<ToolPoint, MachineError> {
+    errors.validate(chain)?;
+    let f = factors(chain, q, errors);
+    let wi = inverse_product(&f.w)?;
+    let t = product(&f.t);
+    let (vp, vd) = tool_vectors(chain, h);
+    let p = wi * t * vp;
+    let d = wi * t * vd;
+    Ok(ToolPoint {
+        point: p.xyz(),
+        direction: d.xyz(),
+    })
+}
+
+/// Paper 004 eq. S3: tool-point deviation `ΔP = p(ξ) − p(0)` (mm) and tool-direction deviation
+/// `ΔV = w(ξ) − w(0)` of the exact model at pose `q`, for the tool point `h` above the tip.
+pub fn deviation(
+    chain: &Chain,
+    q: &AxisValues,
+    h: f64,
+    errors: &MachineErrors,
+) -> Result<(Vector3<f64>, Vector3<f64>), MachineError> {
+    let real = tool_point(chain, q, h, errors)?;
+    let ideal = nominal(chain, q, h);
+    Ok((real.point - ideal.point, real.direction - ideal.direction))
+}
+
+fn derivative_factor(
+    chain: &Chain,
+    q: &AxisValues,
+    errors: &MachineErrors,
+    p: &ErrorParam,
+) -> Result<FactorDerivative, MachineError> {
+    let axis_name = p.axis();
+    let (tool_side, pos, axis) = chain
+        .workpiece_axes()
+        .iter()
+        .enumerate()
+        .map(|(i, a)| (false, i, a))
+        .chain(
+            chain
+                .tool_axes()
+                .iter()
+                .enumerate()
+                .map(|(i, a)| (true, i, a)),
+        )
+        .find(|(_, _, a)| a.name == axis_name)
+        .ok_or_else(|| MachineError::UnknownAxis {
+            name: p.name(),
+            axis: axis_name.to_string(),
+            code: chain.code().to_string(),
+        })?;
+    Ok(match p {
+        ErrorParam::Location(l) => FactorDerivative {
+            tool_side,
+            factor: 4 * pos + 1,
+            d: location_matrix_derivative(&errors.location_of(axis_name), l.component_index()),
+        },
+        ErrorParam::Motion {
+            component, power, ..
+        } => FactorDerivative {
+            tool_side,
+            factor: 4 * pos + 3,
+            d: motion_matrix_derivative(component.index())
+                * (axis.sign * q.get(axis_name).powi(*power as i32)),
+        },
+    })
+}
+
+/// Analytic Jacobian of [`tool_point`] at `errors` with respect to `params`: columns
+/// `∂p/∂θ_k` (3 × n, mm per unit) and `∂w/∂θ_k` (3 × n, per unit).
+pub fn jacobian(
+    chain: &Chain,
+    q: &AxisValues,
+    h: f64,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
+    errors.validate(chain)?;
+    let f = factors(chain, q, errors);
+    let (vp, _) = tool_vectors(chain, h);
+    jacobian_of(chain, q, errors, params, &f, vp)
+}
+
+/// Jacobian of the displacement of the **tool-body point** that sits at `x` (workpiece frame, mm)
+/// at pose `q` with `errors` (e.g. the contact point of a flank-milled wall, off the tool axis):
+/// `∂x/∂θ_k` (3 × n) and the tool-direction columns `∂w/∂θ_k` (3 × n).
+pub fn jacobian_body_point(
+    chain: &Chain,
+    q: &AxisValues,
+    x: &Vector3<f64>,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
+    errors.validate(chain)?;
+    let f = factors(chain, q, errors);
+    let t = product(&f.t);
+    let ti = affine_inverse(&t).ok_or_else(|| MachineError::SingularErrorMatrix {
+        det: t.fixed_view::<3, 3>(0, 0).determinant(),
+    })?;
+    let vp = ti * product(&f.w) * Vector4::new(x.x, x.y, x.z, 1.0);
+    jacobian_of(chain, q, errors, params, &f, vp)
+}
+
+fn jacobian_of(
+    chain: &Chain,
+    q: &AxisValues,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+    f: &Factors,
+    vp: Vector4<f64>,
+) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
+    let wi = inverse_product(&f.w)?;
+    let t = product(&f.t);
+    let vd = Vector4::new(0.0, 0.0, 1.0, 0.0);
+    let tp = t * vp;
+    let td = t * vd;
+    let mut jp = Matrix3xX::zeros(params.len());
+    let mut jd = Matrix3xX::zeros(params.len());
+    for (k, p) in params.iter().enumerate() {
+        let fd = derivative_factor(chain, q, errors, p)?;
+        let list = if fd.tool_side { &f.t } else { &f.w };
+        let pre = product(&list[..fd.factor]);
+        let post = product(&list[fd.factor + 1..]);
+        let dm = pre * fd.d * post;
+        let (dp, dd) = if fd.tool_side {
+            (wi * dm * vp, wi * dm * vd)
+        } else {
+            (-(wi * dm * wi * tp), -(wi * dm * wi * td))
+        };
+        jp.set_column(k, &dp.xyz());
+        jd.set_column(k, &dd.xyz());
+    }
+    Ok((jp, jd))
+}
+
+/// All 6 location errors and the constant error motions of every axis of the chain, in chain
+/// order (useful for identifiability checks).
+pub fn all_params(chain: &Chain) -> Vec<ErrorParam> {
+    let mut v = Vec::new();
+    for a in chain.axes() {
+        for c in AxisName::ALL {
+            v.push(ErrorParam::Location(LocationError::new(c, a.name)));
+        }
+    }
+    for a in chain.axes() {
+        for c in AxisName::ALL {
+            v.push(ErrorParam::Motion {
+                component: c,
+                axis: a.name,
+                power: 0,
+            });
+        }
+    }
+    v
+}

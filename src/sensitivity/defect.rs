@@ -1,0 +1,258 @@
+//! Machined defect at the measurement points (paper 000 eq. 12-14) and the Figure-19 sensitivity
+//! matrix (module docs of [`super`] for the two modes).
+//!
+//! For a point of surface `s` at parameter `u` with axis values `q(u)` of the flank path:
+//! - exact (eq. 12): `d = [(p(q, h, ξ) − p(q, h, 0)) − (p(q_ref, 0, ξ) − p(q_ref, 0, 0))] · N`;
+//! - linear (eq. 13-14): `d = [J(q, h) − J(q_ref, 0)] ξ · N`, `J = ∂p/∂ξ` at ξ = 0;
+//!
+//! with `h`, `N` and `q_ref` set by the mode. The sensitivity matrix holds, per point (row) and
+//! per error of the chain's minimal set (column, [`crate::machine::location_errors`]), the linear
+//! defect per unit error: for paper 000's machine the Figure 19 curves, columns
+//! `EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B, EA0B, EC0B`.
+
+use nalgebra::{DMatrix, Vector3};
+use serde::{Deserialize, Serialize};
+
+use crate::machine::chain::PAPER000_L0;
+use crate::machine::direct::{jacobian, tool_point};
+use crate::machine::inverse::inverse;
+use crate::machine::location_errors::minimal_set;
+use crate::machine::{AxisValues, Branch, Chain, ErrorParam, MachineErrors};
+use crate::part::{MeasurementPoint, SShape, Surface};
+
+use super::path::machine_path;
+use super::SensitivityError;
+
+/// Which displaced point, normal and reference (module docs of [`super`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Tool-axis point at the contact height, `N(u,v)`, reference at the part origin.
+    #[default]
+    Physical,
+    /// Tool tip, `N(u,1)`, reference at all axes 0 (paper 000 eq. 14 as printed).
+    Paper,
+}
+
+impl Mode {
+    pub fn parse(s: &str) -> Result<Self, SensitivityError> {
+        match s {
+            "physical" => Ok(Mode::Physical),
+            "paper" => Ok(Mode::Paper),
+            _ => Err(SensitivityError::BadMode(s.to_string())),
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Physical => "physical",
+            Mode::Paper => "paper",
+        }
+    }
+}
+
+/// Options of the defect computations (`Default`: physical mode, signed branch, paper 000's
+/// machine with `L0 = 499.889` mm).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensitivityOptions {
+    pub mode: Mode,
+    pub branch: Branch,
+    pub chain: Chain,
+}
+
+impl Default for SensitivityOptions {
+    fn default() -> Self {
+        Self {
+            mode: Mode::Physical,
+            branch: Branch::Signed,
+            chain: Chain::paper000(PAPER000_L0),
+        }
+    }
+}
+
+impl SensitivityOptions {
+    pub fn with_mode(mut self, mode: Mode) -> Self {
+        self.mode = mode;
+        self
+    }
+    pub fn with_branch(mut self, branch: Branch) -> Self {
+        self.branch = branch;
+        self
+    }
+    pub fn with_chain(mut self, chain: Chain) -> Self {
+        self.chain = chain;
+        self
+    }
+    /// The error parameters of the chain's minimal set (the matrix columns).
+    pub fn params(&self) -> Vec<ErrorParam> {
+        minimal_set(&self.chain)
+            .free()
+            .into_iter()
+            .map(ErrorParam::Location)
+            .collect()
+    }
+}
+
+/// Per point: axis values, tool-point height and normal used by the mode.
+struct PointPose {
+    q: AxisValues,
+    h: f64,
+    n: Vector3<f64>,
+}
+
+fn reference_pose(opts: &SensitivityOptions) -> Result<AxisValues, SensitivityError> {
+    Ok(match opts.mode {
+        Mode::Paper => AxisValues::default(),
+        // The tip at the part origin with the tool vertical: (0, 0, L0, 0, 0) on paper 000.
+        Mode::Physical => inverse(
+            &opts.chain,
+            &Vector3::zeros(),
+            &Vector3::z(),
+            Branch::Signed,
+            0.0,
+        )?,
+    })
+}
+
+fn point_poses(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+) -> Result<Vec<PointPose>, SensitivityError> {
+    if let Some(p) = points.iter().find(|p| !(0.0..=1.0).contains(&p.u)) {
+        return Err(SensitivityError::BadPoint { id: p.id, u: p.u });
+    }
+    let mut out: Vec<Option<PointPose>> = (0..points.len()).map(|_| None).collect();
+    for s in Surface::BOTH {
+        let idx: Vec<usize> = (0..points.len())
+            .filter(|&i| points[i].surface == s)
+            .collect();
+        if idx.is_empty() {
+            continue;
+        }
+        let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
+        let path = machine_path(part, &opts.chain, s, opts.branch, &us)?;
+        for (&i, sample) in idx.iter().zip(path) {
+            let p = &points[i];
+            let (h, n) = match opts.mode {
+                Mode::Physical => (p.h, p.normal),
+                Mode::Paper => (0.0, part.frame_at(s, p.u, 1.0).n),
+            };
+            out[i] = Some(PointPose {
+                q: sample.values,
+                h,
+                n,
+            });
+        }
+    }
+    Ok(out.into_iter().flatten().collect())
+}
+
+/// The Figure-19 sensitivity matrix: one row per point (in the given order), one column per
+/// error of the minimal set of `opts.chain` (paper 000: EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B,
+/// EA0B, EC0B). Entry = linear defect (mm) per unit error (rad, or mm for EX0B).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensitivityMatrix {
+    pub ids: Vec<usize>,
+    pub curves: Vec<String>,
+    pub params: Vec<String>,
+    /// `points × params`
+    pub values: DMatrix<f64>,
+}
+
+/// The sensitivity matrix of the points (linear eq. 14 per unit error, mode of `opts`).
+pub fn sensitivity_matrix(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+) -> Result<SensitivityMatrix, SensitivityError> {
+    let params = opts.params();
+    let values = jacobian_rows(part, points, opts, &params)?;
+    Ok(SensitivityMatrix {
+        ids: points.iter().map(|p| p.id).collect(),
+        curves: points.iter().map(|p| p.curve.name().to_string()).collect(),
+        params: params.iter().map(ErrorParam::name).collect(),
+        values,
+    })
+}
+
+/// Linear defect per unit of each parameter in `params` (any location error or error motion).
+pub fn jacobian_rows(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+    params: &[ErrorParam],
+) -> Result<DMatrix<f64>, SensitivityError> {
+    let poses = point_poses(part, points, opts)?;
+    let none = MachineErrors::none();
+    let (jref, _) = jacobian(&opts.chain, &reference_pose(opts)?, 0.0, &none, params)?;
+    let mut m = DMatrix::zeros(points.len(), params.len());
+    for (r, pp) in poses.iter().enumerate() {
+        let (j, _) = jacobian(&opts.chain, &pp.q, pp.h, &none, params)?;
+        let d = (j - &jref).transpose() * pp.n;
+        for k in 0..params.len() {
+            m[(r, k)] = d[k];
+        }
+    }
+    Ok(m)
+}
+
+/// Exact machined defect (eq. 12, mm) at the points for the errors `errors` (any location errors
+/// and error motions of the chain; unlisted ones are 0).
+pub fn defect(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    errors: &MachineErrors,
+    opts: &SensitivityOptions,
+) -> Result<Vec<f64>, SensitivityError> {
+    errors.validate(&opts.chain)?;
+    let poses = point_poses(part, points, opts)?;
+    let none = MachineErrors::none();
+    let c = &opts.chain;
+    let q_ref = reference_pose(opts)?;
+    let d_ref =
+        tool_point(c, &q_ref, 0.0, errors)?.point - tool_point(c, &q_ref, 0.0, &none)?.point;
+    poses
+        .iter()
+        .map(|pp| {
+            let d = tool_point(c, &pp.q, pp.h, errors)?.point
+                - tool_point(c, &pp.q, pp.h, &none)?.point;
+            Ok((d - d_ref).dot(&pp.n))
+        })
+        .collect()
+}
+
+/// Linearised machined defect (eq. 14, mm): the Jacobian at ξ = 0 times the error values.
+pub fn linear_defect(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    errors: &MachineErrors,
+    opts: &SensitivityOptions,
+) -> Result<Vec<f64>, SensitivityError> {
+    errors.validate(&opts.chain)?;
+    let params: Vec<ErrorParam> = errors.values.iter().map(|(p, _)| *p).collect();
+    let values: Vec<f64> = errors.values.iter().map(|(_, v)| *v).collect();
+    let m = jacobian_rows(part, points, opts, &params)?;
+    Ok((m * nalgebra::DVector::from_vec(values))
+        .iter()
+        .copied()
+        .collect())
+}
+
+/// [`defect`] for a vector `xi` of the minimal-set errors of `opts.chain`, in the order of
+/// [`SensitivityOptions::params`] (paper 000: EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B, EA0B, EC0B;
+/// rad, EX0B in mm). Exact eq. 12.
+pub fn defect_xi(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    xi: &[f64],
+    opts: &SensitivityOptions,
+) -> Result<Vec<f64>, SensitivityError> {
+    let params = opts.params();
+    if xi.len() != params.len() {
+        return Err(SensitivityError::ErrorCount {
+            values: xi.len(),
+            params: params.len(),
+        });
+    }
+    defect(part, points, &MachineErrors::from_pairs(&params, xi), opts)
+}

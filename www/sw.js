@@ -1,0 +1,37 @@
+// Service worker: after one visit the page works with the network off. The cache is versioned by
+// the build id the page registers it with (sw.js?build=<id>); `activate` deletes older caches.
+// Strategy: network first for same-origin GETs (a new build shows at once when online), falling
+// back to the cache when the network is unreachable.
+const BUILD = new URL(self.location.href).searchParams.get('build') || 'dev';
+const CACHE = `testpiece-${BUILD}`;
+const ASSETS = [
+  './', 'index.html', 'style.css', 'app.js', 'core.js', 'worker.js', 'plot.js', 'views.js',
+  'export.js', 'pkg/testpiece.js', 'pkg/testpiece_bg.wasm', 'pkg/build.js',
+];
+
+self.addEventListener('install', (ev) => {
+  ev.waitUntil(caches.open(CACHE).then((c) => c.addAll(ASSETS)).then(() => self.skipWaiting()));
+});
+
+self.addEventListener('activate', (ev) => {
+  ev.waitUntil(caches.keys()
+    .then((keys) => Promise.all(keys.filter((k) => k.startsWith('testpiece-') && k !== CACHE).map((k) => caches.delete(k))))
+    .then(() => self.clients.claim()));
+});
+
+self.addEventListener('fetch', (ev) => {
+  const req = ev.request;
+  if (req.method !== 'GET' || new URL(req.url).origin !== self.location.origin) return;
+  ev.respondWith(
+    fetch(req)
+      .then((res) => {
+        if (res.ok) {
+          const copy = res.clone();
+          caches.open(CACHE).then((c) => c.put(req, copy));
+        }
+        return res;
+      })
+      .catch(() => caches.open(CACHE).then((c) => c.match(req, { ignoreSearch: true }))
+        .then((hit) => hit || new Response('offline and not cached', { status: 503 }))),
+  );
+});
