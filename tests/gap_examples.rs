@@ -194,3 +194,18 @@ fn json_has_the_fields_of_cli_md() {
         assert!(!v["verdict"][f].is_null(), "verdict field {f}");
     }
 }
+
+/// Timing of one full diagnosis (not an assertion: the target, < 50 ms natively, is for release).
+#[test]
+fn time_one_diagnosis() {
+    let inp = input(example("example_backlash_c"));
+    let t = std::time::Instant::now();
+    let k = 3;
+    for _ in 0..k {
+        diagnose(&inp).unwrap();
+    }
+    println!(
+        "diagnosis of 100 points: {:.1} ms",
+        t.elapsed().as_secs_f64() * 1e3 / k as f64
+    );
+}

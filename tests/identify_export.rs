@@ -1,5 +1,7 @@
 //! Compensation-table export (ISO 230-1 names) and synthetic parts (`simulate`).
 
+#![allow(clippy::needless_range_loop)] // index loops read like the maths here
+
 mod identify_common;
 
 use identify_common::*;
@@ -126,4 +128,54 @@ fn simulate_and_identify_back() {
     }
     assert!(simulate_deviation(&d, &parse_errors("EZ9Q=1").unwrap(), 0.0, 1).is_err());
     assert!(simulate_deviation(&d, &errs, -1.0, 1).is_err());
+}
+
+/// The built-in design is the sensitivity stage's matrix: equal to sensitivity_<mode>.csv
+/// within 1e-6 of each column's largest value (tolerance SENSITIVITY_REL).
+#[test]
+fn builtin_design_matches_reference_sensitivity() {
+    for mode in ["physical", "paper"] {
+        let d = builtin_design(mode, "signed", false).unwrap();
+        let r = design(mode);
+        assert_eq!(d.names(), r.names());
+        for j in 0..8 {
+            let colmax = r.matrix().column(j).amax();
+            for i in 0..100 {
+                assert_near!(
+                    d.matrix()[(i, j)],
+                    r.matrix()[(i, j)],
+                    testpiece::tolerance::SENSITIVITY_REL * colmax
+                );
+            }
+        }
+    }
+}
+
+/// The exact model gives table4_paper.csv's `machine_exact` (eq. 12) plus `tool_radius`, and its
+/// finite-difference Jacobian at 0 is the analytic eq. 14 design (relative FD_REL·100: central
+/// differences of a function evaluated to ~1e-16 mm with steps 1e-7 rad).
+#[test]
+fn exact_model_matches_table4_and_design() {
+    use testpiece::identify::refine::ExactModel;
+    let d = builtin_design("paper", "signed", true).unwrap();
+    let m = ExactBuiltinModel::new(&d, "paper", "signed").unwrap();
+    let x = d
+        .vector_from(&parse_errors("EX0B=0.0294,EA0B=3.2419e-4,dR=-0.02").unwrap())
+        .unwrap();
+    let f = m.deviation(&x).unwrap();
+    let exact = column("table4_paper.csv", "machine_exact");
+    for i in 0..100 {
+        assert_near!(f[i], exact[i] + 0.02, 1e-9);
+    }
+    let j = m.jacobian(&[0.0; 9]).unwrap();
+    for c in 0..9 {
+        let colmax = d.matrix().column(c).amax();
+        for i in 0..100 {
+            assert_near!(
+                j[(i, c)],
+                d.matrix()[(i, c)],
+                100.0 * testpiece::tolerance::FD_REL * colmax
+            );
+        }
+    }
 }

@@ -8,13 +8,15 @@ use nalgebra::DVector;
 use super::data::GapInput;
 use super::equivalence::near_equivalent_pairs;
 use super::folds::{build_folds, withheld_sets};
+use super::location::curve_sequences;
 use super::location::{locate, DETECT_FACTOR};
 use super::lsq::{max_abs, rms, Factor};
+use super::noise::second_difference_sigma;
 use super::report::{summary, BaselineReport, DiagnosisReport};
-use super::smooth_noise::{smooth_basis, smooth_noise_with, SMOOTH_DEGREE};
+use super::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
 use super::verdict::{decide, DecisionInput, ALPHA};
 use super::which::{
-    cross_validate, cv_score, fit_candidate, per_curve, BaselineFit, Context, Estimate,
+    cross_validate, cv_score, fit_candidate, per_curve, BaselineFit, Context, Estimate, SmoothFit,
 };
 use super::GapError;
 
@@ -81,14 +83,26 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let r0: Vec<f64> = residual.iter().copied().collect();
 
     // (b) WHERE, noise versus structure.
-    let smooth = smooth_basis(&input.points, SMOOTH_DEGREE);
-    let (sm, sm_robust, _) = smooth_noise_with(&smooth, a, &y);
+    let basis = smooth_basis(&input.points, SMOOTH_DEGREE);
+    let (sfactor, sresid) = smooth_factor(&basis, a, &y);
+    let (sm, sm_robust, sdof) = smooth_sigmas(&sfactor, &sresid);
+    let sm_d2 = {
+        let seqs: Vec<Vec<f64>> = curve_sequences(&input.points)
+            .into_iter()
+            .map(|(_, idx)| idx.iter().map(|&i| sresid[i]).collect())
+            .collect();
+        second_difference_sigma(&seqs) * (nf / sdof as f64).sqrt()
+    };
+    let smooth = SmoothFit {
+        factor: sfactor,
+        residual: sresid,
+    };
     let structure = locate(
         &r0,
         &input.points,
         p,
         input.noise_sigma,
-        Some((sm, sm_robust)),
+        Some((sm, sm_robust, sm_d2)),
         &input.reversals,
     );
     let sigma = structure.noise.used.max(1e-12);

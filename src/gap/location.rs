@@ -150,7 +150,7 @@ pub fn locate(
     points: &[PointMeta],
     rank: usize,
     given_sigma: Option<f64>,
-    smooth_sigma: Option<(f64, f64)>,
+    smooth_sigma: Option<(f64, f64, f64)>,
     reversals: &[Reversal],
 ) -> WhereReport {
     let total_ss: f64 = r.iter().map(|v| v * v).sum();

@@ -19,17 +19,20 @@
 pub mod catalog;
 pub mod data;
 pub mod diagnose;
+pub mod effects;
 pub mod equivalence;
 pub mod error;
 pub mod folds;
 pub mod location;
 pub mod lsq;
 pub mod noise;
+pub mod random;
 pub mod regions;
 pub mod report;
 pub mod smooth_noise;
 pub mod stats;
 pub mod table;
+pub mod validate;
 pub mod verdict;
 pub mod which;
 

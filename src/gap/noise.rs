@@ -30,8 +30,13 @@ pub struct NoiseEstimate {
     pub smooth: Option<f64>,
     /// Its robust (median) version (mm).
     pub smooth_robust: Option<f64>,
-    /// The σ the decisions use (mm): the given value, else the smaller of the two smooth-basis
-    /// estimates (else the second-difference estimate).
+    /// Robust second-difference estimate of that smooth-basis residual (mm): what is left of a
+    /// waviness the smooth basis could not follow is damped by the differencing, a step or a bump
+    /// is ignored by the median.
+    pub smooth_second_difference: Option<f64>,
+    /// The σ the decisions use (mm): the given value, else the smallest of the three smooth-basis
+    /// estimates (each is inflated by a different kind of structure: long waves, a few large
+    /// points, short waves), else the second-difference estimate of the residual itself.
     pub used: f64,
 }
 
@@ -137,11 +142,25 @@ pub fn randomness_pooled(seqs: &[Vec<f64>]) -> Randomness {
     randomness_from(t)
 }
 
-/// Noise σ from sequences along the curves; `given` overrides the one used for decisions.
+/// Robust second-difference σ of sequences: `1.4826 · median|Δ²r| / √6` (0 if none).
+pub fn second_difference_sigma(seqs: &[Vec<f64>]) -> f64 {
+    let mut d2: Vec<f64> = seqs
+        .iter()
+        .flat_map(|s| s.windows(3).map(|w| (w[2] - 2.0 * w[1] + w[0]).abs()))
+        .collect();
+    if d2.is_empty() {
+        0.0
+    } else {
+        1.482_6 * median(&mut d2) / 6f64.sqrt()
+    }
+}
+
+/// Noise σ from sequences along the curves; `given` overrides the one used for decisions;
+/// `smooth` = (σ, robust σ, second-difference σ) of the smooth-basis residual.
 pub fn estimate_noise(
     seqs: &[Vec<f64>],
     given: Option<f64>,
-    smooth: Option<(f64, f64)>,
+    smooth: Option<(f64, f64, f64)>,
 ) -> NoiseEstimate {
     let (mut num, mut den) = (0.0, 0usize);
     let mut d2 = Vec::new();
@@ -170,7 +189,8 @@ pub fn estimate_noise(
         second_difference,
         smooth: smooth.map(|s| s.0),
         smooth_robust: smooth.map(|s| s.1),
-        used: given.unwrap_or(smooth.map_or(second_difference, |s| s.0.min(s.1))),
+        smooth_second_difference: smooth.map(|s| s.2),
+        used: given.unwrap_or(smooth.map_or(second_difference, |s| s.0.min(s.1).min(s.2))),
     }
 }
 

@@ -67,6 +67,16 @@ pub fn smooth_noise_with(
     a: &DMatrix<f64>,
     y: &DVector<f64>,
 ) -> (f64, f64, usize) {
+    let (f, r) = smooth_factor(b, a, y);
+    smooth_sigmas(&f, &r)
+}
+
+/// The factor of `[A | b]` and the residual of `y` on it.
+pub fn smooth_factor(
+    b: &DMatrix<f64>,
+    a: &DMatrix<f64>,
+    y: &DVector<f64>,
+) -> (Factor, DVector<f64>) {
     let aug = DMatrix::from_fn(a.nrows(), a.ncols() + b.ncols(), |i, j| {
         if j < a.ncols() {
             a[(i, j)]
@@ -76,7 +86,12 @@ pub fn smooth_noise_with(
     });
     let f = Factor::new(&aug, None);
     let r = f.unabsorbed_vec(y);
-    let n = y.len();
+    (f, r)
+}
+
+/// `(σ, σ_robust, dof)` from the factor of `[A | b]` and the residual on it.
+pub fn smooth_sigmas(f: &Factor, r: &DVector<f64>) -> (f64, f64, usize) {
+    let n = r.len();
     let dof = n.saturating_sub(f.rank).max(1);
     let sigma = (r.norm_squared() / dof as f64).sqrt();
     let mut abs: Vec<f64> = r.iter().map(|v| v.abs()).collect();

@@ -179,6 +179,13 @@ pub struct BaselineFit {
     pub rss: f64,
 }
 
+/// The factor of `[A | smooth basis]` and the deviations' residual on it.
+#[derive(Debug, Clone)]
+pub struct SmoothFit {
+    pub factor: Factor,
+    pub residual: DVector<f64>,
+}
+
 /// Context shared by the candidate fits.
 pub struct Context<'a> {
     pub y: &'a DVector<f64>,
@@ -188,8 +195,8 @@ pub struct Context<'a> {
     pub folds: &'a [FoldFactor],
     /// CMM repeatability when given (mm).
     pub given_sigma: Option<f64>,
-    /// Per-curve smooth basis of [`super::smooth_noise`].
-    pub smooth: &'a DMatrix<f64>,
+    /// The baseline augmented with the per-curve smooth basis of [`super::smooth_noise`].
+    pub smooth: &'a SmoothFit,
     pub tries: usize,
     pub alpha: f64,
     pub detect_factor: f64,
@@ -248,16 +255,14 @@ pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
     // σ for the decision rule: the given repeatability, else this candidate's own residual
     // standard error (the noise if this candidate is the whole story; larger otherwise).
     let sigma = ctx.given_sigma.unwrap_or(s2.sqrt());
-    // σ independent of smooth structure under this candidate's hypothesis.
+    // σ independent of smooth structure under this candidate's hypothesis: residual of
+    // [A | smooth basis | S], by FWL on the factor of [A | smooth basis] computed once.
     let sigma_smooth = ctx.given_sigma.unwrap_or_else(|| {
-        let aug = DMatrix::from_fn(n, ctx.a.ncols() + q_cols, |i, j| {
-            if j < ctx.a.ncols() {
-                ctx.a[(i, j)]
-            } else {
-                s[(i, j - ctx.a.ncols())]
-            }
-        });
-        super::smooth_noise::smooth_noise_with(ctx.smooth, &aug, ctx.y).0
+        let us = ctx.smooth.factor.unabsorbed(s);
+        let fs = Factor::new(&us, Some(&scale));
+        let th = &fs.pinv * &ctx.smooth.residual;
+        let rss = (&ctx.smooth.residual - us * th).norm_squared();
+        (rss / (n - ctx.smooth.factor.rank - fs.rank).max(1) as f64).sqrt()
     });
     let parameters = c
         .signature

@@ -134,6 +134,15 @@ impl Design {
         Design::try_new(params, DMatrix::from_column_slice(n, p, data))
     }
 
+    /// The design of a sensitivity matrix (paper 000 eq. 14 per unit error, Figure 19 columns);
+    /// units and typical magnitudes follow [`Parameter::named`].
+    pub fn from_sensitivity(
+        m: &crate::sensitivity::SensitivityMatrix,
+    ) -> Result<Self, IdentifyError> {
+        let params = m.params.iter().map(|n| Parameter::named(n)).collect();
+        Design::try_new(params, m.values.clone())
+    }
+
     /// Adds the tool-radius column `dR` (mm): a tool larger by dR overcuts by dR, so the
     /// column is -1 at every point (s-shape.md "A tool-radius error dR changes the deviation by -dR").
     pub fn with_tool_radius(self) -> Result<Self, IdentifyError> {

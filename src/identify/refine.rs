@@ -24,6 +24,25 @@ use super::{
 /// Deviations of the exact model at every design row (mm) and its Jacobian (rows x p).
 pub type ModelOutput = Result<(Vec<f64>, DMatrix<f64>), String>;
 
+/// The exact model: deviations at every design row (mm) and the Jacobian (rows x p). Any
+/// closure `Fn(&[f64]) -> ModelOutput` is one; implement the trait directly when the
+/// deviations alone are much cheaper than the Jacobian (the linearisation check needs only them).
+pub trait ExactModel {
+    /// Deviations (mm) at the design rows for the parameters `x`.
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String>;
+    /// `∂ deviation / ∂x` (rows x p).
+    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String>;
+}
+
+impl<F: Fn(&[f64]) -> ModelOutput> ExactModel for F {
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
+        self(x).map(|(f, _)| f)
+    }
+    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String> {
+        self(x).map(|(_, j)| j)
+    }
+}
+
 /// Options of [`refine`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RefineOptions {
@@ -94,43 +113,39 @@ struct Problem<'a, F> {
     sqrt_w: &'a [f64],
     y: Vec<f64>,
     z: DVector<f64>,
-    cache: Option<(Vec<f64>, DMatrix<f64>)>,
-    error: Option<String>,
+    cache: Option<Vec<f64>>,
+    error: std::cell::RefCell<Option<String>>,
 }
 
-impl<F: Fn(&[f64]) -> ModelOutput> Problem<'_, F> {
+impl<F: ExactModel> Problem<'_, F> {
     fn x_of(&self, z: &DVector<f64>) -> Vec<f64> {
         let dx = &self.basis * z;
         self.x0.iter().zip(dx.iter()).map(|(a, b)| a + b).collect()
     }
+    fn fail(&self, e: String) {
+        self.error.replace(Some(e));
+    }
     fn evaluate(&mut self) {
         let x = self.x_of(&self.z);
-        match (self.model)(&x) {
-            Ok((f, j))
-                if f.len() == self.y.len() && j.nrows() == self.y.len() && j.ncols() == x.len() =>
-            {
-                self.cache = Some((f, j));
-            }
-            Ok((f, j)) => {
-                self.error = Some(format!(
-                    "returned {} deviations and a {}x{} Jacobian for {} points and {} parameters",
+        self.cache = match self.model.deviation(&x) {
+            Ok(f) if f.len() == self.y.len() && f.iter().all(|v| v.is_finite()) => Some(f),
+            Ok(f) => {
+                self.fail(format!(
+                    "returned {} deviations (finite values expected) for {} points",
                     f.len(),
-                    j.nrows(),
-                    j.ncols(),
-                    self.y.len(),
-                    x.len()
+                    self.y.len()
                 ));
-                self.cache = None;
+                None
             }
             Err(e) => {
-                self.error = Some(e);
-                self.cache = None;
+                self.fail(e);
+                None
             }
-        }
+        };
     }
 }
 
-impl<F: Fn(&[f64]) -> ModelOutput> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, F> {
+impl<F: ExactModel> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, F> {
     type ResidualStorage = Owned<f64, Dyn>;
     type JacobianStorage = Owned<f64, Dyn, Dyn>;
     type ParameterStorage = Owned<f64, Dyn>;
@@ -143,7 +158,7 @@ impl<F: Fn(&[f64]) -> ModelOutput> LeastSquaresProblem<f64, Dyn, Dyn> for Proble
         self.z.clone()
     }
     fn residuals(&self) -> Option<DVector<f64>> {
-        let (f, _) = self.cache.as_ref()?;
+        let f = self.cache.as_ref()?;
         Some(DVector::from_iterator(
             self.used.len(),
             self.used
@@ -153,7 +168,24 @@ impl<F: Fn(&[f64]) -> ModelOutput> LeastSquaresProblem<f64, Dyn, Dyn> for Proble
         ))
     }
     fn jacobian(&self) -> Option<DMatrix<f64>> {
-        let (_, j) = self.cache.as_ref()?;
+        let x = self.x_of(&self.z);
+        let j = match self.model.jacobian(&x) {
+            Ok(j) if j.nrows() == self.y.len() && j.ncols() == x.len() => j,
+            Ok(j) => {
+                self.fail(format!(
+                    "returned a {}x{} Jacobian for {} points and {} parameters",
+                    j.nrows(),
+                    j.ncols(),
+                    self.y.len(),
+                    x.len()
+                ));
+                return None;
+            }
+            Err(e) => {
+                self.fail(e);
+                return None;
+            }
+        };
         let ju = DMatrix::from_fn(self.used.len(), j.ncols(), |r, c| {
             self.sqrt_w[r] * j[(self.used[r], c)]
         });
@@ -172,7 +204,7 @@ pub fn refine<F>(
     id_opts: &IdentifyOptions,
 ) -> Result<RefineReport, IdentifyError>
 where
-    F: Fn(&[f64]) -> ModelOutput,
+    F: ExactModel,
 {
     let f = Factored::new(design, obs, id_opts)?;
     let names = design.names();
@@ -186,20 +218,22 @@ where
         });
     }
     let n = design.rows();
-    let check = |(v, j): (Vec<f64>, DMatrix<f64>)| {
-        if v.len() != n || j.nrows() != n || j.ncols() != p || v.iter().any(|x| !x.is_finite()) {
+    let check = |v: Vec<f64>| {
+        if v.len() != n || v.iter().any(|x| !x.is_finite()) {
             Err(IdentifyError::Model(format!(
-                "returned {} deviations and a {}x{} Jacobian (finite values expected) for {n} points and {p} parameters",
-                v.len(),
-                j.nrows(),
-                j.ncols()
+                "returned {} deviations (finite values expected) for {n} points and {p} parameters",
+                v.len()
             )))
         } else {
             Ok(v)
         }
     };
-    let f0 = check(model(&vec![0.0; p]).map_err(IdentifyError::Model)?)?;
-    let fx = check(model(&x0).map_err(IdentifyError::Model)?)?;
+    let f0 = check(
+        model
+            .deviation(&vec![0.0; p])
+            .map_err(IdentifyError::Model)?,
+    )?;
+    let fx = check(model.deviation(&x0).map_err(IdentifyError::Model)?)?;
     let ax = design.predict(&x0);
     let lin_err = (f
         .used
@@ -268,17 +302,17 @@ where
         y: obs.deviation.clone(),
         z: DVector::zeros(f.kept),
         cache: None,
-        error: None,
+        error: std::cell::RefCell::new(None),
     };
     problem.evaluate();
     let (problem, report) = LevenbergMarquardt::new()
         .with_patience(opts.patience)
         .minimize(problem);
-    if let Some(e) = &problem.error {
-        return Err(IdentifyError::Model(e.clone()));
+    if let Some(e) = problem.error.borrow().clone() {
+        return Err(IdentifyError::Model(e));
     }
     let x = problem.x_of(&problem.z);
-    let (fv, _) = problem
+    let fv = problem
         .cache
         .clone()
         .ok_or_else(|| IdentifyError::Model("no evaluation at the solution".into()))?;

@@ -1,15 +1,19 @@
 //! `testpiece identify FILE`: identify the machine's errors from a measured part.
 
 use crate::args::Args;
+use nalgebra::DMatrix;
 use testpiece::identify::monte_carlo::{monte_carlo, CmmMpe, MonteCarloOptions, Noise};
+use testpiece::identify::refine::{refine, ExactModel, RefineOptions};
 use testpiece::identify::{
     export, identify, Design, ExcludedPoint, IdentifyOptions, Observations, Status,
 };
 use testpiece::part::{builtin_points, SShape};
+use testpiece::simulate::ExactBuiltinModel;
 
 const HELP: &str = "\
 testpiece identify FILE [--mode physical|paper] [--branch signed|positive] [--tool-radius]
-                        [--json | --export csv|json] [--sigma MM] [--monte-carlo RUNS] [--seed S]
+                        [--json | --export csv|json] [--sigma MM] [--no-refine]
+                        [--monte-carlo RUNS] [--seed S]
 
 Identifies the 8 ISO 230-1 location errors (EC0Y EA0Z EB0Z EA0C EB0C EX0B EA0B EC0B; rad, EX0B
 in mm) and, with --tool-radius, the tool-radius error dR (mm, + = a larger tool) from the
@@ -22,6 +26,9 @@ design: rank, condition number, and the groups of parameters the part cannot sep
 --json            {parameters, groups, rank, condition, residual, points_used, points_excluded, ...}
 --export csv|json the compensation table: name, iso_230_1, value, unit, std, status
 --sigma MM        a priori σ of the deviations instead of the residual's
+--no-refine       skips the exact-model check: by default the exact eq. 12 is evaluated at the
+                  linear solution and Levenberg-Marquardt refines it when the linearisation error
+                  exceeds 0.1 σ (reported under \"refinement\")
 --monte-carlo N   adds a Monte Carlo check (N runs, --seed, default 7) with the noise of the
                   paper's CMM: MPE_E = ±(3 + L/75) µm, R0 = 3 µm, σ = max(MPE/√3, R0/1.693)
 ";
@@ -102,12 +109,34 @@ pub fn read_measured(path: &str) -> Result<Measured, String> {
     Ok(m)
 }
 
-/// Matches each measured point to the built-in point within 0.01 mm (and normal within 5°);
-/// returns the design rows, observations, point distances from the origin, and exclusions.
-fn match_points(
-    m: &Measured,
-    full: &Design,
-) -> Result<(Design, Observations, Vec<f64>, Vec<ExcludedPoint>), String> {
+/// The exact model at the matched rows of the built-in points.
+struct Rows<'a> {
+    model: &'a ExactBuiltinModel,
+    rows: &'a [usize],
+}
+
+impl ExactModel for Rows<'_> {
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
+        let f = self.model.deviation(x)?;
+        Ok(self.rows.iter().map(|&r| f[r]).collect())
+    }
+    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String> {
+        Ok(self.model.jacobian(x)?.select_rows(self.rows.iter()))
+    }
+}
+
+/// Design rows, observations, point distances from the origin (mm), exclusions, and the
+/// built-in row of each used point.
+type Matched = (
+    Design,
+    Observations,
+    Vec<f64>,
+    Vec<ExcludedPoint>,
+    Vec<usize>,
+);
+
+/// Matches each measured point to the built-in point within 0.01 mm (and normal within 5°).
+fn match_points(m: &Measured, full: &Design) -> Result<Matched, String> {
     let pts = builtin_points(&SShape::iso());
     let mut rows = Vec::new();
     let mut keep = Vec::new();
@@ -174,7 +203,7 @@ fn match_points(
             (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()
         })
         .collect();
-    Ok((design, obs, lengths, excluded))
+    Ok((design, obs, lengths, excluded, rows))
 }
 
 pub fn run(rest: &[String]) -> Result<(), String> {
@@ -188,6 +217,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let (mode, branch) = crate::simulate::mode_and_branch(&args)?;
     let tool_radius = args.flag("tool-radius");
     let json = args.flag("json");
+    let no_refine = args.flag("no-refine");
     let export_fmt = args.value("export").map(str::to_string);
     let sigma = match args.value("sigma") {
         Some(t) => Some(
@@ -220,13 +250,38 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     }
     let measured = read_measured(file)?;
     let full = crate::simulate::design_for(&mode, &branch, tool_radius)?;
-    let (design, obs, lengths, excluded) = match_points(&measured, &full)?;
+    let (design, obs, lengths, excluded, rows) = match_points(&measured, &full)?;
     let mut opts = IdentifyOptions::default();
     if let Some(s) = sigma {
         opts = opts.with_sigma(s);
     }
     let mut id = identify(&design, &obs, &opts).map_err(|e| e.to_string())?;
     id.points_excluded.extend(excluded);
+    // Exact eq. 12 where it matters (identify::refine module docs).
+    let refinement = if no_refine {
+        None
+    } else {
+        let exact = ExactBuiltinModel::new(&full, &mode, &branch).map_err(|e| e.to_string())?;
+        let model = Rows {
+            model: &exact,
+            rows: &rows,
+        };
+        let r = refine(&design, &obs, &id, model, &RefineOptions::default(), &opts)
+            .map_err(|e| e.to_string())?;
+        if r.performed && r.success {
+            for (j, p) in id.parameters.0.iter_mut().enumerate() {
+                p.value = r.values[j];
+                if p.status != Status::NotSeparable {
+                    p.std = r.std[j];
+                }
+            }
+            id.notes.push(format!(
+                "values refined with the exact eq. 12: {}",
+                r.reason
+            ));
+        }
+        Some(r)
+    };
     if let Some(f) = export_fmt {
         if f == "csv" {
             print!("{}", export::compensation_csv(&id));
@@ -250,6 +305,9 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         let mut v = serde_json::to_value(&id).map_err(|e| e.to_string())?;
         v["mode"] = serde_json::json!(mode);
         v["branch"] = serde_json::json!(branch);
+        if let Some(r) = &refinement {
+            v["refinement"] = serde_json::to_value(r).map_err(|e| e.to_string())?;
+        }
         if let Some(mc) = mc {
             v["monte_carlo"] = serde_json::to_value(mc).map_err(|e| e.to_string())?;
         }
@@ -304,6 +362,9 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             "  {}: rms {:.6} mm, max |r| {:.6} mm",
             c.curve, c.stats.rms, c.stats.max_abs
         );
+    }
+    if let Some(r) = &refinement {
+        println!("exact model: {}", r.reason);
     }
     for x in &id.points_excluded {
         println!("excluded {}: {}", x.id, x.reason);

@@ -1,0 +1,471 @@
+//! The withheld-effect benchmark (`testpiece validate`): simulated parts whose answer is known,
+//! diagnosed with the effect withheld from the baseline.
+//!
+//! Each case is a linear twin of a measured part (the sensitivity and signature columns are
+//! linear in their parameters; the exact eq. 12 differs by < 0.2 µm at these magnitudes,
+//! s-shape.md): `y = A ξ + S_e θ + ε`, with
+//! - machine errors `ξ`: angles uniform in ±3e-4 rad, `EX0B` uniform in ±0.03 mm;
+//! - one effect `e` of effects.md (a random direction in its parameter space for multi-parameter
+//!   effects), or none, or an effect outside the list: a **waviness** `a·sin(2π s/λ + φ)` along
+//!   the tool path (λ uniform in [`WAVE_MIN_MM`]..[`WAVE_MAX_MM`]: with 25 points per curve about
+//!   25 mm apart along the path, a shorter waviness is sampled at under 6 points per period and
+//!   cannot be told from noise by any test on these points) or a **local bump** `a·exp(−½((s − s₀)/w)²)`
+//!   (w uniform in 10..30 mm, s₀ anywhere on the path);
+//! - the magnitude set so that the RMS of the part the baseline cannot absorb is
+//!   `ρ · 2.5σ` with `ρ` log-uniform in [0.3, 6] (below and above the detection limit);
+//! - Gaussian noise `ε`, σ = 1.5 µm.
+//!
+//! Expected verdict: the effect when `ρ > 1` (detectable), `none` when `ρ ≤ 1` or no effect,
+//! `unexplained` for a detectable out-of-list effect. A verdict counts as correct when it is the
+//! expected id, or when the expected id is listed as equivalent, or when the two are
+//! near-equivalent on this part ([`super::equivalence::EQUIVALENT_COS`]); exact hits are counted
+//! too. Cases are assigned in turn: each effect of the list, `none` twice, waviness, bump.
+
+use std::collections::BTreeMap;
+
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+use super::catalog::{NONE, UNEXPLAINED};
+use super::data::{Candidate, GapInput, NamedColumns, PointMeta};
+use super::diagnose::diagnose;
+use super::equivalence::near_equivalent_pairs;
+use super::lsq::{rms, Factor};
+use super::random::Sampler;
+use super::GapError;
+
+/// Shortest simulated waviness wavelength (mm of tool path).
+pub const WAVE_MIN_MM: f64 = 150.0;
+/// Longest simulated waviness wavelength (mm of tool path).
+pub const WAVE_MAX_MM: f64 = 600.0;
+
+/// The part a validation simulates: points, baseline design and candidate signatures.
+#[derive(Debug, Clone)]
+pub struct ValidationModel {
+    pub points: Vec<PointMeta>,
+    pub baseline: NamedColumns,
+    pub candidates: Vec<Candidate>,
+}
+
+/// Options of a validation run.
+#[derive(Debug, Clone, Copy)]
+pub struct ValidateOptions {
+    pub cases: usize,
+    pub seed: u64,
+    /// Simulated CMM noise (mm).
+    pub noise_sigma: f64,
+    /// Range of the angular location errors (± rad).
+    pub angle_range: f64,
+    /// Range of the length location errors (`EX0B`, ± mm).
+    pub length_range: f64,
+    /// Range of `ρ` = unabsorbed RMS / (2.5σ).
+    pub ratio_min: f64,
+    pub ratio_max: f64,
+    /// Pass the simulated σ to the diagnosis as the CMM repeatability (default: estimate it).
+    pub known_sigma: bool,
+}
+
+impl Default for ValidateOptions {
+    fn default() -> Self {
+        Self {
+            cases: 200,
+            seed: 1,
+            noise_sigma: 0.0015,
+            angle_range: 3e-4,
+            length_range: 0.03,
+            ratio_min: 0.3,
+            ratio_max: 6.0,
+            known_sigma: false,
+        }
+    }
+}
+
+impl ValidateOptions {
+    pub fn with_cases(mut self, n: usize) -> Self {
+        self.cases = n;
+        self
+    }
+    pub fn with_seed(mut self, s: u64) -> Self {
+        self.seed = s;
+        self
+    }
+    pub fn with_known_sigma(mut self, k: bool) -> Self {
+        self.known_sigma = k;
+        self
+    }
+}
+
+/// One simulated case and its diagnosis.
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseResult {
+    pub case: usize,
+    /// Effect id, `none`, `waviness` or `bump`.
+    pub truth: String,
+    pub parameters: BTreeMap<String, f64>,
+    /// `ρ`: RMS of the unabsorbed part over 2.5σ.
+    pub ratio: f64,
+    pub detectable: bool,
+    pub expected: String,
+    pub verdict: String,
+    pub equivalent: Vec<String>,
+    pub correct: bool,
+    pub exact: bool,
+    pub rms_before: f64,
+    pub rms_after: f64,
+    /// Residual RMS when the true effect is fitted (mm).
+    pub achievable_rms_after: f64,
+    /// σ the diagnosis used (mm).
+    pub sigma_used: f64,
+    /// Baseline residual structure beyond noise found by the diagnosis (mm).
+    pub structure_rms: f64,
+}
+
+/// Accuracy of one group of cases.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct Accuracy {
+    pub cases: usize,
+    pub correct: usize,
+    pub exact: usize,
+    pub rate: f64,
+}
+
+impl Accuracy {
+    fn add(&mut self, c: &CaseResult) {
+        self.cases += 1;
+        self.correct += usize::from(c.correct);
+        self.exact += usize::from(c.exact);
+        self.rate = self.correct as f64 / self.cases as f64;
+    }
+}
+
+/// Per-effect figures.
+#[derive(Debug, Clone, Serialize)]
+pub struct EffectRow {
+    pub effect: String,
+    pub detectable: Accuracy,
+    pub undetectable: Accuracy,
+    /// Parameter magnitude (each parameter alone) whose unabsorbed RMS is 2.5σ.
+    pub detection_limit: BTreeMap<String, f64>,
+    /// Mean shrink `1 − rms_after/rms_before` over detectable cases, achieved by the verdict
+    /// and achievable by fitting the true effect.
+    pub shrink_achieved: f64,
+    pub shrink_achievable: f64,
+}
+
+/// The validation report.
+#[derive(Debug, Clone, Serialize)]
+pub struct ValidationReport {
+    pub cases: usize,
+    pub seed: u64,
+    pub noise_sigma: f64,
+    pub known_sigma: bool,
+    /// Detectable effects of the list: verdict = the effect (or an equivalent).
+    pub detectable: Accuracy,
+    /// No effect, or an effect below the detection limit: verdict `none`.
+    pub none_or_undetectable: Accuracy,
+    /// Detectable effects outside the list: verdict `unexplained`.
+    pub out_of_list: Accuracy,
+    pub per_effect: Vec<EffectRow>,
+    /// `confusion[expected][verdict]` = count.
+    pub confusion: BTreeMap<String, BTreeMap<String, usize>>,
+    pub results: Vec<CaseResult>,
+}
+
+fn hstack(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    DMatrix::from_fn(a.nrows(), a.ncols() + b.ncols(), |i, j| {
+        if j < a.ncols() {
+            a[(i, j)]
+        } else {
+            b[(i, j - a.ncols())]
+        }
+    })
+}
+
+/// Runs the benchmark.
+pub fn validate(
+    model: &ValidationModel,
+    opts: &ValidateOptions,
+) -> Result<ValidationReport, GapError> {
+    let n = model.points.len();
+    let sigma = opts.noise_sigma;
+    let limit = 2.5 * sigma;
+    let a = &model.baseline.matrix;
+    let base = Factor::new(a, None);
+    let spans: Vec<(String, DMatrix<f64>)> = model
+        .candidates
+        .iter()
+        .map(|c| {
+            let u = base.unabsorbed(&c.signature.matrix);
+            (c.id.clone(), Factor::new(&u, None).basis)
+        })
+        .collect();
+    let pairs = near_equivalent_pairs(&spans);
+    let near = |x: &str, y: &str| {
+        pairs
+            .iter()
+            .any(|e| (e.a == x && e.b == y) || (e.a == y && e.b == x))
+    };
+    let s_path: Vec<f64> = model.points.iter().map(|p| p.s).collect();
+    let s_max = s_path.iter().cloned().fold(0.0, f64::max);
+    let kinds = model.candidates.len() + 4;
+    let mut rng = Sampler::new(opts.seed);
+    let mut results = Vec::with_capacity(opts.cases);
+    for case in 0..opts.cases {
+        let kind = case % kinds;
+        // Machine errors.
+        let xi = DVector::from_iterator(
+            a.ncols(),
+            model.baseline.names.iter().map(|name| {
+                let r =
+                    if name.starts_with("EX") || name.starts_with("EY") || name.starts_with("EZ") {
+                        opts.length_range
+                    } else {
+                        opts.angle_range
+                    };
+                rng.uniform(-r, r)
+            }),
+        );
+        let ratio = rng.log_uniform(opts.ratio_min, opts.ratio_max);
+        let mut parameters = BTreeMap::new();
+        let (truth, effect, design): (String, DVector<f64>, Option<DMatrix<f64>>) =
+            if kind < model.candidates.len() {
+                let c = &model.candidates[kind];
+                let s = &c.signature.matrix;
+                let dir = DVector::from_iterator(
+                    s.ncols(),
+                    (0..s.ncols()).map(|j| rng.normal() / s.column(j).norm().max(1e-300)),
+                );
+                let un = base.unabsorbed_vec(&(s * &dir)).norm() / (n as f64).sqrt();
+                let scale = if un > 0.0 { ratio * limit / un } else { 0.0 };
+                let theta = dir * scale;
+                for (j, name) in c.signature.names.iter().enumerate() {
+                    parameters.insert(name.clone(), theta[j]);
+                }
+                (c.id.clone(), s * &theta, Some(s.clone()))
+            } else if kind < model.candidates.len() + 2 {
+                (NONE.to_string(), DVector::zeros(n), None)
+            } else {
+                let wav = kind == model.candidates.len() + 2;
+                let shape = if wav {
+                    let lambda = rng.uniform(WAVE_MIN_MM, WAVE_MAX_MM);
+                    let phase = rng.uniform(0.0, 2.0 * std::f64::consts::PI);
+                    parameters.insert("lambda".into(), lambda);
+                    DVector::from_iterator(
+                        n,
+                        s_path
+                            .iter()
+                            .map(|s| (2.0 * std::f64::consts::PI * s / lambda + phase).sin()),
+                    )
+                } else {
+                    let w = rng.uniform(10.0, 30.0);
+                    let s0 = rng.uniform(0.0, s_max);
+                    parameters.insert("width".into(), w);
+                    parameters.insert("s0".into(), s0);
+                    DVector::from_iterator(
+                        n,
+                        s_path.iter().map(|s| (-0.5 * ((s - s0) / w).powi(2)).exp()),
+                    )
+                };
+                let un = base.unabsorbed_vec(&shape).norm() / (n as f64).sqrt();
+                let amp = if un > 0.0 {
+                    rng.sign() * ratio * limit / un
+                } else {
+                    0.0
+                };
+                parameters.insert("amplitude".into(), amp);
+                let truth = if wav { "waviness" } else { "bump" };
+                (truth.to_string(), shape * amp, None)
+            };
+        let noise = DVector::from_iterator(n, (0..n).map(|_| sigma * rng.normal()));
+        let y = a * &xi + &effect + &noise;
+        let un_true = base.unabsorbed_vec(&effect).norm() / (n as f64).sqrt();
+        let true_ratio = un_true / limit;
+        let detectable = truth != NONE && true_ratio > 1.0;
+        let expected = if !detectable {
+            NONE.to_string()
+        } else if design.is_some() {
+            truth.clone()
+        } else {
+            UNEXPLAINED.to_string()
+        };
+        let input = GapInput {
+            deviations: y.iter().copied().collect(),
+            points: model.points.clone(),
+            baseline: model.baseline.clone(),
+            candidates: model.candidates.clone(),
+            noise_sigma: opts.known_sigma.then_some(sigma),
+            reversals: Vec::new(),
+        };
+        let report = diagnose(&input)?;
+        let v = &report.verdict;
+        let exact = v.effect == expected;
+        let correct = exact || v.equivalent.contains(&expected) || near(&v.effect, &expected);
+        let achievable_rms_after = match &design {
+            Some(s) => {
+                let f = Factor::new(&hstack(a, s), None);
+                rms(f.unabsorbed_vec(&y).as_slice())
+            }
+            None => v.rms_before,
+        };
+        results.push(CaseResult {
+            case,
+            truth,
+            parameters,
+            ratio: true_ratio,
+            detectable,
+            expected,
+            verdict: v.effect.clone(),
+            equivalent: v.equivalent.clone(),
+            correct,
+            exact,
+            rms_before: v.rms_before,
+            rms_after: v.rms_after,
+            achievable_rms_after,
+            sigma_used: v.sigma,
+            structure_rms: report.structure.structure_rms,
+        });
+    }
+    Ok(summarise(model, opts, &base, results))
+}
+
+fn summarise(
+    model: &ValidationModel,
+    opts: &ValidateOptions,
+    base: &Factor,
+    results: Vec<CaseResult>,
+) -> ValidationReport {
+    let n = model.points.len() as f64;
+    let limit = 2.5 * opts.noise_sigma;
+    let mut detectable = Accuracy::default();
+    let mut none_or_undetectable = Accuracy::default();
+    let mut out_of_list = Accuracy::default();
+    let mut confusion: BTreeMap<String, BTreeMap<String, usize>> = BTreeMap::new();
+    for r in &results {
+        *confusion
+            .entry(r.expected.clone())
+            .or_default()
+            .entry(r.verdict.clone())
+            .or_default() += 1;
+        if r.expected == NONE {
+            none_or_undetectable.add(r);
+        } else if r.expected == UNEXPLAINED {
+            out_of_list.add(r);
+        } else {
+            detectable.add(r);
+        }
+    }
+    let per_effect = model
+        .candidates
+        .iter()
+        .map(|c| {
+            let mut det = Accuracy::default();
+            let mut und = Accuracy::default();
+            let (mut sa, mut sb, mut k) = (0.0, 0.0, 0.0);
+            for r in results.iter().filter(|r| r.truth == c.id) {
+                if r.detectable {
+                    det.add(r);
+                    if r.rms_before > 0.0 {
+                        sa += 1.0 - r.rms_after / r.rms_before;
+                        sb += 1.0 - r.achievable_rms_after / r.rms_before;
+                        k += 1.0;
+                    }
+                } else {
+                    und.add(r);
+                }
+            }
+            let u = base.unabsorbed(&c.signature.matrix);
+            let detection_limit = c
+                .signature
+                .names
+                .iter()
+                .enumerate()
+                .map(|(j, name)| {
+                    let un = u.column(j).norm() / n.sqrt();
+                    (
+                        name.clone(),
+                        if un > 0.0 { limit / un } else { f64::INFINITY },
+                    )
+                })
+                .collect();
+            EffectRow {
+                effect: c.id.clone(),
+                detectable: det,
+                undetectable: und,
+                detection_limit,
+                shrink_achieved: if k > 0.0 { sa / k } else { f64::NAN },
+                shrink_achievable: if k > 0.0 { sb / k } else { f64::NAN },
+            }
+        })
+        .collect();
+    ValidationReport {
+        cases: results.len(),
+        seed: opts.seed,
+        noise_sigma: opts.noise_sigma,
+        known_sigma: opts.known_sigma,
+        detectable,
+        none_or_undetectable,
+        out_of_list,
+        per_effect,
+        confusion,
+        results,
+    }
+}
+
+/// A plain-text table of a validation report.
+pub fn table(r: &ValidationReport) -> String {
+    let mut s = format!(
+        "validate: {} cases, seed {}, σ = {} µm ({})\n",
+        r.cases,
+        r.seed,
+        r.noise_sigma * 1e3,
+        if r.known_sigma {
+            "given to the diagnosis"
+        } else {
+            "estimated by the diagnosis"
+        }
+    );
+    s += &format!(
+        "detectable effects named: {}/{} = {:.1} % (exact {})\n",
+        r.detectable.correct,
+        r.detectable.cases,
+        100.0 * r.detectable.rate,
+        r.detectable.exact
+    );
+    s += &format!(
+        "none on none/undetectable: {}/{} = {:.1} %\n",
+        r.none_or_undetectable.correct,
+        r.none_or_undetectable.cases,
+        100.0 * r.none_or_undetectable.rate
+    );
+    s += &format!(
+        "unexplained on out-of-list: {}/{} = {:.1} %\n",
+        r.out_of_list.correct,
+        r.out_of_list.cases,
+        100.0 * r.out_of_list.rate
+    );
+    s += "effect          detectable  none-if-below  shrink achieved/achievable  detection limit\n";
+    for e in &r.per_effect {
+        let lim: Vec<String> = e
+            .detection_limit
+            .iter()
+            .map(|(k, v)| format!("{k}={v:.2e}"))
+            .collect();
+        s += &format!(
+            "{:15} {:>3}/{:<3}      {:>3}/{:<3}        {:>5.3} / {:<5.3}             {}\n",
+            e.effect,
+            e.detectable.correct,
+            e.detectable.cases,
+            e.undetectable.correct,
+            e.undetectable.cases,
+            e.shrink_achieved,
+            e.shrink_achievable,
+            lim.join(" ")
+        );
+    }
+    s += "confusion (expected -> verdict: count)\n";
+    for (exp, row) in &r.confusion {
+        let cells: Vec<String> = row.iter().map(|(v, c)| format!("{v}:{c}")).collect();
+        s += &format!("  {exp:15} -> {}\n", cells.join(" "));
+    }
+    s
+}
