@@ -11,19 +11,24 @@
 //! 3. [`crate::sensitivity::sensitivity_matrix`] at those points: the defect per unit of each
 //!    location error of the configured machine (paper 000 eq. 14, mode and branch as set),
 //!    optionally with the tool-radius column `−1` (`dR`, mm, + = a larger tool).
-//! 4. [`crate::identify::identify`]: weighted least squares, rank, groups, uncertainty.
+//! 4. [`crate::identify::identify`]: weighted least squares, rank, groups, uncertainty; then
+//!    [`crate::identify::refine::refine`] with the exact eq. 12 at the same points
+//!    ([`crate::simulate::ExactDefectModel`]) where the linearisation error exceeds 0.1 σ.
 
 use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::cmm::{read_and_match, CmmError, MatchedPart, ReadOptions};
+use crate::identify::refine::{refine, RefineOptions, RefineReport};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
+    Status,
 };
 use crate::machine::chain::PAPER000_L0;
 use crate::machine::{Branch, Chain};
 use crate::part::{Curve, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
+use crate::simulate::{ExactDefectModel, SimulateError};
 
 /// Settings of an analysis; `Default` is the spec's default (physical mode, signed B, paper
 /// 000's machine with L0 = 499.889 mm, no tool-radius term, rows with problems reject the file).
@@ -42,6 +47,8 @@ pub struct AnalysisOptions {
     pub exclude_bad_rows: bool,
     /// CMM standard uncertainty of one deviation (mm, 1σ); `None` uses the residual.
     pub noise_sigma: Option<f64>,
+    /// Refine with the exact eq. 12 where the linearisation error matters (default on).
+    pub refine: bool,
 }
 
 impl Default for AnalysisOptions {
@@ -53,6 +60,7 @@ impl Default for AnalysisOptions {
             tool_radius: false,
             exclude_bad_rows: false,
             noise_sigma: None,
+            refine: true,
         }
     }
 }
@@ -70,6 +78,10 @@ pub enum AnalysisError {
     BadL0(f64),
     #[error("CMM uncertainty σ = {0} mm is not a positive finite number")]
     BadSigma(f64),
+    #[error("exact model: {0}")]
+    Exact(#[from] SimulateError),
+    #[error("exact-model refinement: {0}")]
+    Refine(String),
 }
 
 /// The design at the measured points: one row per point, one column per parameter.
@@ -94,6 +106,18 @@ pub struct Analysis {
     pub points: Vec<MeasurementPoint>,
     pub design: DesignColumns,
     pub identification: Identification,
+    /// What the exact-model refinement did (absent when switched off).
+    pub refinement: Option<RefineReport>,
+    /// The fitted design and observations (for Monte Carlo and exports; not serialised).
+    #[serde(skip)]
+    pub fitted: Option<(Design, Observations)>,
+}
+
+impl Analysis {
+    /// Distance of each point from the part origin (mm): the length `L` of a CMM's MPE_E.
+    pub fn lengths(&self) -> Vec<f64> {
+        self.points.iter().map(|p| p.point.norm()).collect()
+    }
 }
 
 /// The measurement curve (Z = 11 or 25 mm) nearer to height `z` on surface `s`.
@@ -121,6 +145,14 @@ pub fn measurement_points(part: &SShape, matched: &MatchedPart) -> Vec<Measureme
         .collect()
 }
 
+/// The sensitivity settings of an analysis: mode, branch, paper 000's chain with its L0.
+pub fn sensitivity_options(opts: &AnalysisOptions) -> SensitivityOptions {
+    SensitivityOptions::default()
+        .with_mode(opts.mode)
+        .with_branch(opts.branch)
+        .with_chain(Chain::paper000(opts.l0))
+}
+
 /// The sensitivity design at `points` for `opts` (plus the `dR` column when asked).
 pub fn design_at(
     part: &SShape,
@@ -130,11 +162,7 @@ pub fn design_at(
     if !(opts.l0.is_finite() && opts.l0 > 0.0) {
         return Err(AnalysisError::BadL0(opts.l0));
     }
-    let sopts = SensitivityOptions::default()
-        .with_mode(opts.mode)
-        .with_branch(opts.branch)
-        .with_chain(Chain::paper000(opts.l0));
-    let m = sensitivity_matrix(part, points, &sopts)?;
+    let m = sensitivity_matrix(part, points, &sensitivity_options(opts))?;
     let n = points.len();
     let mut params: Vec<Parameter> = m.params.iter().map(|p| Parameter::named(p)).collect();
     let mut matrix = m.values;
@@ -179,7 +207,35 @@ pub fn analyse(
     if let Some(s) = opts.noise_sigma {
         iopts = iopts.with_sigma(s);
     }
-    let identification = identify(&design, &obs, &iopts)?;
+    let mut identification = identify(&design, &obs, &iopts)?;
+    let refinement = if opts.refine {
+        let model =
+            ExactDefectModel::at_points(&design, points.clone(), sensitivity_options(opts))?;
+        let r = refine(
+            &design,
+            &obs,
+            &identification,
+            model,
+            &RefineOptions::default(),
+            &iopts,
+        )
+        .map_err(|e| AnalysisError::Refine(e.to_string()))?;
+        if r.performed && r.success {
+            for (j, p) in identification.parameters.0.iter_mut().enumerate() {
+                p.value = r.values[j];
+                if p.status != Status::NotSeparable {
+                    p.std = r.std[j];
+                }
+            }
+            identification.notes.push(format!(
+                "values refined with the exact eq. 12: {}",
+                r.reason
+            ));
+        }
+        Some(r)
+    } else {
+        None
+    };
     Ok(Analysis {
         version: crate::VERSION,
         settings: opts.clone(),
@@ -187,6 +243,8 @@ pub fn analyse(
         points,
         design: columns,
         identification,
+        refinement,
+        fitted: Some((design, obs)),
     })
 }
 

@@ -75,11 +75,11 @@ pub fn builtin_design(
     })
 }
 
-/// The exact machined defect (eq. 12) at the 100 built-in points for a design's parameters
+/// The exact machined defect (eq. 12) at a set of measurement points for a design's parameters
 /// (location errors, plus `dR` contributing `-dR`): the model for
 /// [`crate::identify::refine::refine`]. The Jacobian is a central finite difference of the exact
 /// defect (steps 1e-7 rad, 1e-5 mm; eq. 12 is smooth and nearly linear at these magnitudes).
-pub struct ExactBuiltinModel {
+pub struct ExactDefectModel {
     part: SShape,
     points: Vec<crate::part::MeasurementPoint>,
     opts: SensitivityOptions,
@@ -87,12 +87,21 @@ pub struct ExactBuiltinModel {
     steps: Vec<f64>,
 }
 
-impl ExactBuiltinModel {
-    /// The model for the columns of `design` (location-error names and `dR`).
+impl ExactDefectModel {
+    /// The model at the 100 built-in points for the columns of `design` (location-error names
+    /// and `dR`).
     pub fn new(design: &Design, mode: &str, branch: &str) -> Result<Self, SimulateError> {
-        let opts = sensitivity_options(mode, branch)?;
         let part = SShape::iso();
         let points = builtin_points(&part);
+        Self::at_points(design, points, sensitivity_options(mode, branch)?)
+    }
+
+    /// The model at any measurement points (e.g. those of a CMM file, matched by projection).
+    pub fn at_points(
+        design: &Design,
+        points: Vec<crate::part::MeasurementPoint>,
+        opts: SensitivityOptions,
+    ) -> Result<Self, SimulateError> {
         let mut params = Vec::new();
         for p in design.parameters() {
             if p.name == TOOL_RADIUS {
@@ -108,8 +117,8 @@ impl ExactBuiltinModel {
             .iter()
             .map(|p| if p.unit == "rad" { 1e-7 } else { 1e-5 })
             .collect();
-        Ok(ExactBuiltinModel {
-            part,
+        Ok(ExactDefectModel {
+            part: SShape::iso(),
             points,
             opts,
             params,
@@ -118,7 +127,7 @@ impl ExactBuiltinModel {
     }
 }
 
-impl crate::identify::refine::ExactModel for ExactBuiltinModel {
+impl crate::identify::refine::ExactModel for ExactDefectModel {
     fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
         let mut e = MachineErrors::none();
         let mut dr = 0.0;
@@ -201,7 +210,7 @@ pub fn simulate_deviation(
     Ok(y)
 }
 
-/// The exact machined defect (eq. 12, [`ExactBuiltinModel`]) at the 100 built-in points for the
+/// The exact machined defect (eq. 12, [`ExactDefectModel`]) at the 100 built-in points for the
 /// errors (location errors and `dR`; others 0), plus the same seeded noise as
 /// [`simulate_deviation`]. Differs from the linear one by < 0.3 µm at |ξ| ≤ 3e-4 rad.
 pub fn simulate_exact(
@@ -218,7 +227,7 @@ pub fn simulate_exact(
     let tool_radius = errors.iter().any(|(n, _)| n == TOOL_RADIUS);
     let design = builtin_design(mode, branch, tool_radius)?;
     let x = design.vector_from(errors)?;
-    let model = ExactBuiltinModel::new(&design, mode, branch)?;
+    let model = ExactDefectModel::new(&design, mode, branch)?;
     let mut y = model
         .deviation(&x)
         .map_err(|e| SimulateError::Design(IdentifyError::Model(e)))?;

@@ -158,7 +158,7 @@ fn builtin_design_matches_reference_sensitivity() {
 fn exact_model_matches_table4_and_design() {
     use testpiece::identify::refine::ExactModel;
     let d = builtin_design("paper", "signed", true).unwrap();
-    let m = ExactBuiltinModel::new(&d, "paper", "signed").unwrap();
+    let m = ExactDefectModel::new(&d, "paper", "signed").unwrap();
     let x = d
         .vector_from(&parse_errors("EX0B=0.0294,EA0B=3.2419e-4,dR=-0.02").unwrap())
         .unwrap();

@@ -4,13 +4,13 @@
 
 use wasm_bindgen::prelude::*;
 
-mod analysis;
-mod cmm;
-mod examples;
-mod gap;
-mod geometry;
-mod identify;
-mod machine;
+pub mod analysis;
+pub mod cmm;
+pub mod examples;
+pub mod gap;
+pub mod geometry;
+pub mod identify;
+pub mod machine;
 
 /// Converts a core result to a plain JS object (maps as objects, not `Map`).
 pub(crate) fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {
