@@ -82,3 +82,36 @@ fn c_index_is_the_derivative_of_a_table_rotation() {
         );
     }
 }
+
+/// The complete model from the kinematics stage: baseline = sensitivity_physical.csv, every
+/// candidate = effect_signatures.csv (relative tolerance 1e-4 of the column's largest value for
+/// backlash: linear interpolation of the lag between the 20001 grid samples, as the reference;
+/// 1e-6 for the rest).
+#[test]
+fn full_model_matches_the_reference() {
+    use testpiece::gap::effects::builtin::builtin_model;
+    let m = builtin_model(&SShape::iso()).unwrap();
+    let sens = table("sensitivity_physical.csv");
+    for (j, name) in m.baseline.names.iter().enumerate() {
+        let col: Vec<f64> = m.baseline.matrix.column(j).iter().copied().collect();
+        let d = rel_max_diff(&col, &sens.numbers(name).unwrap());
+        println!("baseline {name}: {d:.2e}");
+        assert!(d < 1e-6, "{name}: {d:e}");
+    }
+    let sig = table("effect_signatures.csv");
+    for c in &m.candidates {
+        for (j, p) in c.signature.names.iter().enumerate() {
+            let col: Vec<f64> = c.signature.matrix.column(j).iter().copied().collect();
+            let d = rel_max_diff(&col, &sig.numbers(&format!("{}.{p}", c.id)).unwrap());
+            println!("{}.{p}: {d:.2e}", c.id);
+            let tol = if c.id.starts_with("backlash") {
+                1e-4
+            } else {
+                1e-5
+            };
+            assert!(d < tol, "{}.{p}: {d:e}", c.id);
+        }
+    }
+    // Reversals per pass (README, signed B): X 8/8, Y 6/6, Z 7/9, B 6/8, C 1/1 → 60 in all.
+    assert_eq!(m.reversals.len(), 60, "{:?}", m.reversals);
+}

@@ -43,4 +43,6 @@ pub enum GapError {
     UnknownEffect(String),
     #[error("{0}")]
     Invalid(String),
+    #[error("model of the part or machine: {0}")]
+    Model(String),
 }

@@ -28,6 +28,8 @@ Commands:
   envelope    flank-path deviation at the points (id,curve,deviation); --surface-max per surface
   simulate    a synthetic measured part for given errors: id,curve,x,y,z,nx,ny,nz,deviation
   identify    the machine errors, groups, uncertainty and residuals from a measured part
+  diagnose    the sim-to-real gap of a measured part: where, which effect, how far [--json]
+  validate    the withheld-effect benchmark of the gap diagnosis [--cases N] [--seed S] [--json]
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
 Options for all: --version prints the version.

@@ -88,3 +88,59 @@ pub fn geometric_candidates(
         candidate("pivot_length", pivot::pivot_length(eps))?,
     ])
 }
+
+/// Everything a diagnosis of measured points of the S-shape needs from the models: point
+/// metadata, the baseline (the 8 location errors, `physical` mode, signed B), all the candidates
+/// of effects.md, and the axis reversals along the path.
+#[derive(Debug, Clone)]
+pub struct PartModel {
+    pub points: Vec<PointMeta>,
+    pub baseline: NamedColumns,
+    pub candidates: Vec<Candidate>,
+    pub reversals: Vec<crate::gap::data::Reversal>,
+}
+
+/// The model of the given measurement points (`physical` mode, signed B).
+pub fn part_model(part: &SShape, points: &[MeasurementPoint]) -> Result<PartModel, GapError> {
+    use super::machine::{backlash_columns, reversals, scale_signatures};
+    let opts = crate::sensitivity::SensitivityOptions::default();
+    let sens = crate::sensitivity::sensitivity_matrix(part, points, &opts)
+        .map_err(|e| GapError::Model(e.to_string()))?;
+    let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
+    let eps = effect_points(part, points);
+    let envelope: Vec<f64> = crate::toolpath::envelope::points_deviation(part, points, 0.0)
+        .map_err(|e| GapError::Model(e.to_string()))?
+        .iter()
+        .map(|d| d.deviation)
+        .collect();
+    let geo = geometric_candidates(part, &eps, &envelope)?;
+    let scales = scale_signatures(part, points, &opts)?;
+    let backlash = backlash_columns(part, points, &opts)?;
+    let take = |id: &str| geo.iter().find(|c| c.id == id).cloned();
+    let mut candidates = Vec::new();
+    for info in crate::gap::catalog::EFFECTS {
+        let c = match info.id {
+            "backlash_x" => candidate(info.id, vec![backlash[0].clone()])?,
+            "backlash_y" => candidate(info.id, vec![backlash[1].clone()])?,
+            "backlash_z" => candidate(info.id, vec![backlash[2].clone()])?,
+            "backlash_b" => candidate(info.id, vec![backlash[3].clone()])?,
+            "backlash_c" => candidate(info.id, vec![backlash[4].clone()])?,
+            "scale_x" => candidate(info.id, vec![scales[0].clone()])?,
+            "scale_y" => candidate(info.id, vec![scales[1].clone()])?,
+            "scale_z" => candidate(info.id, vec![scales[2].clone()])?,
+            id => take(id).ok_or_else(|| GapError::UnknownEffect(id.to_string()))?,
+        };
+        candidates.push(c);
+    }
+    Ok(PartModel {
+        points: point_meta(points, &eps),
+        baseline,
+        candidates,
+        reversals: reversals(part, &opts)?,
+    })
+}
+
+/// The model of the 100 built-in points.
+pub fn builtin_model(part: &SShape) -> Result<PartModel, GapError> {
+    part_model(part, &crate::part::builtin_points(part))
+}

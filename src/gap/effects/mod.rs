@@ -4,10 +4,11 @@
 //! Implemented here from the part geometry and the flank path: `tool_radius`, `tool_taper`
 //! ([`tool`]), `overcut` ([`overcut`]), `thermal_drift` ([`thermal`], with the tool-tip path
 //! length of [`path_length`]), `setup_error`, `c_index` ([`rigid`]), `pivot_length` ([`pivot`]).
-//! `scale_x/y/z` and `backlash_*` need the machine's axis path and reversal model (kinematics
-//! stage); until it is available they come from a signature table.
+//! `scale_x/y/z` and `backlash_*` use the machine's axis path and reversal model of the
+//! kinematics stage ([`machine`]).
 
 pub mod builtin;
+pub mod machine;
 pub mod overcut;
 pub mod path_length;
 pub mod pivot;

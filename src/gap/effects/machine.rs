@@ -1,0 +1,84 @@
+//! Signatures that need the machine's axis path (kinematics stage, [`crate::sensitivity`]):
+//! `scale_x/y/z` and `backlash_x/y/z/b/c`, and the axis reversals along the path.
+//!
+//! Scale error (effects.md): `E_XX = k·X`, `E_YY = k·Y`, `E_ZZ = k·(Z − L0)`, i.e. the linear
+//! coefficient (power 1) of the axis's own positioning error motion, evaluated by
+//! [`crate::sensitivity::jacobian_rows`] like the location errors (defect per unit at the point,
+//! minus the tip displacement at the reference pose `(0, 0, L0, 0, 0)` where the part origin is
+//! set, which removes the constant `k·L0` of Z). Backlash: the first-order-lag reversal model of
+//! [`crate::sensitivity::reversal`] (lag of 2 mm of tool-tip path, settled at each pass start).
+
+use crate::gap::data::Reversal;
+use crate::gap::GapError;
+use crate::machine::{AxisName, ErrorParam};
+use crate::part::{MeasurementPoint, SShape, Surface};
+use crate::sensitivity::defect::jacobian_rows;
+use crate::sensitivity::reversal::{backlash_signatures, directions, pass};
+use crate::sensitivity::SensitivityOptions;
+
+fn model_err(e: impl std::fmt::Display) -> GapError {
+    GapError::Model(e.to_string())
+}
+
+/// Axes of the scale candidates, in effects.md order.
+pub const SCALE_AXES: [AxisName; 3] = [AxisName::X, AxisName::Y, AxisName::Z];
+/// Axes of the backlash candidates, in effects.md order.
+pub const BACKLASH_AXES: [AxisName; 5] = [
+    AxisName::X,
+    AxisName::Y,
+    AxisName::Z,
+    AxisName::B,
+    AxisName::C,
+];
+
+/// `scale_x.k`, `scale_y.k`, `scale_z.k` columns (mm/mm).
+pub fn scale_signatures(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+) -> Result<Vec<Vec<f64>>, GapError> {
+    let params: Vec<ErrorParam> = SCALE_AXES
+        .iter()
+        .map(|&a| ErrorParam::Motion {
+            component: a,
+            axis: a,
+            power: 1,
+        })
+        .collect();
+    let m = jacobian_rows(part, points, opts, &params).map_err(model_err)?;
+    Ok((0..params.len())
+        .map(|j| m.column(j).iter().copied().collect())
+        .collect())
+}
+
+/// `backlash_<axis>.b` columns (mm/mm or mm/rad), axes of [`BACKLASH_AXES`].
+pub fn backlash_columns(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+) -> Result<Vec<Vec<f64>>, GapError> {
+    backlash_signatures(part, points, &BACKLASH_AXES, opts).map_err(model_err)
+}
+
+/// Where each axis reverses along the path: tool-tip path length from the start of A (mm).
+pub fn reversals(part: &SShape, opts: &SensitivityOptions) -> Result<Vec<Reversal>, GapError> {
+    let mut out = Vec::new();
+    let mut offset = 0.0;
+    for surface in Surface::BOTH {
+        let p = pass(part, surface, opts).map_err(model_err)?;
+        for axis in BACKLASH_AXES {
+            let d = directions(&p, axis);
+            for k in 1..d.len() {
+                if d[k] != d[k - 1] {
+                    out.push(Reversal {
+                        axis: format!("{axis:?}"),
+                        s: offset + p.s[k],
+                    });
+                }
+            }
+        }
+        offset += p.s.last().copied().unwrap_or(0.0);
+    }
+    out.sort_by(|a, b| a.s.total_cmp(&b.s));
+    Ok(out)
+}
