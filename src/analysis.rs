@@ -14,11 +14,16 @@
 //! 4. [`crate::identify::identify`]: weighted least squares, rank, groups, uncertainty; then
 //!    [`crate::identify::refine::refine`] with the exact eq. 12 at the same points
 //!    ([`crate::simulate::ExactDefectModel`]) where the linearisation error exceeds 0.1 σ.
+//! 5. [`crate::gap::diagnose`] on the same points: the baseline of effects.md (location errors,
+//!    `physical` mode, signed B) and every candidate effect, whatever the identification's own
+//!    mode; where the residual lies, which effect, how far it shrinks.
 
 use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::cmm::{read_and_match, CmmError, MatchedPart, ReadOptions};
+use crate::gap::effects::builtin::part_model;
+use crate::gap::{diagnose, DiagnosisReport, GapError, GapInput};
 use crate::identify::refine::{refine, RefineOptions, RefineReport};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
@@ -108,6 +113,8 @@ pub struct Analysis {
     pub identification: Identification,
     /// What the exact-model refinement did (absent when switched off).
     pub refinement: Option<RefineReport>,
+    /// The sim-to-real gap diagnosis, or why it could not be made.
+    pub diagnosis: Result<DiagnosisReport, String>,
     /// The fitted design and observations (for Monte Carlo and exports; not serialised).
     #[serde(skip)]
     pub fitted: Option<(Design, Observations)>,
@@ -182,7 +189,25 @@ pub fn design_at(
     Ok((design, columns))
 }
 
-/// Reads, matches and identifies one CMM file.
+/// The gap diagnosis (effects.md) of deviations at `points`.
+pub fn diagnose_points(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    deviations: &[f64],
+    noise_sigma: Option<f64>,
+) -> Result<DiagnosisReport, GapError> {
+    let m = part_model(part, points)?;
+    diagnose(&GapInput {
+        deviations: deviations.to_vec(),
+        points: m.points,
+        baseline: m.baseline,
+        candidates: m.candidates,
+        noise_sigma,
+        reversals: m.reversals,
+    })
+}
+
+/// Reads, matches, identifies and diagnoses one CMM file.
 pub fn analyse(
     bytes: &[u8],
     name: &str,
@@ -236,7 +261,10 @@ pub fn analyse(
     } else {
         None
     };
+    let diagnosis = diagnose_points(&part, &points, &matched.deviations(), opts.noise_sigma)
+        .map_err(|e| e.to_string());
     Ok(Analysis {
+        diagnosis,
         version: crate::VERSION,
         settings: opts.clone(),
         file: matched,
@@ -291,6 +319,29 @@ mod tests {
         let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
         assert_eq!(a.design.params.last().map(String::as_str), Some("dR"));
         assert!(a.design.columns[8].iter().all(|&v| v == -1.0));
+    }
+
+    #[test]
+    fn the_examples_get_their_keyed_verdicts_through_the_whole_pipeline() {
+        // Keys: tests/data/reference/examples/*.key.json (`accept`).
+        for (file, text, accept) in [
+            ("example_clean.csv", CLEAN, &["none"][..]),
+            (
+                "example_tool_radius.csv",
+                include_str!("../tests/data/reference/examples/example_tool_radius.csv"),
+                &["tool_radius", "tool_taper"][..],
+            ),
+            (
+                "example_backlash_c.csv",
+                include_str!("../tests/data/reference/examples/example_backlash_c.csv"),
+                &["backlash_c"][..],
+            ),
+        ] {
+            let a = analyse(text.as_bytes(), file, &AnalysisOptions::default()).unwrap();
+            let d = a.diagnosis.as_ref().unwrap();
+            assert!(accept.contains(&d.verdict.effect.as_str()), "{file}: {}", d.verdict.effect);
+            assert!(d.summary.starts_with("Verdict: "), "{file}: {}", d.summary);
+        }
     }
 
     #[test]
