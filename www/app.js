@@ -3,7 +3,7 @@
 import { startCore, call, cancel } from './core.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
-import { h, dataView, fig19View, identifyView, reportView } from './views.js';
+import { h, dataView, fig19View, identifyView, gapView, reportView } from './views.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -110,8 +110,10 @@ function summaryText() {
   const weak = id.groups.map((g) => g.parameters.join('/')).join('; ');
   const strong = Object.entries(id.parameters).filter(([, p]) => p.status === 'identified' && p.t !== null && p.t >= 3)
     .map(([n, p]) => `${n} = ${p.unit === 'rad' ? p.value.toExponential(2) : p.value.toFixed(4)} ${p.unit}`);
+  const d = a.diagnosis.Ok;
   box.append(
-    h('div', { class: 'verdict', id: 'verdict-line' }, `${f.name}: identification of ${Object.keys(id.parameters).length} parameters from ${id.points_used} points`),
+    h('div', { class: 'verdict', id: 'verdict-line' }, d ? d.summary.split('\n')[0] : `Verdict: not available (${a.diagnosis.Err})`),
+    h('div', {}, `${f.name}: identification of ${Object.keys(id.parameters).length} parameters from ${id.points_used} points.`),
     h('div', {}, `Clearly non-zero (|value| ≥ 3 std): ${strong.length ? strong.join(', ') : 'none'}.`),
     h('div', {}, `Residual after the fit: RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`),
     h('div', {}, weak ? `Not separable or weakly determined by this part: ${weak}.` : 'Every parameter is separately determined by this part.'),
@@ -125,6 +127,7 @@ function render() {
   else $('view-fig19').textContent = st.sensitivity ? st.sensitivity.error : '';
   const f = st.files[st.current];
   identifyView($('view-identify'), f && f.analysis);
+  gapView($('view-gap'), f && f.analysis);
   reportView($('view-report'), st);
   document.body.dataset.ready = 'true';
 }

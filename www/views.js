@@ -225,5 +225,39 @@ export function reportView(root, st) {
     Object.entries(id.parameters).map(([n, p]) => [n, { text: fmtNum(p.value, p.unit), num: true, value: p.value }, { text: fmtNum(p.std, p.unit), num: true, value: p.std ?? '' }, p.unit, p.status.replace('_', ' ')])));
   root.append(h('p', {}, `Residual RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm; rank ${id.rank}, condition ${fmtNum(id.condition)}.`));
   root.append(h('ul', {}, id.groups.map((g) => h('li', {}, g.explanation))));
+  if (a.diagnosis.Ok) root.append(h('h2', {}, 'Sim-to-real gap'), h('pre', {}, a.diagnosis.Ok.summary));
   root.append(h('p', { class: 'signature' }, 'Checked by: ____________________   Date: ____________'));
+}
+
+// ---------------------------------------------------------------- Sim-to-real gap
+export function gapView(root, a) {
+  root.textContent = '';
+  if (!a) { root.append(h('p', {}, 'Load a measured part to diagnose the gap.')); return; }
+  if (a.diagnosis.Err !== undefined) { root.append(h('pre', { class: 'error' }, `The diagnosis could not be made: ${a.diagnosis.Err}`)); return; }
+  const d = a.diagnosis.Ok;
+  const v = d.verdict;
+  const um = (x) => (x * 1000).toFixed(2);
+  root.append(h('h2', {}, 'Sim-to-real gap'), h('pre', { id: 'gap-summary', class: 'summary' }, d.summary));
+  root.append(table('gap-shrink', 'How far the gap shrinks with the verdict\'s effect (µm; withheld = cross-validation on points left out of the fit)',
+    ['', 'before', 'after'], [
+      ['RMS in-sample', { text: um(v.rms_before), num: true, value: v.rms_before * 1000 }, { text: um(v.rms_after), num: true, value: v.rms_after * 1000 }],
+      ['max |r| in-sample', { text: um(v.max_before), num: true, value: v.max_before * 1000 }, { text: um(v.max_after), num: true, value: v.max_after * 1000 }],
+      ['RMS withheld', { text: um(v.cv_rms_before), num: true, value: v.cv_rms_before * 1000 }, { text: v.cv_rms_after === undefined ? '—' : um(v.cv_rms_after), num: true, value: (v.cv_rms_after ?? NaN) * 1000 }],
+    ]));
+  root.append(table('gap-candidates', `Candidate effects, each added alone to the baseline (folds: ${d.folds.join(', ')})`,
+    ['effect', 'parameters', 'RMS (µm)', 'withheld RMS (µm)', 'shrink', 'F-test p (Bonferroni)', 'unabsorbed RMS (µm)', 'significant'],
+    d.candidates.map((c) => [c.effect,
+      Object.entries(c.parameters).map(([k, p]) => `${k} = ${Number(p.value.toPrecision(4))} ± ${Number(p.std.toPrecision(2))}`).join('; '),
+      { text: um(c.rms), num: true, value: c.rms * 1000 }, { text: um(c.cv_rms), num: true, value: c.cv_rms * 1000 },
+      { text: `${(c.shrink * 100).toFixed(0)} %`, num: true, value: c.shrink },
+      { text: c.evidence.p_bonferroni.toExponential(1), num: true, value: c.evidence.p_bonferroni },
+      { text: um(c.evidence.unabsorbed_rms), num: true, value: c.evidence.unabsorbed_rms * 1000 }, c.evidence.significant ? 'yes' : 'no'])));
+  if (d.equivalences.length) {
+    root.append(h('h2', {}, 'Effects this part cannot tell apart'),
+      h('ul', {}, d.equivalences.map((e) => h('li', {}, JSON.stringify(e).replace(/[{}"]/g, '').replace(/,/g, ', ')))));
+  }
+  root.append(table('gap-where', 'Where the baseline residual lies (µm)', ['group', 'name', 'n', 'RMS', 'max |r|', 'mean', 'share'],
+    d.where.map((w) => [w.group, w.name, { text: w.n, num: true }, { text: um(w.rms), num: true, value: w.rms * 1000 },
+      { text: um(w.max_abs), num: true, value: w.max_abs * 1000 }, { text: um(w.mean), num: true, value: w.mean * 1000 },
+      { text: Number(w.concentration.toPrecision(3)), num: true }])));
 }

@@ -67,7 +67,7 @@ test('the example part is analysed at once and its numbers are the core\'s', asy
   assert.ok(Math.abs(shown - ea0b) <= 1e-9 * Math.abs(ea0b) + 1e-15, `EA0B page ${shown} vs CLI ${ea0b}`);
   assert.equal(await page.textContent('#version'), cli('--version').trim().split(' ')[1]);
   assert.deepEqual(errors, []);
-  for (const t of ['data', 'fig19', 'identify', 'report']) {
+  for (const t of ['data', 'fig19', 'identify', 'gap', 'report']) {
     await page.click(`#tab-${t}`);
     await page.screenshot({ path: path.join(SHOTS, `view-${t}.png`), fullPage: true });
   }
@@ -103,9 +103,16 @@ test('Figure 19 parameters toggle, and its CSV export equals the CLI sensitivity
 
 test('each example file uploads and is analysed; a broken file shows the reader\'s message', async () => {
   const { page } = await openPage();
-  for (const f of ['example_clean.csv', 'example_tool_radius.csv', 'example_backlash_c.csv']) {
+  // Verdicts keyed in tests/data/reference/examples/*.key.json (`accept`).
+  for (const [f, verdict] of [['example_clean.csv', /^Verdict: .*\(`none`\)/], ['example_tool_radius.csv', /^Verdict: .*\(`tool_(radius|taper)`\)/],
+    ['example_backlash_c.csv', /^Verdict: .*\(`backlash_c`\)/]]) {
     await upload(page, path.join(EXAMPLES, f));
     assert.match(await page.textContent('#summary'), /from 100 points/);
+    const line = await page.textContent('#verdict-line');
+    assert.match(line, verdict, `${f}: ${line}`);
+    console.log(`${f}: ${line}`);
+    await page.click('#tab-gap');
+    await page.screenshot({ path: path.join(SHOTS, `gap-${f.replace('.csv', '')}.png`), fullPage: true });
   }
   const broken = fs.readdirSync(BROKEN).filter((f) => /non.?numeric|nan/i.test(f)).sort()[0]
     || fs.readdirSync(BROKEN).sort()[0];
