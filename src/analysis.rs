@@ -339,7 +339,11 @@ mod tests {
         ] {
             let a = analyse(text.as_bytes(), file, &AnalysisOptions::default()).unwrap();
             let d = a.diagnosis.as_ref().unwrap();
-            assert!(accept.contains(&d.verdict.effect.as_str()), "{file}: {}", d.verdict.effect);
+            assert!(
+                accept.contains(&d.verdict.effect.as_str()),
+                "{file}: {}",
+                d.verdict.effect
+            );
             assert!(d.summary.starts_with("Verdict: "), "{file}: {}", d.summary);
         }
     }

@@ -1,7 +1,7 @@
 //! `testpiece diagnose FILE [--sigma MM] [--json]`: the sim-to-real gap of a measured part.
 
-use testpiece::gap::effects::builtin::{builtin_model, PartModel};
-use testpiece::gap::{diagnose, GapInput};
+use testpiece::analysis::{diagnose_points, measurement_points};
+use testpiece::cmm::{read_and_match, ReadOptions};
 use testpiece::part::SShape;
 
 use crate::args::Args;
@@ -14,58 +14,13 @@ physical mode) is fitted, the residual located (per curve, region, reversal), ev
 effects.md added one at a time and cross-validated, and a verdict given (an effect id, none or
 unexplained) with its detection limit.
 
-FILE: the canonical CSV `id,curve,x,y,z,nx,ny,nz,deviation` (mm) of the 100 built-in points.
+FILE: any CMM export of shared/spec/cmm-csv.md; every point is matched to the nominal surfaces
+by projection of its own coordinates, and the model (baseline and candidate signatures) is built
+at the matched points.
 --sigma MM   CMM repeatability (1σ, mm); default: estimated from the data.
+--exclude-bad-rows  leave out the rows the reader rejects instead of refusing the file.
 --json       the report as JSON (shared/spec/cli.md); default: the plain-language summary.
 ";
-
-/// Deviations of the built-in points from a measured file, in built-in order. Kept behind this
-/// one function: the canonical CSV of the built-in points (ids 1-100, positions checked within
-/// 1e-3 mm of the built-in points).
-pub fn read_deviations(text: &str, model: &PartModel) -> Result<Vec<f64>, String> {
-    let t = testpiece::gap::table::Table::parse(text).map_err(|e| e.to_string())?;
-    let ids = t.numbers("id").map_err(|e| e.to_string())?;
-    let dev = t.numbers("deviation").map_err(|e| e.to_string())?;
-    let pts = testpiece::part::builtin_points(&SShape::iso());
-    let xyz = ["x", "y", "z"]
-        .iter()
-        .map(|c| t.numbers(c).ok())
-        .collect::<Option<Vec<_>>>();
-    let mut out = vec![f64::NAN; model.points.len()];
-    for (row, (&id, &d)) in ids.iter().zip(&dev).enumerate() {
-        let k = model
-            .points
-            .iter()
-            .position(|p| f64::from(p.id) == id)
-            .ok_or_else(|| {
-                format!(
-                    "line {}: point id {id} is not one of the 100 built-in points",
-                    row + 2
-                )
-            })?;
-        if let Some(xyz) = &xyz {
-            let p = pts[k].point;
-            let dist = ((xyz[0][row] - p.x).powi(2)
-                + (xyz[1][row] - p.y).powi(2)
-                + (xyz[2][row] - p.z).powi(2))
-            .sqrt();
-            if dist > 1e-3 {
-                return Err(format!(
-                    "line {}: point {id} lies {dist:.4} mm from built-in point {id}; only the built-in layout is supported by `diagnose` in this version",
-                    row + 2
-                ));
-            }
-        }
-        out[k] = d;
-    }
-    if let Some(k) = out.iter().position(|v| v.is_nan()) {
-        return Err(format!(
-            "point {} is missing from the file",
-            model.points[k].id
-        ));
-    }
-    Ok(out)
-}
 
 pub fn run(rest: &[String]) -> Result<(), String> {
     if crate::wants_help(rest, HELP) {
@@ -73,6 +28,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     }
     let args = Args::parse(rest, &["sigma"])?;
     let json = args.flag("json");
+    let exclude_bad_rows = args.flag("exclude-bad-rows");
     let sigma = args
         .value("sigma")
         .map(|s| {
@@ -84,18 +40,16 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let [file] = args.positional.as_slice() else {
         return Err("diagnose needs exactly one FILE (see `testpiece diagnose --help`)".into());
     };
-    let text = std::fs::read_to_string(file).map_err(|e| format!("{file}: {e}"))?;
-    let model = builtin_model(&SShape::iso()).map_err(|e| e.to_string())?;
-    let deviations = read_deviations(&text, &model)?;
-    let report = diagnose(&GapInput {
-        deviations,
-        points: model.points,
-        baseline: model.baseline,
-        candidates: model.candidates,
-        noise_sigma: sigma,
-        reversals: model.reversals,
-    })
-    .map_err(|e| e.to_string())?;
+    let bytes = std::fs::read(file).map_err(|e| format!("{file}: {e}"))?;
+    let opts = ReadOptions::default().with_exclude_bad_rows(exclude_bad_rows);
+    let name = std::path::Path::new(file)
+        .file_name()
+        .map_or(file.clone(), |n| n.to_string_lossy().into_owned());
+    let part = SShape::iso();
+    let matched = read_and_match(&bytes, &name, &opts).map_err(|e| format!("{file}: {e}"))?;
+    let points = measurement_points(&part, &matched);
+    let report = diagnose_points(&part, &points, &matched.deviations(), sigma)
+        .map_err(|e| format!("{file}: {e}"))?;
     if json {
         println!(
             "{}",
