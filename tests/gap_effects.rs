@@ -2,6 +2,7 @@
 //! conventions). Tolerances: relative to the column's largest value, 1e-6 where the signature is
 //! point/normal algebra (points.csv agrees with the geometry to 1e-6 mm), 1e-5 for the path
 //! length `s` (Simpson integration of the tip speed) and 1e-5 mm for the envelope (`ENVELOPE_MM`).
+#![cfg(not(target_arch = "wasm32"))]
 mod gap_common;
 use gap_common::*;
 use nalgebra::{Rotation3, Vector3};

@@ -1,6 +1,7 @@
 //! The three example parts of `tests/data/reference/examples/` get their keyed verdicts
 //! (`*.key.json`: `accept`, `achievable_rms_after`, `unexplained_rms`, `equivalence_corr`), and the
 //! near-equivalences named in the reference README are found from the signatures.
+#![cfg(not(target_arch = "wasm32"))]
 mod gap_common;
 use gap_common::*;
 use nalgebra::DVector;

@@ -2,6 +2,7 @@
 //! `sensitivity_physical.csv`, candidates = `effect_signatures.csv`): accuracy floors on a fixed
 //! seed. 19 cases = one per kind (15 effects, 2 none, waviness, bump) to stay near 10 s in debug;
 //! the CLI runs the full benchmark (`testpiece validate --cases 418 --seed 1`).
+#![cfg(not(target_arch = "wasm32"))]
 mod gap_common;
 use gap_common::*;
 use testpiece::gap::validate::{table, validate, ValidateOptions, ValidationModel};

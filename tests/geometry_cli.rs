@@ -1,6 +1,7 @@
 //! The CLI contract of `shared/spec/cli.md` for `testpiece points` and `testpiece envelope
 //! [--surface-max]`: the printed CSV matches the reference vectors (tests/data/reference/, an
 //! independent implementation) within the tolerances of `testpiece::tolerance`.
+#![cfg(not(target_arch = "wasm32"))]
 
 use std::process::Command;
 

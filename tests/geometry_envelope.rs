@@ -1,6 +1,7 @@
 //! Flank-path envelope against `tests/data/reference/envelope.csv` (deviation at the 100 points,
 //! 1e-5 mm) and `envelope_surface_max.csv` (largest overcut per surface, 1e-4 mm); both from an
 //! independent implementation (tests/data/reference/README.md).
+#![cfg(not(target_arch = "wasm32"))]
 
 use testpiece::part::{SShape, Surface};
 use testpiece::tolerance::{ENVELOPE_MM, SURFACE_MAX_MM};

@@ -1,5 +1,6 @@
 //! The 100 built-in points against `tests/data/reference/points.csv` (an independent
 //! implementation of the spec, see tests/data/reference/README.md): points, normals, u, v, h.
+#![cfg(not(target_arch = "wasm32"))]
 
 use testpiece::part::{builtin_points, SShape};
 use testpiece::tolerance::POINTS_MM;

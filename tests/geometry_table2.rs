@@ -7,6 +7,7 @@
 //! is garbled, so only its legible first 14 rows are used. One printed value is a typo (s-shape.md):
 //! A, 6th row, YH at Z25 is printed 46; the exact value is 48. Row 12 prints XH = 104.334 where
 //! the exact value is 104.3333…, so the tolerance is 1e-3 (printed precision plus one rounding).
+#![cfg(not(target_arch = "wasm32"))]
 
 use nalgebra::Vector3;
 use testpiece::assert_near;

@@ -1,4 +1,5 @@
 //! `testpiece simulate` and `testpiece identify` end to end (cli.md), on the reference examples.
+#![cfg(not(target_arch = "wasm32"))]
 
 mod identify_common;
 

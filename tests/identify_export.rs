@@ -1,5 +1,5 @@
 //! Compensation-table export (ISO 230-1 names) and synthetic parts (`simulate`).
-
+#![cfg(not(target_arch = "wasm32"))]
 #![allow(clippy::needless_range_loop)] // index loops read like the maths here
 
 mod identify_common;

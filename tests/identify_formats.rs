@@ -1,5 +1,6 @@
 //! Issue 5: the same measured part written in every format of cmm-csv.md identifies to the same
 //! parameters. Files: tests/data/cmm/formats/ (made from example_clean.csv by make_formats.py).
+#![cfg(not(target_arch = "wasm32"))]
 
 use testpiece::analysis::{analyse, AnalysisOptions};
 

@@ -1,6 +1,6 @@
 //! Properties of the identification: exact recovery of noiseless vectors, defined results on
 //! rank-deficient designs, weights, input validation.
-
+#![cfg(not(target_arch = "wasm32"))]
 #![allow(clippy::needless_range_loop)] // index loops read like the maths here
 
 mod identify_common;

@@ -1,6 +1,6 @@
 //! Identification against the reference vectors (tests/data/reference/, README.md there):
 //! the sensitivity matrices as designs, the example parts with their answer keys, Table 4.
-
+#![cfg(not(target_arch = "wasm32"))]
 #![allow(clippy::needless_range_loop)] // index loops read like the maths here
 
 mod identify_common;

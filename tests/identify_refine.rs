@@ -4,7 +4,7 @@
 //! The exact model here is a closed-form stand-in with a known Jacobian,
 //! `f(x) = A x + κ (A x)²` (element-wise), whose Jacobian `(1 + 2κ A x) ⊙ A` is checked against
 //! central finite differences below.
-
+#![cfg(not(target_arch = "wasm32"))]
 #![allow(clippy::needless_range_loop)] // index loops read like the maths here
 
 mod identify_common;

@@ -1,5 +1,6 @@
 //! Wall time of one identification of a 100-point part (not a timed test: run with
 //! `cargo test --release --test identify_timing -- --ignored --nocapture`; issue 5 asks < 5 ms).
+#![cfg(not(target_arch = "wasm32"))]
 
 mod identify_common;
 

@@ -1,6 +1,6 @@
 //! Uncertainty: Monte Carlo with seeded CMM noise against the linear propagation, the MPE to σ
 //! conversion (paper 000 §6), a priori covariance.
-
+#![cfg(not(target_arch = "wasm32"))]
 #![allow(clippy::needless_range_loop)] // index loops read like the maths here
 
 mod identify_common;

@@ -1,5 +1,6 @@
 //! Kinematic chains as data: structural codes, nominal kinematics of paper 000 eq. 9, and the
 //! minimal location-error sets of paper 000 Table 3 derived from the chain.
+#![cfg(not(target_arch = "wasm32"))]
 
 use nalgebra::{DMatrix, Vector3};
 use testpiece::assert_near;

@@ -1,5 +1,6 @@
 //! Inverse kinematics (paper 000 eq. 9): direct(inverse(pose)) = pose to 1e-9 mm over random
 //! poses away from singularities, for the three machines and both branches.
+#![cfg(not(target_arch = "wasm32"))]
 
 use nalgebra::Vector3;
 use proptest::prelude::*;

@@ -1,6 +1,7 @@
 //! Error model of paper 000 eq. 11-13: the analytic Jacobian against central finite differences
 //! of the exact eq. 12, and against `tests/data/reference/jacobian_samples.csv` (independent
 //! implementation, see its README).
+#![cfg(not(target_arch = "wasm32"))]
 
 use nalgebra::Vector3;
 use testpiece::assert_near;

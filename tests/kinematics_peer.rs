@@ -1,6 +1,7 @@
 //! Real data from outside: the peer B-C tilting table (tests/data/reference/peer_bc_table,
 //! README there). The committed description tests/data/peer_bc_table.json, read by the library
 //! and by `testpiece forward --machine`, must reproduce the peer's tool tips to 1e-9 mm.
+#![cfg(not(target_arch = "wasm32"))]
 
 use std::io::Write;
 use std::process::{Command, Stdio};

@@ -1,5 +1,6 @@
 //! `testpiece sensitivity` (cli.md) against tests/data/reference/sensitivity_*.csv, and the
 //! identifiability figures of spec s-shape.md (correlations and condition numbers).
+#![cfg(not(target_arch = "wasm32"))]
 
 use std::process::Command;
 

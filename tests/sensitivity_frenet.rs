@@ -1,6 +1,7 @@
 //! Paper 002's surface frame (eq. 3-6) and sensitivity coefficients (eq. 11-14) on the M3_15
 //! cone frustum (B-C tilting table of eq. 1) and the S-shape: the paper's qualitative findings
 //! (§4.2, §3.4) as tests.
+#![cfg(not(target_arch = "wasm32"))]
 
 use nalgebra::Vector3;
 use testpiece::machine::inverse::inverse_path;

@@ -4,6 +4,7 @@
 //! `y(C180) − y(C0) = −2·L0·EA0B` and `y(C270) − y(C90) = 2·EX0B` for any error vector; applied to
 //! the paper's readings they give EA0B = −3.549e-4 rad (the paper prints +3.549e-4) and
 //! EX0B = +0.003 mm.
+#![cfg(not(target_arch = "wasm32"))]
 
 use nalgebra::Vector3;
 use testpiece::assert_near;

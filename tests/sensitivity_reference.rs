@@ -2,6 +2,7 @@
 //! tests/data/reference/ (independent implementation; README there): the axis path
 //! (machine_path.csv), the Figure-19 sensitivity matrices in both modes and both branches, and
 //! the Table-4 check (table4_paper.csv, linear and exact).
+#![cfg(not(target_arch = "wasm32"))]
 
 use testpiece::machine::{Branch, ErrorParam, LocationError, MachineErrors};
 use testpiece::part::{builtin_points, SShape, Surface};

@@ -1,6 +1,7 @@
 //! Reversal (backlash) model against the `backlash_*` columns of
 //! tests/data/reference/effect_signatures.csv (physical mode, signed B; conventions in the
 //! reference README) and its reversal counts per pass (X 8/8, Y 6/6, Z 7/9, B 6/8, C 1/1).
+#![cfg(not(target_arch = "wasm32"))]
 
 use testpiece::machine::AxisName;
 use testpiece::part::{builtin_points, SShape, Surface};

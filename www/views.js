@@ -254,7 +254,8 @@ export function gapView(root, a) {
       { text: um(c.evidence.unabsorbed_rms), num: true, value: c.evidence.unabsorbed_rms * 1000 }, c.evidence.significant ? 'yes' : 'no'])));
   if (d.equivalences.length) {
     root.append(h('h2', {}, 'Effects this part cannot tell apart'),
-      h('ul', {}, d.equivalences.map((e) => h('li', {}, JSON.stringify(e).replace(/[{}"]/g, '').replace(/,/g, ', ')))));
+      h('p', {}, 'Cosine between the parts of two candidates\' signatures that the location errors cannot absorb: near 1, this part cannot tell them apart.'),
+      h('ul', { id: 'equivalences' }, d.equivalences.map((e) => h('li', {}, `${e.a} ≈ ${e.b} (cosine ${Number(e.cosine).toFixed(3)})`))));
   }
   root.append(table('gap-where', 'Where the baseline residual lies (µm)', ['group', 'name', 'n', 'RMS', 'max |r|', 'mean', 'share'],
     d.where.map((w) => [w.group, w.name, { text: w.n, num: true }, { text: um(w.rms), num: true, value: w.rms * 1000 },

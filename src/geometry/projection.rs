@@ -21,7 +21,7 @@ use nalgebra::{Matrix2, Vector2, Vector3};
 use serde::Serialize;
 
 use super::GeometryError;
-#[cfg(test)]
+#[cfg(all(test, not(target_arch = "wasm32")))]
 use crate::part::SShape;
 use crate::part::{RuledPart, Surface};
 
@@ -194,7 +194,7 @@ pub fn project_on<P: RuledPart + ?Sized>(
     })
 }
 
-#[cfg(test)]
+#[cfg(all(test, not(target_arch = "wasm32")))]
 mod tests {
     use super::*;
     use crate::assert_near;
