@@ -1,8 +1,6 @@
 //! The diagnosis: baseline fit → WHERE → WHICH → equivalences → VERDICT → HOW FAR, as one plain
 //! function from [`GapInput`] to [`DiagnosisReport`].
 
-use std::collections::BTreeMap;
-
 use nalgebra::DVector;
 
 use super::data::GapInput;
@@ -16,7 +14,7 @@ use super::report::{summary, BaselineReport, DiagnosisReport};
 use super::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
 use super::verdict::{decide, DecisionInput, ALPHA};
 use super::which::{
-    cross_validate, cv_score, fit_candidate, per_curve, BaselineFit, Context, Estimate, SmoothFit,
+    cross_validate, cv_score, estimates, fit_candidate, per_curve, BaselineFit, Context, SmoothFit,
 };
 use super::GapError;
 
@@ -56,21 +54,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let p = factor.rank;
     let beta = &factor.pinv * &y;
     let s2 = rss / (n - p).max(1) as f64;
-    let parameters: BTreeMap<String, Estimate> = input
-        .baseline
-        .names
-        .iter()
-        .enumerate()
-        .map(|(j, name)| {
-            (
-                name.clone(),
-                Estimate {
-                    value: beta[j],
-                    std: (s2 * factor.cov[(j, j)]).max(0.0).sqrt(),
-                },
-            )
-        })
-        .collect();
+    let parameters = estimates(&input.baseline.names, &beta, &factor.cov, s2);
     let max_q = input
         .candidates
         .iter()

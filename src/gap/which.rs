@@ -37,6 +37,28 @@ pub struct Estimate {
     pub std: f64,
 }
 
+/// Named estimates `value ± √(s²·cov_jj)` of a least-squares fit.
+pub fn estimates(
+    names: &[String],
+    values: &DVector<f64>,
+    cov: &DMatrix<f64>,
+    s2: f64,
+) -> BTreeMap<String, Estimate> {
+    names
+        .iter()
+        .enumerate()
+        .map(|(j, name)| {
+            (
+                name.clone(),
+                Estimate {
+                    value: values[j],
+                    std: (s2 * cov[(j, j)]).max(0.0).sqrt(),
+                },
+            )
+        })
+        .collect()
+}
+
 /// Before/after figures on one curve (mm).
 #[derive(Debug, Clone, Serialize)]
 pub struct CurveShrink {
@@ -264,21 +286,7 @@ pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
         let rss = (&ctx.smooth.residual - us * th).norm_squared();
         (rss / (n - ctx.smooth.factor.rank - fs.rank).max(1) as f64).sqrt()
     });
-    let parameters = c
-        .signature
-        .names
-        .iter()
-        .enumerate()
-        .map(|(j, name)| {
-            (
-                name.clone(),
-                Estimate {
-                    value: theta[j],
-                    std: (s2 * fu.cov[(j, j)]).max(0.0).sqrt(),
-                },
-            )
-        })
-        .collect();
+    let parameters = estimates(&c.signature.names, &theta, &fu.cov, s2);
     let (f, p_value) = if q > 0 && rss1 > 0.0 {
         let f = ((rss0 - rss1).max(0.0) / q as f64) / s2;
         (f, stats::f_sf(f, q as f64, dof1))
