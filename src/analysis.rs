@@ -14,6 +14,9 @@
 //! 4. [`crate::identify::identify`]: weighted least squares, rank, groups, uncertainty; then
 //!    [`crate::identify::refine::refine`] with the exact eq. 12 at the same points
 //!    ([`crate::simulate::ExactDefectModel`]) where the linearisation error exceeds 0.1 σ.
+//!    The machine is a setting ([`MachineChoice`]): paper 000's B head / C table (default),
+//!    paper 001's A-B head or paper 002's B-C tilting table; each has its own minimal set of
+//!    location errors (the design's columns).
 //! 5. [`crate::gap::diagnose`] on the same points: the baseline of effects.md (location errors,
 //!    `physical` mode, signed B) and every candidate effect, whatever the identification's own
 //!    mode; where the residual lies, which effect, how far it shrinks.
@@ -35,16 +38,52 @@ use crate::part::{Curve, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
 use crate::simulate::{ExactDefectModel, SimulateError};
 
+/// The machine whose location errors are identified (the page's "Kinematic chain" setting).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MachineChoice {
+    /// Paper 000: B head on Z on X, C table on Y (`w C Y' b X Z B t`), tip `L0` below the B axis.
+    #[default]
+    Paper000,
+    /// Paper 001 Appendix 2: X table, A-B head (`w X' b Y Z B A t`), tip `L0 = ls + lt` below A.
+    Paper001,
+    /// Paper 002 eq. 1: B-C tilting table (`w C' B' b X Y Z t`), tip at the machine point (no L0).
+    Paper002,
+}
+
+impl MachineChoice {
+    /// The chain with the pivot length `l0` (mm; unused by the tilting table).
+    pub fn chain(self, l0: f64) -> Chain {
+        match self {
+            MachineChoice::Paper000 => Chain::paper000(l0),
+            // Only ls + lt enters the tool tip (T_12p raises Z by ls + lt, the tip is ls + lt below A).
+            MachineChoice::Paper001 => Chain::paper001(l0, 0.0),
+            MachineChoice::Paper002 => Chain::paper002(),
+        }
+    }
+    /// A plain description for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            MachineChoice::Paper000 => "B head / C table (paper 000, w C Y' b X Z B t)",
+            MachineChoice::Paper001 => "A-B head, X table (paper 001, w X' b Y Z B A t)",
+            MachineChoice::Paper002 => "B-C tilting table (paper 002, w C' B' b X Y Z t)",
+        }
+    }
+}
+
 /// Settings of an analysis; `Default` is the spec's default (physical mode, signed B, paper
 /// 000's machine with L0 = 499.889 mm, no tool-radius term, rows with problems reject the file).
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct AnalysisOptions {
+    /// The kinematic chain (default paper 000's B head / C table).
+    pub machine: MachineChoice,
     /// `physical` (default) or `paper` (s-shape.md "Errors and machined defect").
     pub mode: Mode,
     /// `signed` (default) or `positive` B branch.
     pub branch: Branch,
-    /// Pivot-to-tip length of the B-head / C-table machine (mm).
+    /// Pivot-to-tip length of the machine (mm): B axis to tip on paper 000's machine, A axis to
+    /// tip (`ls + lt`) on paper 001's; not used by the tilting table of paper 002.
     pub l0: f64,
     /// Fit the tool-radius error `dR` (mm) with the location errors.
     pub tool_radius: bool,
@@ -59,6 +98,7 @@ pub struct AnalysisOptions {
 impl Default for AnalysisOptions {
     fn default() -> Self {
         Self {
+            machine: MachineChoice::Paper000,
             mode: Mode::Physical,
             branch: Branch::Signed,
             l0: PAPER000_L0,
@@ -152,12 +192,12 @@ pub fn measurement_points(part: &SShape, matched: &MatchedPart) -> Vec<Measureme
         .collect()
 }
 
-/// The sensitivity settings of an analysis: mode, branch, paper 000's chain with its L0.
+/// The sensitivity settings of an analysis: mode, branch, the chosen chain with its L0.
 pub fn sensitivity_options(opts: &AnalysisOptions) -> SensitivityOptions {
     SensitivityOptions::default()
         .with_mode(opts.mode)
         .with_branch(opts.branch)
-        .with_chain(Chain::paper000(opts.l0))
+        .with_chain(opts.machine.chain(opts.l0))
 }
 
 /// The sensitivity design at `points` for `opts` (plus the `dR` column when asked).
@@ -345,6 +385,27 @@ mod tests {
                 d.verdict.effect
             );
             assert!(d.summary.starts_with("Verdict: "), "{file}: {}", d.summary);
+        }
+    }
+
+    #[test]
+    fn each_machine_analyses_the_clean_example_with_its_own_error_set() {
+        // The three chains of the page; each design has one column per error of the chain's
+        // minimal set (machine::location_errors) and a finite fit at all 100 points.
+        for m in [
+            MachineChoice::Paper000,
+            MachineChoice::Paper001,
+            MachineChoice::Paper002,
+        ] {
+            let o = AnalysisOptions {
+                machine: m,
+                ..Default::default()
+            };
+            let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
+            let free = crate::machine::location_errors::minimal_set(&m.chain(o.l0)).names();
+            assert_eq!(a.design.params, free, "{m:?}");
+            assert_eq!(a.identification.points_used, 100);
+            assert!(a.identification.residual.rms.is_finite(), "{m:?}");
         }
     }
 

@@ -15,11 +15,13 @@
 
 pub mod analysis;
 pub mod cmm;
+pub mod compare;
 pub mod gap;
 pub mod geometry;
 pub mod identify;
 pub mod machine;
 pub mod part;
+pub mod pool;
 pub mod sensitivity;
 pub mod simulate;
 pub mod summary;
