@@ -113,7 +113,7 @@ export function dataView(root, st) {
 export function fig19View(root, sens, st) {
   root.textContent = '';
   const scaleOf = (p) => (/^E[XYZ]/.test(p) ? 0.01 : 1e-4);
-  root.append(h('h2', {}, 'Machined defect per error, at the 100 built-in points (paper 000 Figure 19)'),
+  root.append(h('h2', {}, 'Machined defect per error at the 100 built-in points (Figure 19 of paper 000, for the chosen machine)'),
     h('p', {}, `Machine: ${MACHINES[st.settings.machine] || st.settings.machine}. Mode ${st.settings.mode}, ${st.settings.branch} B. Each curve: the normal defect (µm) that one error alone leaves at each point, for 1e-4 rad (angles) or 0.01 mm (position errors such as EX0B). Points are grouped by measurement curve; hover for the value.`));
   const L = layout(sens.curves, sens.ids);
   const series = sens.params.map((p, k) => ({
