@@ -92,6 +92,14 @@ pub fn forward_kinematics(description: &str, values: &[f64]) -> Result<Float64Ar
             values.len()
         )));
     }
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(JsError::new(&format!(
+            "row {}, axis {}: value {} is not a finite number",
+            i / 6 + 1,
+            ["X", "Y", "Z", "A", "B", "C"][i % 6],
+            values[i]
+        )));
+    }
     let k = desc.angle_unit.to_rad();
     let mut out = Vec::with_capacity(values.len());
     for row in values.chunks(6) {
