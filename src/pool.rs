@@ -72,6 +72,8 @@ pub enum PoolError {
         found: Vec<String>,
         expected: Vec<String>,
     },
+    #[error("a known path deviation (budget) belongs to one part's points, not to a pool: analyse the parts one by one")]
+    KnownDeviation,
     #[error("pooled identification: {0}")]
     Identify(#[from] IdentifyError),
 }
@@ -295,6 +297,9 @@ pub fn identify_pooled(
 ) -> Result<PooledIdentification, PoolError> {
     if files.len() < 2 {
         return Err(PoolError::TooFew(files.len()));
+    }
+    if opts.analysis.known.is_some() {
+        return Err(PoolError::KnownDeviation);
     }
     let parts = files
         .iter()

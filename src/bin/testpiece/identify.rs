@@ -117,6 +117,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         exclude_bad_rows,
         noise_sigma: sigma,
         refine: !no_refine,
+        known: None,
     };
     if args.positional.len() >= 2 {
         if export_fmt.is_some() || runs.is_some() {
