@@ -47,7 +47,7 @@ for t in "${targets[@]}"; do
   done
   echo "== fuzzing $t for $secs s ($(ls "$corpus" | wc -l) corpus files)"
   cargo +nightly fuzz run --fuzz-dir fuzz -s "${FUZZ_SANITIZER:-none}" "$t" "$corpus" -- \
-    -max_total_time="$secs" -timeout="${FUZZ_TIMEOUT:-120}" -max_len=65536 \
+    -max_total_time="$secs" -timeout="${FUZZ_TIMEOUT:-120}" -report_slow_units=60 -max_len=65536 \
     -dict=fuzz/cmm.dict -print_final_stats=1 2>&1 | tee "fuzz/logs/$t.log" | grep -E 'DONE|stat::|crash|panicked|Test unit written' || true
   if ls "fuzz/artifacts/$t"/* >/dev/null 2>&1; then
     echo "!! $t: artifacts in fuzz/artifacts/$t (crashes or hangs): turn each into a regression test"
