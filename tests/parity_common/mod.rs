@@ -31,6 +31,32 @@ pub fn analysis_value(a: &testpiece::analysis::Analysis) -> Value {
     v
 }
 
+/// Largest relative difference `|a-b| / max(|a|,|b|)` over the numbers of two JSON trees of the
+/// same shape (values of other kinds and shapes are left to [`compare`]).
+pub fn max_rel(a: &Value, b: &Value) -> f64 {
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap_or(0.0), y.as_f64().unwrap_or(0.0));
+            let m = x.abs().max(y.abs());
+            if m == 0.0 {
+                0.0
+            } else {
+                (x - y).abs() / m
+            }
+        }
+        (Value::Array(x), Value::Array(y)) => x
+            .iter()
+            .zip(y)
+            .map(|(p, q)| max_rel(p, q))
+            .fold(0.0, f64::max),
+        (Value::Object(x), Value::Object(y)) => x
+            .iter()
+            .filter_map(|(k, p)| y.get(k).map(|q| max_rel(p, q)))
+            .fold(0.0, f64::max),
+        _ => 0.0,
+    }
+}
+
 /// Differences between two JSON trees: numbers beyond `rel` relative (`|a-b| <= rel·max(|a|,|b|)`),
 /// any other value not equal, keys or lengths that differ. Empty when they agree.
 pub fn compare(a: &Value, b: &Value, rel: f64) -> Vec<String> {
