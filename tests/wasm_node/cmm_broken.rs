@@ -9,7 +9,7 @@ use wasm_bindgen_test::*;
 
 macro_rules! corpus {
     ($($name:literal,)*) => {
-        [$(($name, &include_bytes!(concat!("../data/cmm/broken/", $name))[..]),)*]
+        [$(($name, include_bytes!(concat!("../data/cmm/broken/", $name)) as &[u8]),)*]
     };
 }
 
