@@ -3,6 +3,7 @@
 #![cfg(target_arch = "wasm32")]
 
 mod cmm;
+mod gap;
 mod geometry;
 mod identify;
 mod machine;
