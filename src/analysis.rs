@@ -17,6 +17,11 @@
 //! 5. [`crate::gap::diagnose`] on the same points: the baseline of effects.md (location errors,
 //!    `physical` mode, signed B) and every candidate effect, whatever the identification's own
 //!    mode; where the residual lies, which effect, how far it shrinks.
+//!
+//! Edge cases (tests/edge_*.rs): non-finite or non-positive `l0` and `noise_sigma` are refused
+//! with the value; a refinement whose linear and exact models disagree by more than
+//! [`crate::identify::refine::NONLINEAR_WARN_FRACTION`] adds a `WARNING:` note to the
+//! identification (with `refine: false` that check is not made).
 
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -54,6 +59,20 @@ pub struct AnalysisOptions {
     pub noise_sigma: Option<f64>,
     /// Refine with the exact eq. 12 where the linearisation error matters (default on).
     pub refine: bool,
+    /// Deviation already explained by the process (the CAM path or NC trace of issue 10, mm per
+    /// matched point in file order): subtracted from the measured deviations before the
+    /// identification and the gap diagnosis, so it is not blamed on the machine.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub known: Option<KnownDeviation>,
+}
+
+/// A deviation the process explains, per matched point (mm, + = material left).
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct KnownDeviation {
+    /// What it is, in words (e.g. `NC trace trace.csv`), for the report.
+    pub source: String,
+    /// One value per matched point, in the order of the file's points.
+    pub values: Vec<f64>,
 }
 
 impl Default for AnalysisOptions {
@@ -66,6 +85,7 @@ impl Default for AnalysisOptions {
             exclude_bad_rows: false,
             noise_sigma: None,
             refine: true,
+            known: None,
         }
     }
 }
@@ -87,6 +107,14 @@ pub enum AnalysisError {
     Exact(#[from] SimulateError),
     #[error("exact-model refinement: {0}")]
     Refine(String),
+    #[error(
+        "known deviation ({what}): {values} values for {points} matched points, or not finite"
+    )]
+    Known {
+        what: String,
+        values: usize,
+        points: usize,
+    },
 }
 
 /// The design at the measured points: one row per point, one column per parameter.
@@ -207,6 +235,36 @@ pub fn diagnose_points(
     })
 }
 
+/// The measured deviations minus the known ones (issue 10), checked point for point.
+fn minus_known(
+    mut deviations: Vec<f64>,
+    known: Option<&KnownDeviation>,
+) -> Result<Vec<f64>, AnalysisError> {
+    if let Some(k) = known {
+        if k.values.len() != deviations.len() || k.values.iter().any(|v| !v.is_finite()) {
+            return Err(AnalysisError::Known {
+                what: k.source.clone(),
+                values: k.values.len(),
+                points: deviations.len(),
+            });
+        }
+        for (d, v) in deviations.iter_mut().zip(&k.values) {
+            *d -= v;
+        }
+    }
+    Ok(deviations)
+}
+
+/// The sentence the reports carry when a known deviation was subtracted.
+fn known_note(k: &KnownDeviation) -> String {
+    let max = k.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    format!(
+        "The deviation explained by the {} (max |{:.1}| µm) was subtracted from the measurement before the identification and the gap diagnosis: it is not blamed on the machine.",
+        k.source,
+        max * 1e3
+    )
+}
+
 /// Reads, matches, identifies and diagnoses one CMM file.
 pub fn analyse(
     bytes: &[u8],
@@ -223,10 +281,11 @@ pub fn analyse(
     let matched = read_and_match(bytes, name, &ropts)?;
     let points = measurement_points(&part, &matched);
     let (design, columns) = design_at(&part, &points, opts)?;
+    let deviations = minus_known(matched.deviations(), opts.known.as_ref())?;
     let obs = Observations::new(
         matched.points.iter().map(|p| p.file.id.clone()).collect(),
         points.iter().map(|p| p.curve.name().to_string()).collect(),
-        matched.deviations(),
+        deviations.clone(),
     );
     let mut iopts = IdentifyOptions::default();
     if let Some(s) = opts.noise_sigma {
@@ -245,6 +304,9 @@ pub fn analyse(
             &iopts,
         )
         .map_err(|e| AnalysisError::Refine(e.to_string()))?;
+        if let Some(w) = &r.warning {
+            identification.notes.push(format!("WARNING: {w}"));
+        }
         if r.performed && r.success {
             for (j, p) in identification.parameters.0.iter_mut().enumerate() {
                 p.value = r.values[j];
@@ -261,8 +323,15 @@ pub fn analyse(
     } else {
         None
     };
-    let diagnosis = diagnose_points(&part, &points, &matched.deviations(), opts.noise_sigma)
-        .map_err(|e| e.to_string());
+    let mut diagnosis =
+        diagnose_points(&part, &points, &deviations, opts.noise_sigma).map_err(|e| e.to_string());
+    if let Some(k) = &opts.known {
+        let note = known_note(k);
+        identification.notes.push(note.clone());
+        if let Ok(d) = diagnosis.as_mut() {
+            d.summary = format!("{}\n{note}", d.summary.trim_end());
+        }
+    }
     Ok(Analysis {
         diagnosis,
         version: crate::VERSION,
@@ -346,6 +415,62 @@ mod tests {
             );
             assert!(d.summary.starts_with("Verdict: "), "{file}: {}", d.summary);
         }
+    }
+
+    #[test]
+    fn a_known_deviation_is_subtracted_before_identification() {
+        // Subtracting the measured deviation itself leaves nothing for the machine: every
+        // fitted value and residual is 0, and the reports say what was subtracted.
+        let base = analyse(CLEAN.as_bytes(), "c.csv", &AnalysisOptions::default()).unwrap();
+        let o = AnalysisOptions {
+            known: Some(KnownDeviation {
+                source: "test path".into(),
+                values: base.file.deviations(),
+            }),
+            ..Default::default()
+        };
+        let a = analyse(CLEAN.as_bytes(), "c.csv", &o).unwrap();
+        assert!(a
+            .identification
+            .points
+            .iter()
+            .all(|p| p.measured.abs() < 1e-15));
+        assert!(a.identification.residual.max_abs < 1e-12);
+        assert!(a
+            .identification
+            .notes
+            .iter()
+            .any(|n| n.contains("test path")));
+        // a known shift moves the fit's input by exactly that shift
+        let o = AnalysisOptions {
+            known: Some(KnownDeviation {
+                source: "shift".into(),
+                values: vec![0.001; 100],
+            }),
+            refine: false,
+            ..Default::default()
+        };
+        let b = analyse(CLEAN.as_bytes(), "c.csv", &o).unwrap();
+        for (p, q) in b
+            .identification
+            .points
+            .iter()
+            .zip(&base.identification.points)
+        {
+            crate::assert_near!(p.measured, q.measured - 0.001, 1e-15);
+        }
+        let bad = AnalysisOptions {
+            known: Some(KnownDeviation {
+                source: "short".into(),
+                values: vec![0.0; 3],
+            }),
+            ..Default::default()
+        };
+        let e = analyse(CLEAN.as_bytes(), "c.csv", &bad).unwrap_err();
+        assert!(
+            e.to_string().contains("3 values for 100 matched points"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -14,6 +14,7 @@
 //! outward normal; **positive = material left, negative = overcut**.
 
 pub mod analysis;
+pub mod budget;
 pub mod cmm;
 pub mod gap;
 pub mod geometry;

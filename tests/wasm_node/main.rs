@@ -3,8 +3,10 @@
 #![cfg(target_arch = "wasm32")]
 
 mod cmm;
+mod cmm_broken;
 mod gap;
 mod geometry;
 mod identify;
 mod machine;
+mod parity;
 mod summary;
