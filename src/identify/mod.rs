@@ -28,6 +28,7 @@ mod observations;
 pub mod refine;
 mod report;
 mod scaled_svd;
+pub mod solve;
 mod stats;
 
 pub use design::{

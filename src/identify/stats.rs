@@ -11,6 +11,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::solve;
+
 /// Statistics of a set of residuals (mm, except `mape` in %).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ResidualStats {
@@ -45,22 +47,19 @@ impl ResidualStats {
                 rmse: 0.0,
             };
         }
-        let mut ss = 0.0;
+        let r: Vec<f64> = (0..n).map(|i| measured[i] - fitted[i]).collect();
         let mut sa = 0.0;
-        let mut max_abs: f64 = 0.0;
         let mut sp = 0.0;
         let mut m = 0;
-        for i in 0..n {
-            let r = measured[i] - fitted[i];
-            ss += r * r;
-            sa += r.abs();
-            max_abs = max_abs.max(r.abs());
+        for (i, ri) in r.iter().enumerate() {
+            sa += ri.abs();
             if measured[i].abs() >= mape_floor && measured[i] != 0.0 {
-                sp += r.abs() / measured[i].abs();
+                sp += ri.abs() / measured[i].abs();
                 m += 1;
             }
         }
-        let rms = (ss / n as f64).sqrt();
+        let rms = solve::rms(&r);
+        let max_abs = solve::max_abs(&r);
         ResidualStats {
             n,
             rms,

@@ -4,6 +4,7 @@
 
 mod cmm;
 mod cmm_broken;
+mod gap;
 mod geometry;
 mod identify;
 mod machine;
