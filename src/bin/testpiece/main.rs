@@ -29,6 +29,7 @@ Commands:
   simulate    a synthetic measured part for given errors: id,curve,x,y,z,nx,ny,nz,deviation
   identify    the machine errors, groups, uncertainty and residuals from a measured part
   diagnose    the sim-to-real gap of a measured part: where, which effect, how far [--json]
+  budget      error budget per point: design, CAM path (--cl), NC trace, machine, tool, CMM
   validate    the withheld-effect benchmark of the gap diagnosis [--cases N] [--seed S] [--json]
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
