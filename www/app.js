@@ -4,6 +4,7 @@ import { startCore, call, cancel } from './core.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
 import { h, dataView, fig19View, identifyView, gapView, reportView } from './views.js';
+import { setupBudget } from './budget.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -179,6 +180,7 @@ async function main() {
   $('version').textContent = await call('version');
   setupTabs();
   setupInputs();
+  setupBudget($('view-budget'), { call, st, withProgress }); // issue 10
   readSettings();
   const examples = await call('exampleList');
   for (const e of examples) $('example').append(h('option', { value: e.name }, `${e.name}: ${e.description}`));
