@@ -17,6 +17,11 @@
 //! 5. [`crate::gap::diagnose`] on the same points: the baseline of effects.md (location errors,
 //!    `physical` mode, signed B) and every candidate effect, whatever the identification's own
 //!    mode; where the residual lies, which effect, how far it shrinks.
+//!
+//! Edge cases (tests/edge_*.rs): non-finite or non-positive `l0` and `noise_sigma` are refused
+//! with the value; a refinement whose linear and exact models disagree by more than
+//! [`crate::identify::refine::NONLINEAR_WARN_FRACTION`] adds a `WARNING:` note to the
+//! identification (with `refine: false` that check is not made).
 
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -299,6 +304,9 @@ pub fn analyse(
             &iopts,
         )
         .map_err(|e| AnalysisError::Refine(e.to_string()))?;
+        if let Some(w) = &r.warning {
+            identification.notes.push(format!("WARNING: {w}"));
+        }
         if r.performed && r.success {
             for (j, p) in identification.parameters.0.iter_mut().enumerate() {
                 p.value = r.values[j];

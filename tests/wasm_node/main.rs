@@ -4,7 +4,9 @@
 
 mod budget;
 mod cmm;
+mod cmm_broken;
 mod geometry;
 mod identify;
 mod machine;
+mod parity;
 mod summary;
