@@ -42,7 +42,7 @@ const read = (f) => fs.readFileSync(path.join(WWW, f), 'utf8');
 const wasm = fs.readFileSync(path.join(WWW, 'pkg', 'testpiece_bg.wasm'));
 const glue = foldGlue(read('pkg/testpiece.js'));
 // Dependency order: each module after the ones it imports.
-const modules = ['pkg/build', 'plot', 'export', 'core', 'views', 'parts', 'curves', 'app'].filter((m) => fs.existsSync(path.join(WWW, `${m}.js`)));
+const modules = ['pkg/build', 'plot', 'export', 'core', 'views', 'parts', 'curves', 'budget', 'app'].filter((m) => fs.existsSync(path.join(WWW, `${m}.js`)));
 let app = modules.map((m) => fold(m, read(`${m}.js`))).join('\n');
 const boot = `
 globalThis.__TESTPIECE_INLINE__ = (() => {

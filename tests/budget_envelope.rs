@@ -23,7 +23,7 @@ fn cl_at_half_a_millimetre_reproduces_the_envelope_within_eq7() {
         "cl.csv",
     )
     .unwrap();
-    let apt = read_cl(write_apt(&path, "FLANK").as_bytes(), "cl.apt").unwrap();
+    let apt = read_cl(write_apt(&path, "FLANK", None).as_bytes(), "cl.apt").unwrap();
     assert_eq!(csv.tips, path.tips);
     assert_eq!(apt.tips, path.tips);
     let hits = path_deviation(&csv, &pts, TOOL_RADIUS).unwrap();

@@ -6,6 +6,7 @@ import { curvesView } from './curves.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
 import { h, dataView, fig19View, identifyView, gapView, reportView } from './views.js';
+import { setupBudget } from './budget.js';
 
 const $ = (id) => document.getElementById(id);
 const mark = (name) => { try { performance.mark(name); } catch { /* no User Timing */ } };
@@ -267,6 +268,7 @@ function setupInputs() {
 async function main() {
   setupTabs();
   setupInputs();
+  setupBudget($('view-budget'), { call, st, withProgress }); // issue 10
   readSettings();
   const runner = await coreStarted;
   $('runner').textContent = runner;

@@ -18,6 +18,13 @@ const TABLE: usize = 20_000;
 /// The tool positions of eq. 2 on surface A then surface B, the tip advancing `step` mm
 /// between positions (the last one at `u = 1`). `step` must be positive.
 pub fn flank_path(part: &SShape, step: f64, name: &str) -> ToolPath {
+    flank_path_with_allowance(part, step, 0.0, name)
+}
+
+/// [`flank_path`] for a stock allowance `allowance` (mm): every tip moved by `allowance·N(u,1)`
+/// (the tool axis `R(u)` is ⊥ `N(u,1)`, so the tool's flank moves `allowance` away from the part
+/// along its contact normal: + leaves material).
+pub fn flank_path_with_allowance(part: &SShape, step: f64, allowance: f64, name: &str) -> ToolPath {
     let mut path = ToolPath {
         name: name.to_string(),
         format: format!("eq. 2 flank path sampled every {step} mm"),
@@ -31,7 +38,8 @@ pub fn flank_path(part: &SShape, step: f64, name: &str) -> ToolPath {
     for s in Surface::BOTH {
         for u in equal_steps(part, s, step) {
             let p = tool_pose(part, s, u);
-            path.tips.push([p.tip.x, p.tip.y, p.tip.z]);
+            let tip = p.tip + part.frame_at(s, u, 1.0).n * allowance;
+            path.tips.push([tip.x, tip.y, tip.z]);
             path.axes.push([p.axis.x, p.axis.y, p.axis.z]);
         }
     }
@@ -91,47 +99,62 @@ pub fn trace_of(
         .collect()
 }
 
+/// A number in full precision (`None`) or with `decimals` decimals.
+fn num(v: f64, decimals: Option<usize>) -> String {
+    match decimals {
+        Some(d) => format!("{v:.d$}"),
+        None => format!("{v}"),
+    }
+}
+
+/// Six numbers joined by commas.
+fn six(t: &[f64; 3], a: &[f64; 3], d: Option<usize>) -> String {
+    [t[0], t[1], t[2], a[0], a[1], a[2]]
+        .iter()
+        .map(|v| num(*v, d))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
 /// A CL file in CSV (`x,y,z,i,j,k`, full precision), with a comment line `# {comment}`.
 pub fn write_cl_csv(path: &ToolPath, comment: &str) -> String {
     let mut s = format!("# {comment}\nx,y,z,i,j,k\n");
     for (t, a) in path.tips.iter().zip(&path.axes) {
-        let _ = writeln!(s, "{},{},{},{},{},{}", t[0], t[1], t[2], a[0], a[1], a[2]);
+        let _ = writeln!(s, "{}", six(t, a, None));
     }
     s
 }
 
-/// A CL file in APT (`GOTO/x,y,z,i,j,k` with PARTNO, UNITS, MULTAX, CUTTER, FEDRAT, FINI).
-pub fn write_apt(path: &ToolPath, partno: &str) -> String {
+/// A CL file in APT (`GOTO/x,y,z,i,j,k` with PARTNO, UNITS, MULTAX, CUTTER, FEDRAT, FINI), full
+/// precision or `decimals` decimals.
+pub fn write_apt(path: &ToolPath, partno: &str, decimals: Option<usize>) -> String {
     let mut s = format!("PARTNO/{partno}\nUNITS/MM\nMULTAX\n");
     if let Some(d) = path.cutter_diameter {
         let _ = writeln!(s, "CUTTER/{d}");
     }
     s += "FEDRAT/1000.0,MMPM\n";
     for (t, a) in path.tips.iter().zip(&path.axes) {
-        let _ = writeln!(
-            s,
-            "GOTO/{},{},{},{},{},{}",
-            t[0], t[1], t[2], a[0], a[1], a[2]
-        );
+        let _ = writeln!(s, "GOTO/{}", six(t, a, decimals));
     }
     s += "FINI\n";
     s
 }
 
 /// A trace file: `time,<axes>` (s; mm and the machine's angle unit), one row per sample every
-/// `period` s, with a comment line `# {comment}`.
+/// `period` s, with a comment line `# {comment}`; full precision or `decimals` decimals.
 pub fn write_trace_csv(
     rows: &[AxisValues],
     machine: &TraceMachine,
     period: f64,
     comment: &str,
+    decimals: Option<usize>,
 ) -> String {
-    let axes: Vec<_> = machine.chain.axes().map(|a| a.name).collect();
+    let axes = machine.axis_names();
     let head: Vec<String> = axes.iter().map(|a| a.letter().to_string()).collect();
     let mut s = format!("# {comment}\ntime,{}\n", head.join(","));
     let per_rad = 1.0 / machine.angle_unit.to_rad();
     for (k, q) in rows.iter().enumerate() {
-        let _ = write!(s, "{}", k as f64 * period);
+        let _ = write!(s, "{}", num(k as f64 * period, Some(3)));
         for a in &axes {
             let v = q.get(*a);
             let v = if a.kind() == AxisKind::Rotary {
@@ -139,7 +162,7 @@ pub fn write_trace_csv(
             } else {
                 v
             };
-            let _ = write!(s, ",{v}");
+            let _ = write!(s, ",{}", num(v, decimals));
         }
         s.push('\n');
     }

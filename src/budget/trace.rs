@@ -64,6 +64,13 @@ impl TraceMachine {
         })
     }
 
+    /// The chain's axes in the order X, Y, Z, A, B, C.
+    pub fn axis_names(&self) -> Vec<crate::machine::AxisName> {
+        let mut a: Vec<_> = self.chain.axes().map(|a| a.name).collect();
+        a.sort_by_key(|n| n.index());
+        a
+    }
+
     /// Nominal tool tip (mm) and unit tool axis in the part frame for axis values `q` (mm, rad).
     pub fn tool_position(&self, q: &AxisValues) -> ([f64; 3], [f64; 3]) {
         let t = nominal(&self.chain, q, 0.0);
@@ -97,7 +104,7 @@ pub fn read_trace(
 ) -> Result<ToolPath, BudgetError> {
     let text = decode_text(bytes, name)?;
     let lines = classify(&text);
-    let axes: Vec<_> = machine.chain.axes().map(|a| a.name).collect();
+    let axes = machine.axis_names();
     let letters: Vec<String> = axes.iter().map(|a| a.letter().to_string()).collect();
     let Some(&(header_line, head)) = lines.content.first() else {
         return Err(BudgetError::NoPositions {

@@ -5,6 +5,7 @@
 use wasm_bindgen::prelude::*;
 
 pub mod analysis;
+pub mod budget;
 pub mod cmm;
 pub mod curves;
 pub mod examples;

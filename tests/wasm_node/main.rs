@@ -2,6 +2,7 @@
 //! One file per stage; each asserts the exported calls give the core's numbers.
 #![cfg(target_arch = "wasm32")]
 
+mod budget;
 mod cmm;
 mod cmm_broken;
 mod gap;

@@ -31,6 +31,7 @@ Commands:
   identify    the machine errors, groups, uncertainty and residuals from a measured part
   diagnose    the sim-to-real gap of a measured part: where, which effect, how far [--json]
   compare     differences of two parts' parameters with σ_d = √(σa²+σb²), flagged at 2 and 3 σ
+  budget      error budget per point: design, CAM path (--cl), NC trace, machine, tool, CMM
   validate    the withheld-effect benchmark of the gap diagnosis [--cases N] [--seed S] [--json]
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
