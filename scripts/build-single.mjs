@@ -42,7 +42,7 @@ const read = (f) => fs.readFileSync(path.join(WWW, f), 'utf8');
 const wasm = fs.readFileSync(path.join(WWW, 'pkg', 'testpiece_bg.wasm'));
 const glue = foldGlue(read('pkg/testpiece.js'));
 // Dependency order: each module after the ones it imports.
-const modules = ['pkg/build', 'plot', 'export', 'core', 'views', 'app'].filter((m) => fs.existsSync(path.join(WWW, `${m}.js`)));
+const modules = ['pkg/build', 'plot', 'export', 'core', 'views', 'parts', 'curves', 'app'].filter((m) => fs.existsSync(path.join(WWW, `${m}.js`)));
 let app = modules.map((m) => fold(m, read(`${m}.js`))).join('\n');
 const boot = `
 globalThis.__TESTPIECE_INLINE__ = (() => {
@@ -58,6 +58,8 @@ app = app.replace('const __m_app = (() => {', `${boot}\nconst __m_app = (() => {
 
 let html = read('index.html');
 const css = read('style.css');
+// The module graph is inlined below: no module preloads.
+html = html.replace(/^\s*<!-- Fetch the whole module graph[^\n]*\n/m, '').replace(/^\s*<link rel="modulepreload"[^\n]*\n/gm, '');
 html = html.replace(/<link rel="stylesheet" href="style.css">/, `<style>\n${css}\n</style>`);
 html = html.replace(/<script type="module" src="app.js"><\/script>/,
   `<script type="application/wasm-base64" id="testpiece-wasm">${wasm.toString('base64')}</script>\n` +

@@ -14,9 +14,17 @@
 //! 4. [`crate::identify::identify`]: weighted least squares, rank, groups, uncertainty; then
 //!    [`crate::identify::refine::refine`] with the exact eq. 12 at the same points
 //!    ([`crate::simulate::ExactDefectModel`]) where the linearisation error exceeds 0.1 σ.
+//!    The machine is a setting ([`MachineChoice`]): paper 000's B head / C table (default),
+//!    paper 001's A-B head or paper 002's B-C tilting table; each has its own minimal set of
+//!    location errors (the design's columns).
 //! 5. [`crate::gap::diagnose`] on the same points: the baseline of effects.md (location errors,
 //!    `physical` mode, signed B) and every candidate effect, whatever the identification's own
 //!    mode; where the residual lies, which effect, how far it shrinks.
+//!
+//! Edge cases (tests/edge_*.rs): non-finite or non-positive `l0` and `noise_sigma` are refused
+//! with the value; a refinement whose linear and exact models disagree by more than
+//! [`crate::identify::refine::NONLINEAR_WARN_FRACTION`] adds a `WARNING:` note to the
+//! identification (with `refine: false` that check is not made).
 
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -35,16 +43,52 @@ use crate::part::{Curve, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
 use crate::simulate::{ExactDefectModel, SimulateError};
 
+/// The machine whose location errors are identified (the page's "Kinematic chain" setting).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MachineChoice {
+    /// Paper 000: B head on Z on X, C table on Y (`w C Y' b X Z B t`), tip `L0` below the B axis.
+    #[default]
+    Paper000,
+    /// Paper 001 Appendix 2: X table, A-B head (`w X' b Y Z B A t`), tip `L0 = ls + lt` below A.
+    Paper001,
+    /// Paper 002 eq. 1: B-C tilting table (`w C' B' b X Y Z t`), tip at the machine point (no L0).
+    Paper002,
+}
+
+impl MachineChoice {
+    /// The chain with the pivot length `l0` (mm; unused by the tilting table).
+    pub fn chain(self, l0: f64) -> Chain {
+        match self {
+            MachineChoice::Paper000 => Chain::paper000(l0),
+            // Only ls + lt enters the tool tip (T_12p raises Z by ls + lt, the tip is ls + lt below A).
+            MachineChoice::Paper001 => Chain::paper001(l0, 0.0),
+            MachineChoice::Paper002 => Chain::paper002(),
+        }
+    }
+    /// A plain description for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            MachineChoice::Paper000 => "B head / C table (paper 000, w C Y' b X Z B t)",
+            MachineChoice::Paper001 => "A-B head, X table (paper 001, w X' b Y Z B A t)",
+            MachineChoice::Paper002 => "B-C tilting table (paper 002, w C' B' b X Y Z t)",
+        }
+    }
+}
+
 /// Settings of an analysis; `Default` is the spec's default (physical mode, signed B, paper
 /// 000's machine with L0 = 499.889 mm, no tool-radius term, rows with problems reject the file).
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct AnalysisOptions {
+    /// The kinematic chain (default paper 000's B head / C table).
+    pub machine: MachineChoice,
     /// `physical` (default) or `paper` (s-shape.md "Errors and machined defect").
     pub mode: Mode,
     /// `signed` (default) or `positive` B branch.
     pub branch: Branch,
-    /// Pivot-to-tip length of the B-head / C-table machine (mm).
+    /// Pivot-to-tip length of the machine (mm): B axis to tip on paper 000's machine, A axis to
+    /// tip (`ls + lt`) on paper 001's; not used by the tilting table of paper 002.
     pub l0: f64,
     /// Fit the tool-radius error `dR` (mm) with the location errors.
     pub tool_radius: bool,
@@ -54,11 +98,26 @@ pub struct AnalysisOptions {
     pub noise_sigma: Option<f64>,
     /// Refine with the exact eq. 12 where the linearisation error matters (default on).
     pub refine: bool,
+    /// Deviation already explained by the process (the CAM path or NC trace of issue 10, mm per
+    /// matched point in file order): subtracted from the measured deviations before the
+    /// identification and the gap diagnosis, so it is not blamed on the machine.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub known: Option<KnownDeviation>,
+}
+
+/// A deviation the process explains, per matched point (mm, + = material left).
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct KnownDeviation {
+    /// What it is, in words (e.g. `NC trace trace.csv`), for the report.
+    pub source: String,
+    /// One value per matched point, in the order of the file's points.
+    pub values: Vec<f64>,
 }
 
 impl Default for AnalysisOptions {
     fn default() -> Self {
         Self {
+            machine: MachineChoice::Paper000,
             mode: Mode::Physical,
             branch: Branch::Signed,
             l0: PAPER000_L0,
@@ -66,6 +125,7 @@ impl Default for AnalysisOptions {
             exclude_bad_rows: false,
             noise_sigma: None,
             refine: true,
+            known: None,
         }
     }
 }
@@ -87,6 +147,14 @@ pub enum AnalysisError {
     Exact(#[from] SimulateError),
     #[error("exact-model refinement: {0}")]
     Refine(String),
+    #[error(
+        "known deviation ({what}): {values} values for {points} matched points, or not finite"
+    )]
+    Known {
+        what: String,
+        values: usize,
+        points: usize,
+    },
 }
 
 /// The design at the measured points: one row per point, one column per parameter.
@@ -152,12 +220,12 @@ pub fn measurement_points(part: &SShape, matched: &MatchedPart) -> Vec<Measureme
         .collect()
 }
 
-/// The sensitivity settings of an analysis: mode, branch, paper 000's chain with its L0.
+/// The sensitivity settings of an analysis: mode, branch, the chosen chain with its L0.
 pub fn sensitivity_options(opts: &AnalysisOptions) -> SensitivityOptions {
     SensitivityOptions::default()
         .with_mode(opts.mode)
         .with_branch(opts.branch)
-        .with_chain(Chain::paper000(opts.l0))
+        .with_chain(opts.machine.chain(opts.l0))
 }
 
 /// The sensitivity design at `points` for `opts` (plus the `dR` column when asked).
@@ -207,6 +275,36 @@ pub fn diagnose_points(
     })
 }
 
+/// The measured deviations minus the known ones (issue 10), checked point for point.
+fn minus_known(
+    mut deviations: Vec<f64>,
+    known: Option<&KnownDeviation>,
+) -> Result<Vec<f64>, AnalysisError> {
+    if let Some(k) = known {
+        if k.values.len() != deviations.len() || k.values.iter().any(|v| !v.is_finite()) {
+            return Err(AnalysisError::Known {
+                what: k.source.clone(),
+                values: k.values.len(),
+                points: deviations.len(),
+            });
+        }
+        for (d, v) in deviations.iter_mut().zip(&k.values) {
+            *d -= v;
+        }
+    }
+    Ok(deviations)
+}
+
+/// The sentence the reports carry when a known deviation was subtracted.
+fn known_note(k: &KnownDeviation) -> String {
+    let max = k.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    format!(
+        "The deviation explained by the {} (max |{:.1}| µm) was subtracted from the measurement before the identification and the gap diagnosis: it is not blamed on the machine.",
+        k.source,
+        max * 1e3
+    )
+}
+
 /// Reads, matches, identifies and diagnoses one CMM file.
 pub fn analyse(
     bytes: &[u8],
@@ -223,10 +321,11 @@ pub fn analyse(
     let matched = read_and_match(bytes, name, &ropts)?;
     let points = measurement_points(&part, &matched);
     let (design, columns) = design_at(&part, &points, opts)?;
+    let deviations = minus_known(matched.deviations(), opts.known.as_ref())?;
     let obs = Observations::new(
         matched.points.iter().map(|p| p.file.id.clone()).collect(),
         points.iter().map(|p| p.curve.name().to_string()).collect(),
-        matched.deviations(),
+        deviations.clone(),
     );
     let mut iopts = IdentifyOptions::default();
     if let Some(s) = opts.noise_sigma {
@@ -245,6 +344,9 @@ pub fn analyse(
             &iopts,
         )
         .map_err(|e| AnalysisError::Refine(e.to_string()))?;
+        if let Some(w) = &r.warning {
+            identification.notes.push(format!("WARNING: {w}"));
+        }
         if r.performed && r.success {
             for (j, p) in identification.parameters.0.iter_mut().enumerate() {
                 p.value = r.values[j];
@@ -261,8 +363,15 @@ pub fn analyse(
     } else {
         None
     };
-    let diagnosis = diagnose_points(&part, &points, &matched.deviations(), opts.noise_sigma)
-        .map_err(|e| e.to_string());
+    let mut diagnosis =
+        diagnose_points(&part, &points, &deviations, opts.noise_sigma).map_err(|e| e.to_string());
+    if let Some(k) = &opts.known {
+        let note = known_note(k);
+        identification.notes.push(note.clone());
+        if let Ok(d) = diagnosis.as_mut() {
+            d.summary = format!("{}\n{note}", d.summary.trim_end());
+        }
+    }
     Ok(Analysis {
         diagnosis,
         version: crate::VERSION,
@@ -346,6 +455,83 @@ mod tests {
             );
             assert!(d.summary.starts_with("Verdict: "), "{file}: {}", d.summary);
         }
+    }
+
+    #[test]
+    fn each_machine_analyses_the_clean_example_with_its_own_error_set() {
+        // The three chains of the page; each design has one column per error of the chain's
+        // minimal set (machine::location_errors) and a finite fit at all 100 points.
+        for m in [
+            MachineChoice::Paper000,
+            MachineChoice::Paper001,
+            MachineChoice::Paper002,
+        ] {
+            let o = AnalysisOptions {
+                machine: m,
+                ..Default::default()
+            };
+            let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
+            let free = crate::machine::location_errors::minimal_set(&m.chain(o.l0)).names();
+            assert_eq!(a.design.params, free, "{m:?}");
+            assert_eq!(a.identification.points_used, 100);
+            assert!(a.identification.residual.rms.is_finite(), "{m:?}");
+        }
+    }
+
+    #[test]
+    fn a_known_deviation_is_subtracted_before_identification() {
+        // Subtracting the measured deviation itself leaves nothing for the machine: every
+        // fitted value and residual is 0, and the reports say what was subtracted.
+        let base = analyse(CLEAN.as_bytes(), "c.csv", &AnalysisOptions::default()).unwrap();
+        let o = AnalysisOptions {
+            known: Some(KnownDeviation {
+                source: "test path".into(),
+                values: base.file.deviations(),
+            }),
+            ..Default::default()
+        };
+        let a = analyse(CLEAN.as_bytes(), "c.csv", &o).unwrap();
+        assert!(a
+            .identification
+            .points
+            .iter()
+            .all(|p| p.measured.abs() < 1e-15));
+        assert!(a.identification.residual.max_abs < 1e-12);
+        assert!(a
+            .identification
+            .notes
+            .iter()
+            .any(|n| n.contains("test path")));
+        // a known shift moves the fit's input by exactly that shift
+        let o = AnalysisOptions {
+            known: Some(KnownDeviation {
+                source: "shift".into(),
+                values: vec![0.001; 100],
+            }),
+            refine: false,
+            ..Default::default()
+        };
+        let b = analyse(CLEAN.as_bytes(), "c.csv", &o).unwrap();
+        for (p, q) in b
+            .identification
+            .points
+            .iter()
+            .zip(&base.identification.points)
+        {
+            crate::assert_near!(p.measured, q.measured - 0.001, 1e-15);
+        }
+        let bad = AnalysisOptions {
+            known: Some(KnownDeviation {
+                source: "short".into(),
+                values: vec![0.0; 3],
+            }),
+            ..Default::default()
+        };
+        let e = analyse(CLEAN.as_bytes(), "c.csv", &bad).unwrap_err();
+        assert!(
+            e.to_string().contains("3 values for 100 matched points"),
+            "{e}"
+        );
     }
 
     #[test]

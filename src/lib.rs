@@ -14,12 +14,15 @@
 //! outward normal; **positive = material left, negative = overcut**.
 
 pub mod analysis;
+pub mod budget;
 pub mod cmm;
+pub mod compare;
 pub mod gap;
 pub mod geometry;
 pub mod identify;
 pub mod machine;
 pub mod part;
+pub mod pool;
 pub mod sensitivity;
 pub mod simulate;
 pub mod summary;

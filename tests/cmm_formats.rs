@@ -53,6 +53,16 @@ fn naive(rel: &str) -> Vec<Row> {
         .collect()
 }
 
+impl Row {
+    /// `x y z nx ny nz deviation` joined by `sep`.
+    fn fields(&self, sep: &str) -> String {
+        let v = [self.nominal, self.normal].concat();
+        let mut f: Vec<String> = v.iter().map(|x| x.to_string()).collect();
+        f.push(self.deviation.to_string());
+        f.join(sep)
+    }
+}
+
 /// Exact nominal points and normals of `reference/points.csv` (full double precision).
 fn exact_points() -> Vec<([f64; 3], [f64; 3])> {
     let text = std::fs::read_to_string(data("reference/points.csv")).unwrap();
@@ -273,18 +283,7 @@ fn ids_repeating_per_curve_are_not_duplicates() {
     // Ids 1-25 on each curve: (curve, id) identifies a point.
     let mut text = String::from("id,curve,x,y,z,nx,ny,nz,deviation\n");
     for (k, r) in naive(CLEAN).iter().enumerate() {
-        text.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{}\n",
-            k % 25 + 1,
-            r.curve,
-            r.nominal[0],
-            r.nominal[1],
-            r.nominal[2],
-            r.normal[0],
-            r.normal[1],
-            r.normal[2],
-            r.deviation
-        ));
+        text.push_str(&format!("{},{},{}\n", k % 25 + 1, r.curve, r.fields(",")));
     }
     let f = read_cmm(text.as_bytes(), "per_curve.csv").unwrap();
     assert_eq!(f.points.len(), 100);
@@ -310,19 +309,7 @@ fn ids_repeating_per_curve_are_not_duplicates() {
 fn powerinspect_with_numeric_names() {
     let text: String = naive(CLEAN)
         .iter()
-        .map(|r| {
-            format!(
-                "{} {} {} {} {} {} {} {} -0.05 0.05\n",
-                r.id,
-                r.nominal[0],
-                r.nominal[1],
-                r.nominal[2],
-                r.normal[0],
-                r.normal[1],
-                r.normal[2],
-                r.deviation
-            )
-        })
+        .map(|r| format!("{} {} -0.05 0.05\n", r.id, r.fields(" ")))
         .collect();
     let f = read_cmm(text.as_bytes(), "pi.txt").unwrap();
     assert_eq!(f.format.kind, FormatKind::PowerInspect);

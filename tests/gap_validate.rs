@@ -43,10 +43,9 @@ fn accuracy_floors_on_a_fixed_seed() {
     // Issue 6 floors: ≥ 90 % on detectable effects, ≥ 90 % `none` on none/undetectable.
     assert!(r.detectable.rate >= 0.9, "{}", table(&r));
     assert!(r.none_or_undetectable.rate >= 0.9, "{}", table(&r));
-    // Out-of-list: measured 68 % over 418 cases with σ estimated (issue target 75 %, not met);
-    // floor 50 % here.
+    // Out-of-list: issue floor 75 % (σ from the variogram nugget: 96.8 % over 418 cases, seed 1).
     assert!(
-        r.out_of_list.cases == 0 || r.out_of_list.rate >= 0.5,
+        r.out_of_list.cases == 0 || r.out_of_list.rate >= 0.75,
         "{}",
         table(&r)
     );

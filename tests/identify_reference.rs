@@ -119,13 +119,7 @@ fn paper_mode_rediscovers_the_paper_groups() {
     for p in ["EA0Z", "EA0C", "EB0Z", "EB0C"] {
         assert_eq!(id.parameters.get(p).unwrap().status, Status::NotSeparable);
     }
-    let cos = |a: &str, b: &str| {
-        id.column_correlations
-            .iter()
-            .find(|c| c.a == a && c.b == b)
-            .map(|c| c.cosine)
-            .unwrap()
-    };
+    let cos = |a: &str, b: &str| cosine(&id, a, b);
     assert_near!(cos("EA0Z", "EA0C"), -0.9996, 5e-5);
     assert_near!(cos("EB0Z", "EB0C"), -0.9999, 5e-5);
 }
@@ -152,13 +146,7 @@ fn physical_mode_reports_weak_squareness_errors() {
     for p in ["EX0B", "EA0B"] {
         assert_eq!(id.parameters.get(p).unwrap().status, Status::Identified);
     }
-    let cos = |a: &str, b: &str| {
-        id.column_correlations
-            .iter()
-            .find(|c| c.a == a && c.b == b)
-            .map(|c| c.cosine)
-            .unwrap()
-    };
+    let cos = |a: &str, b: &str| cosine(&id, a, b);
     assert_near!(cos("EA0Z", "EA0C"), -0.76, 0.005);
     assert_near!(cos("EB0Z", "EB0C"), -0.82, 0.005);
 }
@@ -209,4 +197,13 @@ fn per_curve_statistics() {
     }
     // Overall RMS = the pooled per-curve RMS (closed form).
     assert_near!((ss / 100.0).sqrt(), id.residual.rms, 1e-15);
+}
+
+/// The cosine between the design columns of `a` and `b`, as the identification reports it.
+fn cosine(id: &Identification, a: &str, b: &str) -> f64 {
+    id.column_correlations
+        .iter()
+        .find(|c| c.a == a && c.b == b)
+        .map(|c| c.cosine)
+        .unwrap()
 }

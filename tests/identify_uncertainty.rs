@@ -129,35 +129,16 @@ fn monte_carlo_errors() {
     let obs = Observations::plain(vec![0.0; 100]);
     let o = IdentifyOptions::default();
     let mc = MonteCarloOptions::default().with_runs(10);
-    assert!(monte_carlo(
-        &d,
-        &obs,
-        &[0.0; 3],
-        &Noise::Gaussian { sigma: 0.001 },
-        &mc,
-        &o
-    )
-    .is_err());
-    assert!(monte_carlo(
-        &d,
-        &obs,
+    let fails =
+        |truth: &[f64], noise: Noise| monte_carlo(&d, &obs, truth, &noise, &mc, &o).is_err();
+    assert!(fails(&[0.0; 3], Noise::Gaussian { sigma: 0.001 }));
+    assert!(fails(&[0.0; 8], Noise::Gaussian { sigma: f64::NAN }));
+    assert!(fails(
         &[0.0; 8],
-        &Noise::Gaussian { sigma: f64::NAN },
-        &mc,
-        &o
-    )
-    .is_err());
-    assert!(monte_carlo(
-        &d,
-        &obs,
-        &[0.0; 8],
-        &Noise::PerPoint {
+        Noise::PerPoint {
             sigma: vec![0.001; 5]
-        },
-        &mc,
-        &o
-    )
-    .is_err());
+        }
+    ));
     assert!(monte_carlo(
         &d,
         &obs,

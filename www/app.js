@@ -1,11 +1,18 @@
 // The page: settings and files in, the core's results out. All computation is in the core
 // (WebAssembly, in a Web Worker when served; on the main thread in the single-file build).
 import { startCore, call, cancel } from './core.js';
+import { partsView } from './parts.js';
+import { curvesView } from './curves.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
 import { h, dataView, fig19View, identifyView, gapView, reportView } from './views.js';
 
 const $ = (id) => document.getElementById(id);
+const mark = (name) => { try { performance.mark(name); } catch { /* no User Timing */ } };
+mark('tp-app-start');
+// Start the core (worker + streaming wasm compile) before anything else: the modules below only
+// build the DOM and wait for it.
+const coreStarted = startCore(globalThis.__TESTPIECE_INLINE__);
 
 const st = {
   files: [],          // {name, bytes, analysis?, error?, sha256?}
@@ -13,7 +20,15 @@ const st = {
   settings: {},
   sensitivity: null,
   fig19Visible: null,
+  pool: { names: new Set(), result: null, error: null },
+  curves: { cone: { kind: 'M3_15', offsets: false, data: null, error: null }, path: { surface: 'A', comp: 'k_n', data: null, error: null } },
+  loadCurves: () => loadCurves(),
+  renderCurves: () => renderFig19($('view-fig19')),
+  comparison: { a: null, b: null, result: null, error: null },
   select(i) { st.current = i; render(); },
+  runPool: () => runPool().then(render),
+  runCompare: (a, b) => runCompare(a, b).then(render),
+  clearFiles() { st.files = []; st.current = 0; st.pool = { names: new Set(), result: null, error: null }; st.comparison = { a: null, b: null, result: null, error: null }; render(); },
   excludeAndRetry() { $('exclude').checked = true; readSettings(); analyseAll(); },
   exportJson() {
     const f = st.files[st.current];
@@ -25,6 +40,7 @@ const st = {
 function readSettings() {
   const sigmaUm = parseFloat($('sigma').value);
   st.settings = {
+    machine: $('machine').value,
     mode: $('mode').value,
     branch: $('branch').value,
     l0: parseFloat($('l0').value),
@@ -32,18 +48,21 @@ function readSettings() {
     exclude_bad_rows: $('exclude').checked,
     noise_sigma: Number.isFinite(sigmaUm) && sigmaUm > 0 ? sigmaUm / 1000 : null,
   };
+  st.setupPerPart = $('setupPerPart').checked;
 }
 
 // ---------------------------------------------------------------- progress
 let busy = 0;
 let busyTimer = null;
+let generation = 0; // bumped by Cancel: loops over files stop at the next file
 async function withProgress(text, fn) {
   busy++;
   $('progress-text').textContent = text;
+  document.body.dataset.busy = 'true';
   // Show the indication for anything that takes longer than 200 ms.
-  if (!busyTimer) busyTimer = setTimeout(() => { $('progress').hidden = false; }, 200);
+  if (!busyTimer) busyTimer = setTimeout(() => { $('progress').hidden = false; document.body.dataset.progressShown = 'true'; }, 200);
   try { return await fn(); } finally {
-    if (--busy === 0) { clearTimeout(busyTimer); busyTimer = null; $('progress').hidden = true; }
+    if (--busy === 0) { clearTimeout(busyTimer); busyTimer = null; $('progress').hidden = true; delete document.body.dataset.busy; }
   }
 }
 
@@ -54,22 +73,73 @@ async function analyseFile(f) {
     f.analysis = await withProgress(`Analysing ${f.name}…`, () => call('analyse', f.bytes, f.name, st.settings));
   } catch (e) {
     f.analysis = null;
-    f.error = e.message;
+    f.error = e.message === 'cancelled' ? 'The computation was cancelled: change a setting or choose the file again to compute it.' : e.message;
   }
   if (!f.sha256) f.sha256 = await sha256Hex(f.bytes);
 }
 
+async function analyseList(list) {
+  const g = generation;
+  for (const f of list) {
+    if (g !== generation) { f.analysis = null; f.error = 'The computation was cancelled: change a setting or choose the file again to compute it.'; continue; }
+    await analyseFile(f);
+  }
+  await severalParts();
+}
+
 async function analyseAll() {
-  for (const f of st.files) await analyseFile(f);
+  await analyseList(st.files);
   render();
+}
+
+// ---------------------------------------------------------------- several parts
+async function runPool() {
+  const files = st.files.filter((f) => f.analysis && st.pool.names.has(f.name));
+  st.pool.result = null; st.pool.error = null;
+  if (files.length < 2) { st.pool.error = 'Check at least two analysed parts to pool.'; return; }
+  try {
+    st.pool.result = await withProgress(`Pooling ${files.length} parts…`, () => call('analysePooled',
+      files.map((f) => ({ name: f.name, bytes: f.bytes })), { ...st.settings, setup_per_part: st.setupPerPart }));
+  } catch (e) { st.pool.error = e.message; }
+}
+
+const paramList = (f) => Object.entries(f.analysis.identification.parameters).map(([name, p]) => ({ name, value: p.value, std: p.std ?? null, unit: p.unit }));
+
+async function runCompare(a, b) {
+  const fa = st.files.find((f) => f.name === a && f.analysis), fb = st.files.find((f) => f.name === b && f.analysis);
+  st.comparison = { a, b, result: null, error: null };
+  if (!fa || !fb) { st.comparison.error = 'Choose two analysed parts.'; return; }
+  try { st.comparison.result = await call('compareParameters', fa.name, paramList(fa), fb.name, paramList(fb)); } catch (e) { st.comparison.error = e.message; }
+}
+
+/** With two or more analysed parts: pool them all and compare the first two (or the chosen pair). */
+async function severalParts() {
+  const ok = st.files.filter((f) => f.analysis);
+  if (ok.length < 2) { st.pool.result = null; st.comparison.result = null; return; }
+  for (const f of ok) if (!st.pool.known?.has(f.name)) st.pool.names.add(f.name);
+  st.pool.known = new Set(ok.map((f) => f.name));
+  await runPool();
+  const names = ok.map((f) => f.name);
+  const a = names.includes(st.comparison.a) ? st.comparison.a : names[0];
+  const b = names.includes(st.comparison.b) && st.comparison.b !== a ? st.comparison.b : names.find((n) => n !== a);
+  await runCompare(a, b);
 }
 
 async function loadSensitivity() {
   try {
-    st.sensitivity = await withProgress('Computing the sensitivity curves…', () => call('sensitivity', st.settings.mode, st.settings.branch));
+    st.sensitivity = await withProgress('Computing the sensitivity curves…', () => call('sensitivityFor', st.settings));
   } catch (e) {
     st.sensitivity = { error: e.message };
   }
+}
+
+/** The cone and path-coefficient curves (after the first plot and the example: not urgent). */
+async function loadCurves() {
+  const c = st.curves;
+  renderFig19($('view-fig19'));
+  try { if (!c.cone.data) c.cone.data = await withProgress('Computing the cone curves…', () => call('coneCoefficients', c.cone.kind, c.cone.offsets, 360)); c.cone.error = null; } catch (e) { c.cone.error = e.message; }
+  try { if (!c.path.data) c.path.data = await withProgress('Computing the path coefficients…', () => call('pathCoefficients', st.settings, c.path.surface, 200)); c.path.error = null; } catch (e) { c.path.error = e.message; }
+  renderFig19($('view-fig19'));
 }
 
 async function addFiles(list) {
@@ -82,7 +152,8 @@ async function addFiles(list) {
   // A newly chosen set of files replaces the example part.
   st.files = st.files.filter((f) => !f.example).concat(added);
   st.current = st.files.length - added.length;
-  for (const f of added) await analyseFile(f);
+  render();
+  await analyseList(added);
   render();
 }
 
@@ -90,7 +161,7 @@ async function loadExample(name) {
   const bytes = await call('exampleBytes', name);
   st.files = [{ name, bytes: new Uint8Array(bytes), example: true }];
   st.current = 0;
-  await analyseFile(st.files[0]);
+  await analyseList(st.files);
   render();
 }
 
@@ -120,15 +191,26 @@ function summaryText() {
   );
 }
 
+/** The views, one per tab (index.html: tab-<id> / view-<id>); add a view by adding a line. */
+const VIEWS = [
+  { id: 'data', render: (root) => dataView(root, st) },
+  { id: 'fig19', render: renderFig19 },
+  { id: 'identify', render: (root) => identifyView(root, current()) },
+  { id: 'gap', render: (root) => gapView(root, current()) },
+  { id: 'parts', render: (root) => partsView(root, st) },
+  { id: 'report', render: (root) => reportView(root, st) },
+];
+const current = () => st.files[st.current] && st.files[st.current].analysis;
+
+function renderFig19(root) {
+  if (st.sensitivity && !st.sensitivity.error) fig19View(root, st.sensitivity, st);
+  else root.textContent = st.sensitivity ? st.sensitivity.error : 'Computing the sensitivity curves…';
+  curvesView(root, st);
+}
+
 function render() {
   summaryText();
-  dataView($('view-data'), st);
-  if (st.sensitivity && !st.sensitivity.error) fig19View($('view-fig19'), st.sensitivity, st);
-  else $('view-fig19').textContent = st.sensitivity ? st.sensitivity.error : '';
-  const f = st.files[st.current];
-  identifyView($('view-identify'), f && f.analysis);
-  gapView($('view-gap'), f && f.analysis);
-  reportView($('view-report'), st);
+  for (const v of VIEWS) { const root = $(`view-${v.id}`); if (root) v.render(root); }
   document.body.dataset.ready = 'true';
 }
 
@@ -163,27 +245,42 @@ function setupInputs() {
   drop.addEventListener('drop', (e) => { e.preventDefault(); drop.classList.remove('over'); addFiles([...e.dataTransfer.files]); });
   drop.addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); $('file').click(); } });
   $('example').addEventListener('change', () => loadExample($('example').value));
-  for (const id of ['mode', 'branch', 'l0', 'toolRadius', 'exclude', 'sigma']) {
+  for (const id of ['machine', 'mode', 'branch', 'l0', 'toolRadius', 'exclude', 'sigma', 'setupPerPart']) {
     $(id).addEventListener('change', async () => {
       readSettings();
-      if (id === 'mode' || id === 'branch') await loadSensitivity();
+      if (id === 'setupPerPart') { await runPool(); render(); return; }
+      if (id === 'mode' || id === 'branch' || id === 'machine' || id === 'l0') {
+        st.curves.path.data = null;
+        await loadSensitivity(); renderFig19($('view-fig19'));
+      }
       await analyseAll();
+      if (!st.curves.path.data) await loadCurves();
     });
   }
-  $('cancel').addEventListener('click', () => { cancel(); });
+  $('cancel').addEventListener('click', () => {
+    generation++;
+    cancel();
+    $('summary').dataset.cancelled = 'true';
+  });
 }
 
 async function main() {
-  const runner = await startCore(globalThis.__TESTPIECE_INLINE__);
-  $('runner').textContent = runner;
-  $('version').textContent = await call('version');
   setupTabs();
   setupInputs();
   readSettings();
-  const examples = await call('exampleList');
+  const runner = await coreStarted;
+  $('runner').textContent = runner;
+  // Queue the first calls together: the worker answers them in order as soon as the wasm is up.
+  const [version, examples] = await Promise.all([call('version'), call('exampleList'), loadSensitivity()]);
+  mark('tp-core-ready');
+  $('version').textContent = version;
   for (const e of examples) $('example').append(h('option', { value: e.name }, `${e.name}: ${e.description}`));
-  await loadSensitivity();
+  // The first plot (Figure 19) before the example's identification and diagnosis finish.
+  renderFig19($('view-fig19'));
+  mark('tp-first-plot');
   await loadExample(examples[0].name);
+  mark('tp-example-analysed');
+  await loadCurves();
   if ('serviceWorker' in navigator && location.protocol.startsWith('http')) {
     navigator.serviceWorker.register(`sw.js?build=${BUILD}`).catch(() => {});
   }

@@ -4,6 +4,11 @@ import { chart } from './plot.js';
 import { exportButtons, toCsv } from './export.js';
 
 export const CURVES = ['A_Z11', 'A_Z25', 'B_Z11', 'B_Z25'];
+export const MACHINES = {
+  paper000: 'B head / C table (paper 000)',
+  paper001: 'A-B head, X table (paper 001)',
+  paper002: 'B-C tilting table (paper 002)',
+};
 
 export function h(tag, attrs = {}, ...children) {
   const e = document.createElement(tag);
@@ -56,7 +61,7 @@ function layout(curves, ids) {
   return { x, groups, xNames: ids.map((id, i) => `point ${id} (${curves[i]})`) };
 }
 
-function chartBlock(name, spec, extra) {
+export function chartBlock(name, spec, extra) {
   const holder = h('div', {});
   const c = chart(holder, spec);
   const bar = h('div', { class: 'bar' }, extra || '', h('span', { class: 'spacer' }));
@@ -107,9 +112,9 @@ export function dataView(root, st) {
 /** Figure-19 curves: `sens` = {ids, curves, params, rows, cols, values (column-major, mm per unit)}. */
 export function fig19View(root, sens, st) {
   root.textContent = '';
-  const scaleOf = (p) => (p === 'EX0B' ? 0.01 : 1e-4);
-  root.append(h('h2', {}, 'Machined defect per error, at the 100 built-in points (paper 000 Figure 19)'),
-    h('p', {}, `Mode ${st.settings.mode}, ${st.settings.branch} B. Each curve: the normal defect (µm) that one error alone leaves at each point, for 1e-4 rad (angles) or 0.01 mm (EX0B). Points are grouped by measurement curve; hover for the value.`));
+  const scaleOf = (p) => (/^E[XYZ]/.test(p) ? 0.01 : 1e-4);
+  root.append(h('h2', {}, 'Machined defect per error at the 100 built-in points (Figure 19 of paper 000, for the chosen machine)'),
+    h('p', {}, `Machine: ${MACHINES[st.settings.machine] || st.settings.machine}. Mode ${st.settings.mode}, ${st.settings.branch} B. Each curve: the normal defect (µm) that one error alone leaves at each point, for 1e-4 rad (angles) or 0.01 mm (position errors such as EX0B). Points are grouped by measurement curve; hover for the value.`));
   const L = layout(sens.curves, sens.ids);
   const series = sens.params.map((p, k) => ({
     name: p,
@@ -117,7 +122,7 @@ export function fig19View(root, sens, st) {
     visible: st.fig19Visible ? st.fig19Visible[p] !== false : true,
   }));
   const spec = { title: 'Figure 19: defect per error', x: L.x, xNames: L.xNames, groups: L.groups, series,
-    xLabel: 'measurement point (grouped by curve)', yLabel: 'defect (µm per 1e-4 rad; per 0.01 mm for EX0B)', yUnit: 'µm' };
+    xLabel: 'measurement point (grouped by curve)', yLabel: 'defect (µm per 1e-4 rad; per 0.01 mm for E[XYZ]..)', yUnit: 'µm' };
   const toggles = h('div', { class: 'toggles', role: 'group', 'aria-label': 'parameters shown' });
   const block = chartBlock('figure19', spec, toggles);
   for (const s of series) {
@@ -127,7 +132,7 @@ export function fig19View(root, sens, st) {
     toggles.append(h('label', {}, cb, ` ${s.name}`));
   }
   root.append(block.el);
-  root.append(table('figure19-ranges', 'Range of each curve (µm per 1e-4 rad; per 0.01 mm for EX0B)', ['parameter', 'min (µm)', 'max (µm)'],
+  root.append(table('figure19-ranges', 'Range of each curve (µm per 1e-4 rad; per 0.01 mm for position errors)', ['parameter', 'min (µm)', 'max (µm)'],
     series.map((s) => [s.name, { text: Math.min(...s.y).toFixed(1), num: true, value: Math.min(...s.y) }, { text: Math.max(...s.y).toFixed(1), num: true, value: Math.max(...s.y) }])));
 }
 
@@ -217,7 +222,7 @@ export function reportView(root, st) {
     ['software', `testpiece ${a.version}`],
     ['file', f.name], ['SHA-256', f.sha256 || ''], ['format', a.file.format.description],
     ['points used', String(a.identification.points_used)], ['rows excluded', a.file.excluded.map((p) => p.line).join(' ') || 'none'],
-    ['machine', 'B head / C table (paper 000)'], ['L0', `${s.l0} mm`], ['mode', s.mode], ['branch', s.branch],
+    ['machine', MACHINES[s.machine] || s.machine], ['L0', s.machine === 'paper002' ? 'not used (tilting table)' : `${s.l0} mm`], ['mode', s.mode], ['branch', s.branch],
     ['tool-radius term', s.tool_radius ? 'fitted (dR)' : 'not fitted'], ['CMM σ', s.noise_sigma ? `${(s.noise_sigma * 1000).toFixed(2)} µm` : 'from the residual'],
   ]));
   const id = a.identification;

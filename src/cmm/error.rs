@@ -207,6 +207,13 @@ pub enum CmmError {
         excluded_note: String,
     },
 
+    #[error("reading option {name} = {value}: expected {expected}")]
+    BadOption {
+        name: &'static str,
+        value: String,
+        expected: &'static str,
+    },
+
     #[error("projection onto the nominal part failed at line {line}: {message}")]
     Projection { line: usize, message: String },
 }

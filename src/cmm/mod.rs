@@ -186,6 +186,7 @@ fn units_summary(t: &ParsedTable, default: LengthUnit) -> String {
 
 /// Reads a CMM file. See the module docs for what is accepted and reported.
 pub fn read_cmm_with(bytes: &[u8], name: &str, opts: &ReadOptions) -> Result<CmmFile, CmmError> {
+    opts.validate()?;
     let decoded = decode::decode(bytes, name, opts.max_bytes)?;
     let lines = lines::classify(&decoded.text);
     if lines.content.is_empty() {

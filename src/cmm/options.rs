@@ -58,6 +58,24 @@ impl Default for ReadOptions {
 }
 
 impl ReadOptions {
+    /// Checks the numeric settings: `max_distance_mm`, `normal_warn_deg` and
+    /// `deviation_warn_mm` must be finite and > 0 (a NaN limit would let every point through).
+    pub fn validate(&self) -> Result<(), super::CmmError> {
+        for (name, value) in [
+            ("max_distance_mm", self.max_distance_mm),
+            ("normal_warn_deg", self.normal_warn_deg),
+            ("deviation_warn_mm", self.deviation_warn_mm),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(super::CmmError::BadOption {
+                    name,
+                    value: value.to_string(),
+                    expected: "a finite number > 0",
+                });
+            }
+        }
+        Ok(())
+    }
     pub fn with_exclude_bad_rows(mut self, yes: bool) -> Self {
         self.exclude_bad_rows = yes;
         self

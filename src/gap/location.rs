@@ -2,11 +2,13 @@
 //! reversals, and as trends against contact height, machining order and tool-path length; and
 //! whether it is noise or structure.
 //!
-//! Structure test: with `σ` the noise (given, or the second-difference estimate of
-//! [`super::noise`]), the excess of the residual variance over noise is
+//! Structure test: with `σ` the noise (given, or the smallest of the structure-insensitive
+//! estimates of [`super::noise`]: smooth basis, variogram nugget), the excess of the residual variance over noise is
 //! `structure_rms = √max(0, RSS/(n − rank) − σ²)`; the residual is *structured* when
-//! `structure_rms > 2.5 σ` (the decision rule of effects.md), and the runs / lag-1 tests and
-//! `χ² = RSS/σ²` are reported as supporting evidence.
+//! `structure_rms > 2.5 σ` (the decision rule of effects.md). With σ estimated from differences,
+//! this is a variance-ratio test of the von Neumann kind (white noise has `Var r = γ(1)`); the
+//! runs / lag-1 / Ljung–Box tests (independent of σ) and `χ² = RSS/σ²` are reported as supporting
+//! evidence.
 
 use std::collections::BTreeMap;
 
@@ -62,6 +64,8 @@ pub struct WhereReport {
     pub noise: NoiseEstimate,
     pub randomness_per_curve: BTreeMap<String, Randomness>,
     pub randomness: Randomness,
+    /// Ljung–Box whiteness test along the curves (independent of σ).
+    pub ljung_box: noise::LjungBox,
     pub chi2: f64,
     pub chi2_dof: usize,
     pub chi2_p: f64,
@@ -209,6 +213,7 @@ pub fn locate(
         .map(|((c, _), v)| (c.clone(), noise::randomness(v)))
         .collect();
     let randomness = noise::randomness_pooled(&seq_vals);
+    let ljung_box = noise::ljung_box(&seq_vals, noise::LJUNG_BOX_LAGS);
     let sigma = noise.used.max(f64::MIN_POSITIVE);
     let dof = r.len().saturating_sub(rank).max(1);
     let chi2 = total_ss / (sigma * sigma);
@@ -225,6 +230,7 @@ pub fn locate(
         noise,
         randomness_per_curve,
         randomness,
+        ljung_box,
         chi2,
         chi2_dof: dof,
         chi2_p: stats::chi2_sf(chi2, dof as f64),

@@ -9,6 +9,12 @@
 //! by < 0.1 µm at the magnitudes of real machines, against σ ≈ 1.5 µm, so LM normally is skipped
 //! and the report says so.
 //!
+//! **Where the linearisation no longer holds** (errors orders of magnitude above a real machine's):
+//! when `e_lin` exceeds [`NONLINEAR_WARN_FRACTION`] (1 %) of the modelled deviation
+//! `rms_i (f(x̂) - f(0))_i`, the report carries a [`RefineReport::warning`] saying so, and whether
+//! the exact-model values replace the linear ones (LM converged), are unreliable (LM failed), or
+//! the linear ones are kept (the difference is below the noise threshold).
+//!
 //! LM works in the solved subspace only: `x = x̂ + K z` with `K = D⁻¹ N V'` ([`Factored::kept_basis`]),
 //! so the combinations the part cannot separate stay fixed as in the linear solution instead of
 //! drifting. Residual `r(z) = W^½ (f(x(z)) - y)` over the used points; Jacobian `W^½ (∂f/∂x) K`.
@@ -42,6 +48,10 @@ impl<F: Fn(&[f64]) -> ModelOutput> ExactModel for F {
         self(x).map(|(_, j)| j)
     }
 }
+
+/// The linear model (eq. 13) and the exact one (eq. 12) disagreeing at the estimate by more than
+/// this fraction of the modelled deviation (RMS over the used points) gives a warning.
+pub const NONLINEAR_WARN_FRACTION: f64 = 0.01;
 
 /// Options of [`refine`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -103,6 +113,24 @@ pub struct RefineReport {
     pub condition: f64,
     /// Rank of the reduced Jacobian (= kept directions when all is well).
     pub rank: usize,
+    /// `rms(f(x̂) - f(0))` over the used points: the deviation the exact model gives the linear
+    /// estimate (mm).
+    pub modelled_rms: f64,
+    /// Set when the linearisation does not hold at the estimate (`linearisation_error_rms` >
+    /// [`NONLINEAR_WARN_FRACTION`] x `modelled_rms`): what that means for the values.
+    pub warning: Option<String>,
+}
+
+/// The warning of a report whose linearisation error is `lin_err` against `modelled` (mm):
+/// `None` below [`NONLINEAR_WARN_FRACTION`].
+fn nonlinear_warning(lin_err: f64, modelled: f64, outcome: &str) -> Option<String> {
+    (lin_err > NONLINEAR_WARN_FRACTION * modelled).then(|| {
+        format!(
+            "the linearised model (paper 000 eq. 13) differs from the exact eq. 12 by {lin_err:.3e} mm RMS at the estimate, {:.1} % of the modelled deviation {modelled:.3e} mm (limit {:.0} %): the errors are too large for the linear identification; {outcome}",
+            100.0 * lin_err / modelled.max(f64::MIN_POSITIVE),
+            100.0 * NONLINEAR_WARN_FRACTION
+        )
+    })
 }
 
 struct Problem<'a, F> {
@@ -242,6 +270,8 @@ where
         .sum::<f64>()
         / f.used.len() as f64)
         .sqrt();
+    let modelled_rms =
+        (f.used.iter().map(|&i| (fx[i] - f0[i]).powi(2)).sum::<f64>() / f.used.len() as f64).sqrt();
     let sigma = linear.sigma;
     let threshold = opts.linearisation_fraction * sigma.unwrap_or(0.0);
     let needed = lin_err > threshold;
@@ -282,6 +312,12 @@ where
             covariance: linear.covariance.clone(),
             condition: linear.condition_used,
             rank: linear.rank_used,
+            modelled_rms,
+            warning: nonlinear_warning(
+                lin_err,
+                modelled_rms,
+                "the linear values are kept (the exact-model refinement was not run)",
+            ),
         });
     }
     let reason = if needed {
@@ -361,13 +397,25 @@ where
             std[a] = Some(cx[(a, a)].max(0.0).sqrt());
         }
     }
+    let success = report.termination.was_successful();
+    let outcome = if success {
+        format!(
+            "the values are the exact-model refinement's (Levenberg-Marquardt: {:?})",
+            report.termination
+        )
+    } else {
+        format!(
+            "the exact-model refinement did not converge ({:?}): the values are unreliable",
+            report.termination
+        )
+    };
     Ok(RefineReport {
         performed: true,
         reason,
         linearisation_error_rms: lin_err,
         sigma,
         termination: format!("{:?}", report.termination),
-        success: report.termination.was_successful(),
+        success,
         evaluations: report.number_of_evaluations,
         cost: report.objective_function,
         residual_rms,
@@ -377,5 +425,7 @@ where
         covariance,
         condition: js.condition(),
         rank: js.rank,
+        modelled_rms,
+        warning: nonlinear_warning(lin_err, modelled_rms, &outcome),
     })
 }

@@ -158,6 +158,17 @@ impl AxisValues {
             c,
         }
     }
+    /// Sets axis `n` from a value in the units of a program or trace: mm for linear axes, and
+    /// `to_rad` radians per unit for rotary axes (π/180 for degrees).
+    pub fn set_in_units(&mut self, n: AxisName, value: f64, to_rad: f64) {
+        let v = if n.kind() == AxisKind::Rotary {
+            value * to_rad
+        } else {
+            value
+        };
+        self.set(n, v);
+    }
+
     pub fn get(&self, n: AxisName) -> f64 {
         match n {
             AxisName::X => self.x,

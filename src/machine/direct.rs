@@ -30,6 +30,14 @@ pub struct ToolPoint {
     pub direction: Vector3<f64>,
 }
 
+impl ToolPoint {
+    /// `[x, y, z, i, j, k]`: the point (mm) then the unit direction.
+    pub fn to_array(&self) -> [f64; 6] {
+        let (p, d) = (&self.point, &self.direction);
+        [p.x, p.y, p.z, d.x, d.y, d.z]
+    }
+}
+
 /// One scalar error parameter of the chain.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum ErrorParam {

@@ -32,6 +32,7 @@ use nalgebra::Vector3;
 use serde::ser::SerializeStruct;
 use serde::Serialize;
 
+use super::flat::Flat;
 use super::frame::Section;
 use super::ruled::RuledPart;
 use super::s_shape::Surface;
@@ -220,21 +221,26 @@ pub struct ConePoint {
     pub h: f64,
 }
 
+impl ConePoint {
+    /// The geometry columns shared with every part's points.
+    pub fn flat(&self) -> Flat<'_> {
+        Flat {
+            u: self.u,
+            v: self.v,
+            point: &self.point,
+            normal: &self.normal,
+            h: self.h,
+        }
+    }
+}
+
 /// Flat serde form: `{id, level, u, v, x, y, z, nx, ny, nz, h}`.
 impl Serialize for ConePoint {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let mut st = s.serialize_struct("ConePoint", 11)?;
         st.serialize_field("id", &self.id)?;
         st.serialize_field("level", &self.level)?;
-        st.serialize_field("u", &self.u)?;
-        st.serialize_field("v", &self.v)?;
-        st.serialize_field("x", &self.point.x)?;
-        st.serialize_field("y", &self.point.y)?;
-        st.serialize_field("z", &self.point.z)?;
-        st.serialize_field("nx", &self.normal.x)?;
-        st.serialize_field("ny", &self.normal.y)?;
-        st.serialize_field("nz", &self.normal.z)?;
-        st.serialize_field("h", &self.h)?;
+        self.flat().write_fields(&mut st)?;
         st.end()
     }
 }

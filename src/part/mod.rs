@@ -3,12 +3,14 @@
 //! projection accept.
 
 pub mod cone;
+pub mod flat;
 pub mod frame;
 pub mod points;
 pub mod ruled;
 pub mod s_shape;
 
 pub use cone::{ConeFrustum, ConePoint};
+pub use flat::{Flat, FLAT_COLUMNS};
 pub use frame::{Frame, FrameDerivs, Section};
 pub use points::{builtin_points, Curve, MeasurementPoint};
 pub use ruled::RuledPart;

@@ -14,6 +14,7 @@ use nalgebra::Vector3;
 use serde::ser::SerializeStruct;
 use serde::Serialize;
 
+use super::flat::Flat;
 use super::s_shape::{SShape, Surface, HEIGHT};
 use crate::geometry::{ArcLength, BSplineCurve, GeometryError};
 use crate::toolpath::flank::contact_height;
@@ -119,20 +120,23 @@ impl Serialize for MeasurementPoint {
         st.serialize_field("id", &self.id)?;
         st.serialize_field("curve", &self.curve)?;
         st.serialize_field("surface", &self.surface)?;
-        st.serialize_field("u", &self.u)?;
-        st.serialize_field("v", &self.v)?;
-        st.serialize_field("x", &self.point.x)?;
-        st.serialize_field("y", &self.point.y)?;
-        st.serialize_field("z", &self.point.z)?;
-        st.serialize_field("nx", &self.normal.x)?;
-        st.serialize_field("ny", &self.normal.y)?;
-        st.serialize_field("nz", &self.normal.z)?;
-        st.serialize_field("h", &self.h)?;
+        self.flat().write_fields(&mut st)?;
         st.end()
     }
 }
 
 impl MeasurementPoint {
+    /// The geometry columns shared with every part's points.
+    pub fn flat(&self) -> Flat<'_> {
+        Flat {
+            u: self.u,
+            v: self.v,
+            point: &self.point,
+            normal: &self.normal,
+            h: self.h,
+        }
+    }
+
     /// The point of surface `s` at `(u, v)`, with its normal and contact height.
     pub fn at(part: &SShape, id: usize, curve: Curve, u: f64, v: f64) -> Self {
         let s = curve.surface();

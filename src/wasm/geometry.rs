@@ -18,6 +18,11 @@ pub fn builtin_points_js() -> Result<JsValue, JsError> {
 /// left, - = overcut).
 #[wasm_bindgen(js_name = envelopeDeviation)]
 pub fn envelope_deviation_js(d_r: f64) -> Result<JsValue, JsError> {
+    if !d_r.is_finite() {
+        return Err(JsError::new(&format!(
+            "tool radius error {d_r} mm is not a finite number"
+        )));
+    }
     let part = SShape::iso();
     let dev = crate::toolpath::points_deviation(&part, &builtin_points(&part), d_r)
         .map_err(|e| JsError::new(&e.to_string()))?;
@@ -36,6 +41,9 @@ pub fn surface_max_overcut_js() -> Result<JsValue, JsError> {
         .map_err(|e| JsError::new(&e.to_string()))?;
     to_js(&maxima)
 }
+
+/// Most layers [`multilayer_deviation_js`] computes (the work grows with the count).
+pub const MAX_LAYERS: usize = 1000;
 
 /// Multi-layer flank milling with a tool rotation-profile error (paper 001 §2-3) at the 100
 /// built-in points. `heights`/`radii`: the measured profile (mm above the tip, mm; same length,
@@ -60,6 +68,11 @@ pub fn multilayer_deviation_js(
             "{} profile heights but {} radii",
             heights.len(),
             radii.len()
+        )));
+    }
+    if layers > MAX_LAYERS {
+        return Err(JsError::new(&format!(
+            "{layers} layers: at most {MAX_LAYERS} are computed (a test piece is cut in a few)"
         )));
     }
     let table: Vec<(f64, f64)> = heights.into_iter().zip(radii).collect();

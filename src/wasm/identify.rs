@@ -23,6 +23,27 @@ struct JsIdentifyOptions {
     curves: Option<Vec<String>>,
 }
 
+/// Guards of the array arguments: at least one point, one deviation per point, weights empty or
+/// one per point (the core checks the values: finite, weights >= 0).
+fn check_rows(n: usize, deviation: &[f64], weights: &[f64]) -> Result<(), JsError> {
+    if n == 0 {
+        return Err(JsError::new("the design has no points (n = 0)"));
+    }
+    if deviation.len() != n {
+        return Err(JsError::new(&format!(
+            "{} deviations for {n} points",
+            deviation.len()
+        )));
+    }
+    if !weights.is_empty() && weights.len() != n {
+        return Err(JsError::new(&format!(
+            "{} weights for {n} points (give none or one per point)",
+            weights.len()
+        )));
+    }
+    Ok(())
+}
+
 /// Identifies the parameters of a design from measured deviations.
 ///
 /// - `design`: the n x p design matrix, **column-major** (`design[j*n + i]` = point i, column j),
@@ -50,6 +71,7 @@ pub fn identify_design(
         serde_wasm_bindgen::from_value(options)
             .map_err(|e| JsError::new(&format!("identify options: {e}")))?
     };
+    check_rows(n, deviation, weights)?;
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
     let mut d = Design::from_column_major(&name_refs, n, design)
         .map_err(|e| JsError::new(&e.to_string()))?;
@@ -93,6 +115,7 @@ pub fn compensation_csv(
     weights: &[f64],
     tool_radius: bool,
 ) -> Result<String, JsError> {
+    check_rows(n, deviation, weights)?;
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
     let mut d = Design::from_column_major(&name_refs, n, design)
         .map_err(|e| JsError::new(&e.to_string()))?;

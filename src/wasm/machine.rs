@@ -7,7 +7,7 @@ use super::to_js;
 use crate::machine::description::MachineDescription;
 use crate::machine::direct::tool_point;
 use crate::machine::location_errors::minimal_set;
-use crate::machine::{AxisKind, AxisName, AxisValues, Branch, Chain};
+use crate::machine::{AxisName, AxisValues, Branch, Chain};
 use crate::part::{builtin_points, SShape};
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityOptions};
 
@@ -92,29 +92,23 @@ pub fn forward_kinematics(description: &str, values: &[f64]) -> Result<Float64Ar
             values.len()
         )));
     }
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(JsError::new(&format!(
+            "row {}, axis {}: value {} is not a finite number",
+            i / 6 + 1,
+            ["X", "Y", "Z", "A", "B", "C"][i % 6],
+            values[i]
+        )));
+    }
     let k = desc.angle_unit.to_rad();
     let mut out = Vec::with_capacity(values.len());
     for row in values.chunks(6) {
         let mut q = AxisValues::default();
         for (n, v) in AxisName::ALL.iter().zip(row) {
-            q.set(
-                *n,
-                if n.kind() == AxisKind::Rotary {
-                    v * k
-                } else {
-                    *v
-                },
-            );
+            q.set_in_units(*n, *v, k);
         }
         let t = tool_point(&chain, &q, 0.0, &errors).map_err(err)?;
-        out.extend_from_slice(&[
-            t.point.x,
-            t.point.y,
-            t.point.z,
-            t.direction.x,
-            t.direction.y,
-            t.direction.z,
-        ]);
+        out.extend_from_slice(&t.to_array());
     }
     Ok(Float64Array::from(&out[..]))
 }

@@ -7,11 +7,13 @@ use wasm_bindgen::prelude::*;
 pub mod analysis;
 pub mod bench;
 pub mod cmm;
+pub mod curves;
 pub mod examples;
 pub mod gap;
 pub mod geometry;
 pub mod identify;
 pub mod machine;
+pub mod pool;
 
 /// Converts a core result to a plain JS object (maps as objects, not `Map`).
 pub(crate) fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {

@@ -45,10 +45,19 @@ async function openPage() {
   page.on('pageerror', (e) => errors.push(e.message));
   const t0 = Date.now();
   await page.goto(url);
-  await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
   await page.waitForSelector('[data-chart="figure19"] svg polyline', { state: 'attached', timeout: 30000 });
-  return { page, errors, firstPlotMs: Date.now() - t0 };
+  const firstPlotWallMs = Date.now() - t0;
+  await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+  // The page's own User Timing marks (ms from navigation start): app.js evaluated, core ready
+  // (worker up, wasm compiled, first answers), first plot (Figure 19) drawn, example analysed.
+  const marks = await page.evaluate(() => Object.fromEntries(performance.getEntriesByType('mark')
+    .filter((m) => m.name.startsWith('tp-')).map((m) => [m.name.slice(3), Math.round(m.startTime)])));
+  const nav = await page.evaluate(() => { const n = performance.getEntriesByType('navigation')[0]; return n ? Math.round(n.domContentLoadedEventEnd) : null; });
+  return { page, errors, firstPlotMs: marks['first-plot'], firstPlotWallMs, marks, domContentLoaded: nav };
 }
+
+const EX = (f) => path.join(EXAMPLES, f);
+const num = async (loc) => Number(await loc.getAttribute('data-value'));
 
 async function upload(page, file) {
   await page.setInputFiles('#file', file);
@@ -57,8 +66,10 @@ async function upload(page, file) {
 }
 
 test('the example part is analysed at once and its numbers are the core\'s', async () => {
-  const { page, errors, firstPlotMs } = await openPage();
-  console.log(`first plot ${firstPlotMs} ms after opening the page (localhost, includes wasm start)`);
+  const { page, errors, firstPlotMs, firstPlotWallMs, marks, domContentLoaded } = await openPage();
+  // Reported, not asserted (issue 7: < 1 s on localhost; this machine is shared by several builds).
+  console.log(`first plot (Figure 19) ${firstPlotMs} ms after navigation start (performance mark; ${firstPlotWallMs} ms wall clock from goto); ` +
+    `DOMContentLoaded ${domContentLoaded} ms; marks ${JSON.stringify(marks)}`);
   const native = JSON.parse(cli('identify', path.join(EXAMPLES, 'example_backlash_c.csv'), '--json'));
   // The parameters table shows 4 significant digits of the wasm core's EA0B.
   const row = page.locator('[data-table="parameters"] tr', { hasText: 'EA0B' });
@@ -67,7 +78,7 @@ test('the example part is analysed at once and its numbers are the core\'s', asy
   assert.ok(Math.abs(shown - ea0b) <= 1e-9 * Math.abs(ea0b) + 1e-15, `EA0B page ${shown} vs CLI ${ea0b}`);
   assert.equal(await page.textContent('#version'), cli('--version').trim().split(' ')[1]);
   assert.deepEqual(errors, []);
-  for (const t of ['data', 'fig19', 'identify', 'gap', 'report']) {
+  for (const t of ['data', 'fig19', 'identify', 'gap', 'parts', 'report']) {
     await page.click(`#tab-${t}`);
     await page.screenshot({ path: path.join(SHOTS, `view-${t}.png`), fullPage: true });
   }
@@ -158,5 +169,130 @@ test('the single-file build works from file:// with no server', async () => {
   assert.match(await page.textContent('#summary'), /from 100 points/);
   assert.deepEqual(errors, []);
   await page.screenshot({ path: path.join(SHOTS, 'single-file.png'), fullPage: false });
+  await page.close();
+});
+
+test('several parts: pooled identification and side-by-side comparison equal the CLI', async () => {
+  const { page, errors } = await openPage();
+  // A second part of example_clean's machine (its key's xi_true), another noise draw: pooling
+  // the two shrinks each std by about 1/√2.
+  const key = JSON.parse(fs.readFileSync(EX('example_clean.key.json'), 'utf8'));
+  const errs = Object.entries(key.xi_true).map(([k, v]) => `${k}=${v}`).join(',');
+  const second = path.join(SHOTS, '..', 'out', 'clean_second_part.csv');
+  fs.mkdirSync(path.dirname(second), { recursive: true });
+  fs.writeFileSync(second, cli('simulate', '--errors', errs, '--noise', '0.0015', '--seed', '8'));
+  const [a, b] = ['example_clean.csv', 'clean_second_part.csv'];
+  const file = (f) => (f === b ? second : EX(f));
+  await page.setInputFiles('#file', [EX(a), second]);
+  await page.click('#tab-parts');
+  await page.waitForSelector('#pool-summary', { timeout: 60000 });
+  await page.waitForSelector('#compare-summary', { timeout: 60000 });
+  const pooled = JSON.parse(cli('identify', file(a), file(b), '--json'));
+  assert.equal(pooled.points_used, 200);
+  for (const [name, p] of Object.entries(pooled.parameters)) {
+    const row = page.locator('[data-table="pooled-parameters"] tbody tr', { has: page.locator(`td:text-is("${name}")`) });
+    const v = await num(row.locator('td').nth(1));
+    assert.ok(Math.abs(v - p.value) <= 1e-9 * Math.abs(p.value) + 1e-15, `pooled ${name}: page ${v} vs CLI ${p.value}`);
+    if (p.std !== null) {
+      const ratio = await num(row.locator('td').nth(5));
+      console.log(`pooled ${name}: std ${p.std.toExponential(3)}, std / best single ${ratio.toFixed(3)}`);
+      assert.ok(ratio < 0.9, `${name}: pooling two parts of one machine shrinks the std (ratio ${ratio})`);
+    }
+  }
+  const cmp = JSON.parse(cli('compare', file(a), file(b), '--json'));
+  assert.equal(await page.textContent('#compare-summary'), cmp.summary);
+  for (const d of cmp.differences) {
+    const row = page.locator('[data-table="comparison"] tbody tr', { has: page.locator(`td:text-is("${d.name}")`) });
+    if (d.z !== null) {
+      const z = await num(row.locator('td').nth(8));
+      assert.ok(Math.abs(z - d.z) <= 1e-9 * Math.abs(d.z) + 1e-12, `${d.name}: z page ${z} vs CLI ${d.z}`);
+    }
+  }
+  console.log(`compare: ${cmp.summary}`);
+  // Swap A and B: every z changes sign.
+  await page.selectOption('#compare-a', b);
+  await page.selectOption('#compare-b', a);
+  await page.waitForFunction((x) => document.querySelector('#compare-summary')?.textContent.startsWith(x), `${a} vs ${b}`);
+  await page.screenshot({ path: path.join(SHOTS, 'view-parts.png'), fullPage: true });
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('the machine setting changes the chain, its error set and the curves; cone and path coefficients are drawn', async () => {
+  const { page, errors } = await openPage();
+  const native = JSON.parse(cli('identify', EX('example_backlash_c.csv'), '--machine', 'paper002', '--json'));
+  await page.selectOption('#machine', 'paper002');
+  // The tilting table's minimal set has the same names as paper 000's head/table machine: wait
+  // for its residual, which differs.
+  const rms = `RMS ${(native.residual.rms * 1000).toFixed(2)} µm`;
+  await page.waitForFunction((r) => document.querySelector('#summary')?.textContent.includes(r), rms, { timeout: 60000 });
+  assert.match(await page.textContent('#view-fig19'), /tilting table/);
+  const names = await page.locator('[data-table="parameters"] tbody tr td:first-child').allTextContents();
+  assert.deepEqual([...names].sort(), Object.keys(native.parameters).sort());
+  for (const [n, p] of Object.entries(native.parameters)) {
+    const row = page.locator('[data-table="parameters"] tbody tr', { has: page.locator(`td:text-is("${n}")`) });
+    const v = await num(row.locator('td').nth(1));
+    assert.ok(Math.abs(v - p.value) <= 1e-8 * Math.abs(p.value) + 1e-14, `paper002 ${n}: page ${v} vs CLI ${p.value}`);
+  }
+  await page.click('#tab-fig19');
+  await page.waitForSelector('[data-chart="cone-frustum"] polyline', { state: 'attached', timeout: 60000 });
+  await page.waitForSelector('[data-chart="path-coefficients"] polyline', { state: 'attached', timeout: 60000 });
+  await page.selectOption('#cone-kind', 'M3_45');
+  await page.waitForFunction(() => document.querySelector('[data-chart="cone-frustum"]')?.textContent.includes('M3_45'), null, { timeout: 60000 });
+  await page.screenshot({ path: path.join(SHOTS, 'view-fig19-cone-paper002.png'), fullPage: true });
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('a long computation can be cancelled (worker restarted) and the page keeps working', async () => {
+  const { page } = await openPage();
+  const t0 = Date.now();
+  await page.check('#toolRadius');
+  await page.waitForFunction(() => document.body.dataset.busy === 'true', null, { timeout: 10000 });
+  await page.evaluate(() => document.getElementById('cancel').click());
+  await page.waitForFunction(() => !document.body.dataset.busy, null, { timeout: 30000 });
+  assert.match(await page.textContent('#summary'), /cancelled/);
+  console.log(`cancelled after ${Date.now() - t0} ms`);
+  // The restarted worker computes the next request.
+  const t1 = Date.now();
+  await page.uncheck('#toolRadius');
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('from 100 points'), null, { timeout: 60000 });
+  const ms = Date.now() - t1;
+  const shown = await page.evaluate(() => document.body.dataset.progressShown === 'true');
+  console.log(`re-analysis after the restart: ${ms} ms; progress indication shown: ${shown}`);
+  if (ms > 400) assert.ok(shown, 'a computation over 200 ms shows the progress indication');
+  await page.close();
+});
+
+test('tablet layout (820x1180) and keyboard access', async () => {
+  const { page } = await openPage();
+  await page.setViewportSize({ width: 820, height: 1180 });
+  const overflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  assert.ok(overflow <= 1, `no sideways scrolling of the page at 820 px (overflow ${overflow} px)`);
+  for (const t of ['data', 'fig19', 'identify', 'gap', 'parts', 'report']) {
+    await page.click(`#tab-${t}`);
+    await page.screenshot({ path: path.join(SHOTS, `tablet-${t}.png`), fullPage: false });
+  }
+  // Keyboard: the tabs move with the arrow keys; every control reached with Tab has a name.
+  await page.focus('#tab-data');
+  await page.keyboard.press('ArrowRight');
+  assert.equal(await page.evaluate(() => document.activeElement.id), 'tab-fig19');
+  assert.equal(await page.getAttribute('#tab-fig19', 'aria-selected'), 'true');
+  assert.equal(await page.isHidden('#view-data'), true);
+  await page.evaluate(() => document.activeElement.blur());
+  const reached = [];
+  for (let i = 0; i < 40; i++) {
+    await page.keyboard.press('Tab');
+    reached.push(await page.evaluate(() => {
+      const e = document.activeElement;
+      const label = e.labels && e.labels.length ? e.labels[0].textContent : '';
+      const name = (e.getAttribute('aria-label') || label || e.textContent || e.title || '').trim();
+      return { tag: e.tagName, id: e.id, name, outline: getComputedStyle(e).outlineStyle };
+    }));
+  }
+  const unnamed = reached.filter((r) => r.tag !== 'BODY' && !r.name);
+  assert.deepEqual(unnamed, [], 'every focusable control has an accessible name');
+  for (const id of ['example', 'drop', 'machine', 'l0', 'mode', 'tab-fig19']) assert.ok(reached.some((r) => r.id === id), `Tab reaches #${id}`);
+  console.log(`Tab order (first 40): ${reached.map((r) => r.id || r.tag.toLowerCase()).join(' ')}`);
   await page.close();
 });

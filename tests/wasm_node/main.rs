@@ -3,7 +3,9 @@
 #![cfg(target_arch = "wasm32")]
 
 mod cmm;
+mod cmm_broken;
 mod geometry;
 mod identify;
 mod machine;
+mod parity;
 mod summary;

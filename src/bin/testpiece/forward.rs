@@ -5,7 +5,7 @@ use std::io::Read;
 use crate::args::Args;
 use testpiece::machine::description::MachineDescription;
 use testpiece::machine::direct::tool_point;
-use testpiece::machine::{AxisKind, AxisValues};
+use testpiece::machine::AxisValues;
 
 const HELP: &str = "\
 testpiece forward --machine FILE [--json]
@@ -70,23 +70,11 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             let v: f64 = field.parse().map_err(|_| {
                 format!("stdin row {}: {name} = `{field}` is not a number", row + 2)
             })?;
-            let v = if name.kind() == AxisKind::Rotary {
-                v * to_rad
-            } else {
-                v
-            };
-            q.set(name, v);
+            q.set_in_units(name, v, to_rad);
         }
         let t =
             tool_point(&chain, &q, 0.0, &errors).map_err(|e| format!("row {}: {e}", row + 2))?;
-        out.push([
-            t.point.x,
-            t.point.y,
-            t.point.z,
-            t.direction.x,
-            t.direction.y,
-            t.direction.z,
-        ]);
+        out.push(t.to_array());
     }
     if json {
         let rows: Vec<_> = out

@@ -1,16 +1,19 @@
 //! `testpiece identify FILE`: identify the machine's errors from a measured part.
 
 use crate::args::Args;
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse, AnalysisOptions, MachineChoice};
 use testpiece::identify::monte_carlo::{monte_carlo, CmmMpe, MonteCarloOptions, Noise};
 use testpiece::identify::{export, ExcludedPoint, IdentifyOptions, Status};
 use testpiece::machine::Branch;
+use testpiece::pool::{identify_pooled, PoolOptions};
 use testpiece::sensitivity::Mode;
 
 const HELP: &str = "\
 testpiece identify FILE [--mode physical|paper] [--branch signed|positive] [--tool-radius]
                         [--json | --export csv|json] [--sigma MM] [--no-refine]
                         [--exclude-bad-rows] [--monte-carlo RUNS] [--seed S]
+                        [--machine paper000|paper001|paper002] [--l0 MM]
+testpiece identify FILE1 FILE2 ... [--json] [--setup-per-part] [same options]
 
 Identifies the 8 ISO 230-1 location errors (EC0Y EA0Z EB0Z EA0C EB0C EX0B EA0B EC0B; rad, EX0B
 in mm) and, with --tool-radius, the tool-radius error dR (mm, + = a larger tool) from the
@@ -30,8 +33,17 @@ refused with every bad row listed (line, column, text found, what was expected).
 --no-refine       skips the exact-model check: by default the exact eq. 12 is evaluated at the
                   linear solution and Levenberg-Marquardt refines it when the linearisation error
                   exceeds 0.1 σ (reported under \"refinement\")
+--machine M       the chain: paper000 (B head / C table, default), paper001 (A-B head),
+                  paper002 (B-C tilting table); --l0 its pivot-to-tip length (mm, 499.889)
 --monte-carlo N   adds a Monte Carlo check (N runs, --seed, default 7) with the noise of the
                   paper's CMM: MPE_E = ±(3 + L/75) µm, R0 = 3 µm, σ = max(MPE/√3, R0/1.693)
+
+Several files: one machine from the pooled points of several parts (or repeated measurements)
+of the same machine and settings. The location errors are shared; with --tool-radius each part
+gets its own dR[k] (another or a reground tool per part); --setup-per-part adds each part's CMM
+datum alignment Rz[k] (rad), Tx[k], Ty[k] (mm). Point ids become k:id. The JSON has the fields
+of one file plus `pooled: true`, `parts` (name, points, residual_rms, residual_mean per part),
+`shared` and `per_part` (parameter names). No exact-model refinement on the pool.
 ";
 
 pub fn run(rest: &[String]) -> Result<(), String> {
@@ -40,7 +52,16 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     }
     let args = Args::parse(
         rest,
-        &["mode", "branch", "export", "sigma", "monte-carlo", "seed"],
+        &[
+            "mode",
+            "branch",
+            "export",
+            "sigma",
+            "monte-carlo",
+            "seed",
+            "machine",
+            "l0",
+        ],
     )?;
     let (mode, branch) = crate::simulate::mode_and_branch(&args)?;
     let tool_radius = args.flag("tool-radius");
@@ -68,17 +89,27 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             .map_err(|_| format!("--seed `{t}`: expected a non-negative integer"))?,
         None => 7,
     };
-    args.reject_unknown("identify")?;
-    let [file] = args.positional.as_slice() else {
-        return Err("`testpiece identify` needs exactly one FILE (see --help)".to_string());
-    };
-    if let Some(f) = &export_fmt {
-        if f != "csv" && f != "json" {
-            return Err(format!("--export `{f}`: expected csv or json"));
+    let machine = match args.value("machine").unwrap_or("paper000") {
+        "paper000" => MachineChoice::Paper000,
+        "paper001" => MachineChoice::Paper001,
+        "paper002" => MachineChoice::Paper002,
+        m => {
+            return Err(format!(
+                "--machine `{m}`: expected paper000, paper001 or paper002"
+            ))
         }
-    }
-    let bytes = std::fs::read(file).map_err(|e| format!("{file}: {e}"))?;
+    };
+    let l0 = match args.value("l0") {
+        Some(t) => t
+            .parse::<f64>()
+            .map_err(|_| format!("--l0 `{t}`: expected a length in mm"))?,
+        None => testpiece::machine::chain::PAPER000_L0,
+    };
+    let setup_per_part = args.flag("setup-per-part");
+    args.reject_unknown("identify")?;
     let settings = AnalysisOptions {
+        machine,
+        l0,
         mode: Mode::parse(&mode).map_err(|e| e.to_string())?,
         branch: Branch::parse(&branch)
             .ok_or_else(|| format!("--branch `{branch}`: expected signed or positive"))?,
@@ -86,11 +117,27 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         exclude_bad_rows,
         noise_sigma: sigma,
         refine: !no_refine,
-        ..AnalysisOptions::default()
+        known: None,
     };
-    let name = std::path::Path::new(file)
-        .file_name()
-        .map_or(file.clone(), |n| n.to_string_lossy().into_owned());
+    if args.positional.len() >= 2 {
+        if export_fmt.is_some() || runs.is_some() {
+            return Err("--export and --monte-carlo take one FILE, not a pool".to_string());
+        }
+        return pooled(&args.positional, settings, setup_per_part, json);
+    }
+    if setup_per_part {
+        return Err("--setup-per-part needs several files to pool".to_string());
+    }
+    let [file] = args.positional.as_slice() else {
+        return Err("`testpiece identify` needs a FILE (see --help)".to_string());
+    };
+    if let Some(f) = &export_fmt {
+        if f != "csv" && f != "json" {
+            return Err(format!("--export `{f}`: expected csv or json"));
+        }
+    }
+    let bytes = std::fs::read(file).map_err(|e| format!("{file}: {e}"))?;
+    let name = file_name(file);
     let analysis = analyse(&bytes, &name, &settings).map_err(|e| format!("{file}: {e}"))?;
     let lengths = analysis.lengths();
     let (design, obs) = analysis
@@ -208,5 +255,76 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             );
         }
     }
+    Ok(())
+}
+
+/// The file name of a path (for messages and part names).
+pub fn file_name(path: &str) -> String {
+    std::path::Path::new(path)
+        .file_name()
+        .map_or(path.to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+/// `identify FILE1 FILE2 ...`: one machine from the pooled points.
+fn pooled(
+    files: &[String],
+    analysis: AnalysisOptions,
+    setup_per_part: bool,
+    json: bool,
+) -> Result<(), String> {
+    let data = files
+        .iter()
+        .map(|f| std::fs::read(f).map_err(|e| format!("{f}: {e}")))
+        .collect::<Result<Vec<_>, _>>()?;
+    let names: Vec<String> = files.iter().map(|f| file_name(f)).collect();
+    let list: Vec<(&[u8], &str)> = data
+        .iter()
+        .zip(&names)
+        .map(|(b, n)| (b.as_slice(), n.as_str()))
+        .collect();
+    let opts = PoolOptions {
+        analysis,
+        setup_per_part,
+    };
+    let r = identify_pooled(&list, &opts).map_err(|e| e.to_string())?;
+    let id = &r.identification;
+    if json {
+        let mut v = serde_json::to_value(id).map_err(|e| e.to_string())?;
+        v["pooled"] = serde_json::json!(true);
+        v["parts"] = serde_json::to_value(&r.parts).map_err(|e| e.to_string())?;
+        v["shared"] = serde_json::json!(r.shared);
+        v["per_part"] = serde_json::json!(r.per_part);
+        v["mode"] = serde_json::json!(opts.analysis.mode.name());
+        v["branch"] = serde_json::to_value(opts.analysis.branch).map_err(|e| e.to_string())?;
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+        return Ok(());
+    }
+    println!(
+        "pooled: {} parts, {} points; rank {}, condition {:.4}",
+        r.parts.len(),
+        id.points_used,
+        id.rank,
+        id.condition
+    );
+    for p in &r.parts {
+        println!(
+            "  [{}] {}: {} points, residual rms {:.6} mm, mean {:.6} mm",
+            p.index, p.name, p.points, p.residual_rms, p.residual_mean
+        );
+    }
+    for p in &id.parameters.0 {
+        let std = p.std.map_or("-".to_string(), |s| format!("{s:.3e}"));
+        println!("{:<8} {:>14.6e} {:>12} {}", p.name, p.value, std, p.unit);
+    }
+    for g in &id.groups {
+        println!("group: {}", g.explanation);
+    }
+    println!(
+        "residual: rms {:.6} mm, max |r| {:.6} mm",
+        id.residual.rms, id.residual.max_abs
+    );
     Ok(())
 }

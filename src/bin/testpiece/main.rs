@@ -3,6 +3,7 @@
 
 mod args;
 mod budget;
+mod compare;
 mod diagnose;
 mod envelope;
 mod forward;
@@ -29,6 +30,7 @@ Commands:
   simulate    a synthetic measured part for given errors: id,curve,x,y,z,nx,ny,nz,deviation
   identify    the machine errors, groups, uncertainty and residuals from a measured part
   diagnose    the sim-to-real gap of a measured part: where, which effect, how far [--json]
+  compare     differences of two parts' parameters with σ_d = √(σa²+σb²), flagged at 2 and 3 σ
   validate    the withheld-effect benchmark of the gap diagnosis [--cases N] [--seed S] [--json]
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
@@ -61,6 +63,7 @@ fn main() -> ExitCode {
         "diagnose" => diagnose::run(rest),
         "validate" => validate::run(rest),
         "budget" => budget::run(rest),
+        "compare" => compare::run(rest),
         other => Err(format!(
             "unknown command `{other}`; run `testpiece --help` for the list"
         )),

@@ -1,7 +1,7 @@
 //! `testpiece points [--json] [--part ...]`: the built-in measurement points.
 
 use crate::args::Args;
-use testpiece::part::{builtin_points, ConeFrustum, SShape};
+use testpiece::part::{builtin_points, ConeFrustum, SShape, FLAT_COLUMNS};
 
 const HELP: &str = "\
 testpiece points [--json] [--part s-shape|M3_15|M3_45] [--offsets]
@@ -45,58 +45,35 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     if let Some(cone) = cone {
         let pts = cone.builtin_points();
         if json {
-            let v = serde_json::json!({ "part": cone, "points": pts });
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-            );
-            return Ok(());
+            return print_json(serde_json::json!({ "part": cone, "points": pts }));
         }
-        println!("id,curve,u,v,x,y,z,nx,ny,nz,h");
+        println!("id,curve,{FLAT_COLUMNS}");
         for p in &pts {
             println!(
-                "{},{}_Z{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
+                "{},{}_Z{},{}",
                 p.id,
                 cone.name,
                 p.level,
-                p.u,
-                p.v,
-                p.point.x,
-                p.point.y,
-                p.point.z,
-                p.normal.x,
-                p.normal.y,
-                p.normal.z,
-                p.h
+                p.flat().csv_fields()
             );
         }
         return Ok(());
     }
     let pts = builtin_points(&SShape::iso());
     if json {
-        let v = serde_json::json!({ "points": pts });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-        );
-        return Ok(());
+        return print_json(serde_json::json!({ "points": pts }));
     }
-    println!("id,curve,u,v,x,y,z,nx,ny,nz,h");
+    println!("id,curve,{FLAT_COLUMNS}");
     for p in &pts {
-        println!(
-            "{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
-            p.id,
-            p.curve,
-            p.u,
-            p.v,
-            p.point.x,
-            p.point.y,
-            p.point.z,
-            p.normal.x,
-            p.normal.y,
-            p.normal.z,
-            p.h
-        );
+        println!("{},{},{}", p.id, p.curve, p.flat().csv_fields());
     }
+    Ok(())
+}
+
+fn print_json(v: serde_json::Value) -> Result<(), String> {
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+    );
     Ok(())
 }

@@ -1,0 +1,309 @@
+//! Pooled identification: one machine from the points of several measured parts (or repeated
+//! measurements of one part), machined on the same machine with the same settings.
+//!
+//! Model (paper 000 eq. 14 stacked): part `k` with `n_k` matched points has its own design
+//! `A_k` (the sensitivity at its own matched `(surface, u, v)`, [`crate::analysis::design_at`])
+//! and deviations `y_k` (mm, `(measured − nominal)·N`, + = material left). The machine's location
+//! errors `x` are one set shared by every part:
+//!
+//! ```text
+//! [y_1]   [A_1  P_1   0 ] [x  ]
+//! [y_2] = [A_2   0   P_2] [z_1] + e,     e ~ N(0, σ² I)
+//! [ … ]   [ …           ] [z_2]
+//! ```
+//!
+//! with `z_k` the terms that belong to one part, not to the machine:
+//! - `dR[k]` (mm, + = a larger tool; column −1 on part `k`'s rows) when the tool-radius term is
+//!   fitted: each part may be cut with another tool or a reground one, so the radius error is a
+//!   property of the part's cut, not of the machine;
+//! - with `setup_per_part`, the CMM datum alignment of each part (effects.md `setup_error`):
+//!   `Rz[k]` (rad, rotation about Z), `Tx[k]`, `Ty[k]` (mm), columns `(ẑ × p)·N = −p_y N_x + p_x N_y`,
+//!   `N_x`, `N_y`. Off by default: each part's deviations are already in its own datum frame and
+//!   the single-part analysis has no such terms, so pooled and single results stay comparable;
+//!   on, it costs three parameters per part and absorbs whatever looks like a rigid-body shift
+//!   of one part (e.g. C-axis zero offset, which is identical to `Rz`).
+//!
+//! No per-part location or offset term is needed otherwise: in `physical` mode each part's origin
+//! is set at the reference pose (the tip at the part origin, B = C = 0), which the defect model
+//! already subtracts part by part. The stack is solved by [`crate::identify::identify`] (scaled
+//! SVD, groups, σ from the pooled residual or the given CMM σ). With `m` parts of the same
+//! design the standard deviations shrink by `1/√m`. The exact-model refinement of the
+//! single-part analysis is not applied to the pool (the linearisation error is reported per part
+//! by their own analyses).
+
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+use crate::analysis::{design_at, measurement_points, AnalysisError, AnalysisOptions};
+use crate::cmm::{read_and_match, ReadOptions};
+use crate::identify::{
+    identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
+    TOOL_RADIUS, TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM,
+};
+use crate::part::SShape;
+
+/// Settings of a pooled identification: those of one analysis plus the per-part setup terms.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default)]
+pub struct PoolOptions {
+    #[serde(flatten)]
+    pub analysis: AnalysisOptions,
+    /// Fit each part's CMM datum alignment (`Rz[k]`, `Tx[k]`, `Ty[k]`).
+    pub setup_per_part: bool,
+}
+
+/// Failures of a pooled identification.
+#[derive(Debug, thiserror::Error)]
+pub enum PoolError {
+    #[error("pooling needs at least 2 parts, {0} given")]
+    TooFew(usize),
+    #[error("{name}: {source}")]
+    Part {
+        name: String,
+        #[source]
+        source: AnalysisError,
+    },
+    #[error(
+        "{name} has parameters {found:?} but {first} has {expected:?}: pool parts of one machine"
+    )]
+    Mismatch {
+        name: String,
+        first: String,
+        found: Vec<String>,
+        expected: Vec<String>,
+    },
+    #[error("a known path deviation (budget) belongs to one part's points, not to a pool: analyse the parts one by one")]
+    KnownDeviation,
+    #[error("pooled identification: {0}")]
+    Identify(#[from] IdentifyError),
+}
+
+/// One part of a pool: its name, design at its own matched points and its observations.
+#[derive(Debug, Clone)]
+pub struct PoolPart {
+    pub name: String,
+    /// Design of the machine's parameters at the part's points (without `dR`).
+    pub design: Design,
+    pub observations: Observations,
+    /// Matched feet `(x, y)` and outward normals `(N_x, N_y)` (mm), for the setup columns.
+    pub feet: Vec<[f64; 4]>,
+    /// Rows the reader excluded at the caller's request.
+    pub excluded_rows: usize,
+}
+
+/// How one part sits in the pooled fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PooledPart {
+    pub name: String,
+    /// Its index in the per-part parameter names (`dR[k]`, …), from 1.
+    pub index: usize,
+    pub points: usize,
+    pub excluded_rows: usize,
+    /// RMS and mean of the pooled fit's residual on this part's points (mm).
+    pub residual_rms: f64,
+    pub residual_mean: f64,
+}
+
+/// The result of a pooled identification.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PooledIdentification {
+    pub version: &'static str,
+    pub settings: PoolOptions,
+    pub parts: Vec<PooledPart>,
+    /// The machine's parameters, shared by every part.
+    pub shared: Vec<String>,
+    /// The per-part parameters (`dR[k]`, `Rz[k]`, `Tx[k]`, `Ty[k]`).
+    pub per_part: Vec<String>,
+    /// The identification of the stack (point ids `k:id`).
+    pub identification: Identification,
+}
+
+/// Reads and matches one file and builds its design (the first stages of
+/// [`crate::analysis::analyse`]).
+pub fn pool_part(bytes: &[u8], name: &str, opts: &AnalysisOptions) -> Result<PoolPart, PoolError> {
+    let wrap = |source: AnalysisError| PoolError::Part {
+        name: name.to_string(),
+        source,
+    };
+    let part = SShape::iso();
+    let ropts = ReadOptions::default().with_exclude_bad_rows(opts.exclude_bad_rows);
+    let matched = read_and_match(bytes, name, &ropts).map_err(|e| wrap(e.into()))?;
+    let points = measurement_points(&part, &matched);
+    let plain = AnalysisOptions {
+        tool_radius: false,
+        ..opts.clone()
+    };
+    let (design, _) = design_at(&part, &points, &plain).map_err(wrap)?;
+    let observations = Observations::new(
+        matched.points.iter().map(|p| p.file.id.clone()).collect(),
+        points.iter().map(|p| p.curve.name().to_string()).collect(),
+        matched.deviations(),
+    );
+    let feet = matched
+        .points
+        .iter()
+        .map(|p| [p.foot[0], p.foot[1], p.normal[0], p.normal[1]])
+        .collect();
+    Ok(PoolPart {
+        name: name.to_string(),
+        design,
+        observations,
+        feet,
+        excluded_rows: matched.excluded.len(),
+    })
+}
+
+/// Stacks the parts' designs and observations with the per-part columns of `opts` (module docs).
+/// Returns the stacked design, observations and the names of the per-part parameters.
+pub fn stack(
+    parts: &[PoolPart],
+    opts: &PoolOptions,
+) -> Result<(Design, Observations, Vec<String>), PoolError> {
+    if parts.len() < 2 {
+        return Err(PoolError::TooFew(parts.len()));
+    }
+    let first = &parts[0];
+    let shared: Vec<Parameter> = first.design.parameters().to_vec();
+    for p in &parts[1..] {
+        if p.design.names() != first.design.names() {
+            return Err(PoolError::Mismatch {
+                name: p.name.clone(),
+                first: first.name.clone(),
+                found: p.design.names(),
+                expected: first.design.names(),
+            });
+        }
+    }
+    let mut params = shared.clone();
+    let mut per_part = Vec::new();
+    for k in 1..=parts.len() {
+        if opts.analysis.tool_radius {
+            params.push(Parameter::new(
+                &format!("{TOOL_RADIUS}[{k}]"),
+                "mm",
+                TYPICAL_LENGTH_MM,
+            ));
+        }
+        if opts.setup_per_part {
+            params.push(Parameter::new(
+                &format!("Rz[{k}]"),
+                "rad",
+                TYPICAL_ANGLE_RAD,
+            ));
+            for t in ["Tx", "Ty"] {
+                params.push(Parameter::new(
+                    &format!("{t}[{k}]"),
+                    "mm",
+                    TYPICAL_LENGTH_MM,
+                ));
+            }
+        }
+    }
+    per_part.extend(params[shared.len()..].iter().map(|p| p.name.clone()));
+    let n: usize = parts.iter().map(|p| p.design.rows()).sum();
+    let per = per_part.len() / parts.len();
+    let mut m = DMatrix::zeros(n, params.len());
+    let (mut ids, mut curves, mut dev) = (Vec::new(), Vec::new(), Vec::new());
+    let mut row = 0;
+    for (k, p) in parts.iter().enumerate() {
+        let a = p.design.matrix();
+        let col0 = shared.len() + k * per;
+        for i in 0..a.nrows() {
+            for j in 0..a.ncols() {
+                m[(row + i, j)] = a[(i, j)];
+            }
+            let mut c = col0;
+            if opts.analysis.tool_radius {
+                m[(row + i, c)] = -1.0;
+                c += 1;
+            }
+            if opts.setup_per_part {
+                let [x, y, nx, ny] = p.feet[i];
+                m[(row + i, c)] = -y * nx + x * ny;
+                m[(row + i, c + 1)] = nx;
+                m[(row + i, c + 2)] = ny;
+            }
+        }
+        let o = &p.observations;
+        ids.extend(o.ids.iter().map(|id| format!("{}:{id}", k + 1)));
+        curves.extend(o.curves.iter().cloned());
+        dev.extend(o.deviation.iter().copied());
+        row += a.nrows();
+    }
+    let design = Design::try_new(params, m)?;
+    Ok((design, Observations::new(ids, curves, dev), per_part))
+}
+
+/// Identifies one machine from several parts already read ([`pool_part`]).
+pub fn identify_parts(
+    parts: &[PoolPart],
+    opts: &PoolOptions,
+) -> Result<PooledIdentification, PoolError> {
+    let (design, obs, per_part) = stack(parts, opts)?;
+    let mut iopts = IdentifyOptions::default();
+    if let Some(s) = opts.analysis.noise_sigma {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(PoolError::Part {
+                name: "settings".into(),
+                source: AnalysisError::BadSigma(s),
+            });
+        }
+        iopts = iopts.with_sigma(s);
+    }
+    let mut identification = identify(&design, &obs, &iopts)?;
+    identification.notes.push(format!(
+        "pooled fit of {} parts ({} points): the machine's parameters are shared; {}",
+        parts.len(),
+        obs.len(),
+        if per_part.is_empty() {
+            "no per-part terms".to_string()
+        } else {
+            format!("per part: {}", per_part.join(", "))
+        }
+    ));
+    let mut out_parts = Vec::new();
+    let mut row = 0;
+    for (k, p) in parts.iter().enumerate() {
+        let n = p.design.rows();
+        let r: Vec<f64> = identification.points[row..row + n]
+            .iter()
+            .map(|q| q.residual)
+            .collect();
+        let nn = n.max(1) as f64;
+        out_parts.push(PooledPart {
+            name: p.name.clone(),
+            index: k + 1,
+            points: n,
+            excluded_rows: p.excluded_rows,
+            residual_rms: (r.iter().map(|v| v * v).sum::<f64>() / nn).sqrt(),
+            residual_mean: r.iter().sum::<f64>() / nn,
+        });
+        row += n;
+    }
+    Ok(PooledIdentification {
+        version: crate::VERSION,
+        settings: opts.clone(),
+        parts: out_parts,
+        shared: parts[0].design.names(),
+        per_part,
+        identification,
+    })
+}
+
+/// Reads, matches and identifies one machine from several CMM files `(bytes, name)`.
+pub fn identify_pooled(
+    files: &[(&[u8], &str)],
+    opts: &PoolOptions,
+) -> Result<PooledIdentification, PoolError> {
+    if files.len() < 2 {
+        return Err(PoolError::TooFew(files.len()));
+    }
+    if opts.analysis.known.is_some() {
+        return Err(PoolError::KnownDeviation);
+    }
+    let parts = files
+        .iter()
+        .map(|(b, n)| pool_part(b, n, &opts.analysis))
+        .collect::<Result<Vec<_>, _>>()?;
+    identify_parts(&parts, opts)
+}
