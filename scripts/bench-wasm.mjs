@@ -1,5 +1,8 @@
-// Times the same stages as benches/stages.rs through the release wasm (www/pkg) under Node.
-// Prints `stage<TAB>median_us`. Usage: node scripts/bench-wasm.mjs [FILTER]
+// Times the stages of benches/stages.rs (defined once in src/wasm/bench.rs: same calls, same
+// inputs) through the release wasm (www/pkg) under Node, and prints the table
+// `stage | native median | wasm median | wasm / native`, the native medians read from
+// target/bench-native.json (written by `cargo bench --bench stages`).
+// Usage: node scripts/bench-wasm.mjs [FILTER]   (env BENCH_BUDGET_MS: time per stage, 500)
 import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -8,12 +11,13 @@ const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const core = await import(path.join(ROOT, 'www', 'pkg', 'testpiece.js'));
 core.initSync({ module: fs.readFileSync(path.join(ROOT, 'www', 'pkg', 'testpiece_bg.wasm')) });
 const filter = process.argv[2];
+const budget = Number(process.env.BENCH_BUDGET_MS || 500);
 
-function median(f, budgetMs = 500) {
+function median(f) {
   f();
   const times = [];
   const start = performance.now();
-  while ((performance.now() - start < budgetMs || times.length < 5) && times.length < 100000) {
+  while ((performance.now() - start < budget || times.length < 5) && times.length < 100000) {
     const t = performance.now();
     f();
     times.push(performance.now() - t);
@@ -22,25 +26,25 @@ function median(f, budgetMs = 500) {
   return times[Math.floor(times.length / 2)] * 1000;
 }
 
-function cmmText(rows) {
-  const pts = core.builtinPoints();
-  let s = 'id,curve,x,y,z,nx,ny,nz,deviation\n';
-  for (let i = 0; i < rows; i++) {
-    const p = pts[i % pts.length];
-    s += `${i + 1},${p.curve},${p.x},${p.y},${p.z},${p.nx},${p.ny},${p.nz},${0.001 * ((i % 17) - 8)}\n`;
-  }
-  return new TextEncoder().encode(s);
+const STAGES = [
+  'bspline_eval_1000', 'builtin_points', 'projection_100', 'envelope_100', 'surface_max_overcut',
+  'inverse_kinematics_path', 'figure19_matrix', 'read_cmm_100', 'read_cmm_100000', 'identify_100',
+  'identify_100000', 'analyse_100',
+];
+let native = {};
+try {
+  native = JSON.parse(fs.readFileSync(path.join(ROOT, 'target', 'bench-native.json'), 'utf8'));
+} catch {
+  console.error('no target/bench-native.json: run `cargo bench --bench stages` first for the native column');
 }
-
-const stages = {
-  builtin_points: () => median(() => core.builtinPoints()),
-  envelope_100: () => median(() => core.envelopeDeviation(0)),
-  figure19_matrix: () => median(() => core.sensitivity('physical', 'signed')),
-  read_cmm_100: () => { const b = cmmText(100); return median(() => core.readCmm(b, 'bench.csv', undefined)); },
-  read_cmm_100000: () => { const b = cmmText(100000); return median(() => core.readCmm(b, 'bench.csv', undefined)); },
-  analyse_100: () => { const b = cmmText(100); return median(() => core.analyse(b, 'bench.csv', undefined)); },
-};
-for (const [name, f] of Object.entries(stages)) {
+const fmt = (us) => (us >= 1000 ? `${(us / 1000).toFixed(2)} ms` : `${us.toFixed(1)} µs`);
+console.log('| stage | native median | wasm median | wasm / native |');
+console.log('|---|---|---|---|');
+for (const name of STAGES) {
   if (filter && !name.includes(filter)) continue;
-  console.log(`${name}\t${f().toFixed(3)}`);
+  core.benchPrepare(name);
+  const w = median(() => core.benchRun(name));
+  const n = native[name];
+  const ratio = n > 0 ? (w / n).toFixed(2) : '—';
+  console.log(`| ${name} | ${n > 0 ? fmt(n) : '—'} | ${fmt(w)} | ${ratio} |`);
 }

@@ -93,6 +93,30 @@ pub fn split_all(data: &[(usize, &str)], sep: Separator) -> Vec<Record> {
             })
             .collect();
     };
+    // Lines without quotes or carriage returns split exactly as the `csv` crate splits them:
+    // one record per line, fields between the separators (the common case, without the copy
+    // of the whole table and the per-record overhead of the reader).
+    if data
+        .iter()
+        .all(|(_, t)| !t.bytes().any(|c| c == b'"' || c == b'\r'))
+    {
+        let sep = b as char;
+        return data
+            .iter()
+            .enumerate()
+            .map(|(index, &(line, t))| Record {
+                index,
+                line,
+                fields: t.split(sep).map(|f| f.trim().to_string()).collect(),
+                spans_to: None,
+            })
+            .collect();
+    }
+    split_all_csv(data, b)
+}
+
+/// [`split_all`] by the `csv` crate over the whole table (quotes may carry a record over lines).
+fn split_all_csv(data: &[(usize, &str)], b: u8) -> Vec<Record> {
     let joined = data.iter().map(|(_, t)| *t).collect::<Vec<_>>().join("\n");
     // No csv-level trimming (it copies every record); fields are trimmed when made Strings.
     let mut reader = csv::ReaderBuilder::new()
@@ -347,6 +371,22 @@ pub fn split_rows(data: &[(usize, &str)], sep: Separator, layout: &Layout) -> Sp
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn quote_free_lines_split_as_the_csv_reader_splits_them() {
+        let lines = [
+            "1, A_Z11 ,1.5,2,3,,",
+            "2;x,y",
+            " 3 ,\t4\t, 5e-3 ",
+            ",",
+            "7,\u{a0}8\u{a0},9",
+        ];
+        let data: Vec<(usize, &str)> = lines.iter().enumerate().map(|(i, t)| (i + 2, *t)).collect();
+        for sep in [Separator::Comma, Separator::Semicolon, Separator::Tab] {
+            let b = sep.byte().unwrap();
+            assert_eq!(split_all(&data, sep), split_all_csv(&data, b), "{sep:?}");
+        }
+    }
 
     #[test]
     fn header_detection() {

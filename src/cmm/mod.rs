@@ -28,6 +28,7 @@ pub mod rows;
 pub mod table;
 pub mod units;
 
+use std::collections::hash_map::Entry;
 use std::collections::HashMap;
 
 pub use delimited::Separator;
@@ -98,12 +99,14 @@ fn duplicates(points: &mut Vec<CmmPoint>, table: &ParsedTable) -> Vec<RowProblem
         return Vec::new();
     };
     let col = &table.layout.columns[k];
-    let mut first: HashMap<(Option<String>, String), usize> = HashMap::with_capacity(points.len());
+    // Keys borrow the points (no copy of every id); the rows to drop are removed afterwards.
+    let mut first: HashMap<(Option<&str>, &str), usize> = HashMap::with_capacity(points.len());
     let mut problems = Vec::new();
-    points.retain(|p| {
-        let key = (p.curve.clone(), p.id.clone());
-        match first.get(&key) {
-            Some(&line) => {
+    let mut repeated = vec![false; points.len()];
+    for (i, p) in points.iter().enumerate() {
+        match first.entry((p.curve.as_deref(), p.id.as_str())) {
+            Entry::Occupied(e) => {
+                let line = *e.get();
                 let within = match &p.curve {
                     Some(c) => format!(" in curve '{c}'"),
                     None => String::new(),
@@ -121,14 +124,21 @@ fn duplicates(points: &mut Vec<CmmPoint>, table: &ParsedTable) -> Vec<RowProblem
                         p.id
                     ),
                 });
-                false
+                repeated[i] = true;
             }
-            None => {
-                first.insert(key, p.line);
-                true
+            Entry::Vacant(e) => {
+                e.insert(p.line);
             }
         }
-    });
+    }
+    drop(first);
+    if !problems.is_empty() {
+        let mut k = 0;
+        points.retain(|_| {
+            k += 1;
+            !repeated[k - 1]
+        });
+    }
     problems
 }
 

@@ -18,7 +18,13 @@ pub fn has_decimal_comma(text: &str) -> bool {
 
 /// Parses one field. `decimal_comma`: accept `0,0123` (only where the separator is not a comma).
 pub fn parse_number(text: &str, decimal_comma: bool) -> Result<f64, NumberError> {
-    let t = text.trim().trim_matches('"').trim();
+    let t = text.trim();
+    // Quotes are rare: strip them only when there is one at an end (same result, no scan).
+    let t = if t.starts_with('"') || t.ends_with('"') {
+        t.trim_matches('"').trim()
+    } else {
+        t
+    };
     if t.is_empty() {
         return Err(NumberError::Empty);
     }

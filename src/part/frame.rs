@@ -20,6 +20,7 @@
 use nalgebra::Vector3;
 
 use super::s_shape::{SShape, Surface};
+use crate::geometry::bspline::MAX_STACK_DEGREE;
 use crate::geometry::CurveDerivs;
 
 /// The frame at `S(u, v)`: point (mm) and three unit vectors.
@@ -77,7 +78,11 @@ impl SShape {
     pub fn section_at(&self, s: Surface, u: f64) -> Section {
         let [c0, c1] = self.curves(s);
         let rational = c0.weights().iter().chain(c1.weights()).any(|w| *w != 1.0);
-        if rational || c0.knots() != c1.knots() || c0.degree() != c1.degree() {
+        if rational
+            || c0.knots() != c1.knots()
+            || c0.degree() != c1.degree()
+            || c0.degree() > MAX_STACK_DEGREE
+        {
             let d0 = c0.derivs_at(u);
             let d1 = c1.derivs_at(u);
             return Section {
@@ -94,10 +99,10 @@ impl SShape {
         let (lo, hi) = c0.domain();
         let uc = u.clamp(lo, hi);
         let p = c0.degree();
-        let (span, ders) = c0.basis_derivs(uc, 2);
+        let (span, ders) = c0.basis_derivs2(uc);
         let mut out = [[Vector3::zeros(); 3]; 3];
-        for (k, row) in ders.iter().enumerate().take(3) {
-            for (j, nb) in row.iter().enumerate() {
+        for (k, row) in ders.iter().enumerate().take(2.min(p) + 1) {
+            for (j, nb) in row[..=p].iter().enumerate() {
                 let i = span - p + j;
                 let (p0, p1) = (c0.control_points()[i], c1.control_points()[i]);
                 out[0][k] += p0 * *nb;

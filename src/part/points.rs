@@ -16,7 +16,7 @@ use serde::Serialize;
 
 use super::flat::Flat;
 use super::s_shape::{SShape, Surface, HEIGHT};
-use crate::geometry::{ArcLength, GeometryError};
+use crate::geometry::{ArcLength, BSplineCurve, GeometryError};
 use crate::toolpath::flank::contact_height;
 
 /// Points per measurement curve.
@@ -157,7 +157,25 @@ impl MeasurementPoint {
 /// The arc-length table of the curve `S(·, v)` of surface `s` (per knot span, 8 Gauss pieces).
 pub fn arc_length_table(part: &SShape, s: Surface, v: f64) -> ArcLength<impl Fn(f64) -> f64 + '_> {
     let [c0, c1] = part.curves(s);
-    let speed = move |u: f64| (c0.derivs_at(u).d1 * (1.0 - v) + c1.derivs_at(u).d1 * v).norm();
+    // |S_u(u, v)| from the hodograph of the curve S(·, v) = (1-v)·C0 + v·C1 (one degree-2
+    // basis evaluation per call; the same speed as the two curves' derivatives, to rounding).
+    let hodograph = (c0.knots() == c1.knots() && c0.degree() == c1.degree())
+        .then(|| {
+            let blend = c0
+                .control_points()
+                .iter()
+                .zip(c1.control_points())
+                .map(|(p0, p1)| p0 * (1.0 - v) + p1 * v)
+                .collect();
+            BSplineCurve::try_new(c0.degree(), c0.knots().to_vec(), blend).ok()
+        })
+        .flatten()
+        .filter(|_| c0.weights().iter().chain(c1.weights()).all(|w| *w == 1.0))
+        .and_then(|c| c.hodograph());
+    let speed = move |u: f64| match &hodograph {
+        Some(h) => h.point_at(u).norm(),
+        None => (c0.derivs_at(u).d1 * (1.0 - v) + c1.derivs_at(u).d1 * v).norm(),
+    };
     ArcLength::new(speed, c0.knots(), 8)
 }
 
