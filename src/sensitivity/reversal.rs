@@ -125,19 +125,38 @@ pub fn backlash_signatures(
     axes: &[AxisName],
     opts: &SensitivityOptions,
 ) -> Result<Vec<Vec<f64>>, SensitivityError> {
+    backlash_signatures_on(&passes(part, opts)?, part, points, axes, opts)
+}
+
+/// The passes of surfaces A and B ([`Surface::BOTH`] order), for callers that need them for
+/// several things (signatures and reversal positions): each costs 20,001 inverse kinematics.
+pub fn passes(part: &SShape, opts: &SensitivityOptions) -> Result<[Pass; 2], SensitivityError> {
+    Ok([
+        pass(part, Surface::BOTH[0], opts)?,
+        pass(part, Surface::BOTH[1], opts)?,
+    ])
+}
+
+/// [`backlash_signatures`] on passes already computed by [`passes`] with the same `opts`.
+pub fn backlash_signatures_on(
+    passes: &[Pass; 2],
+    part: &SShape,
+    points: &[MeasurementPoint],
+    axes: &[AxisName],
+    opts: &SensitivityOptions,
+) -> Result<Vec<Vec<f64>>, SensitivityError> {
     let mut out = vec![vec![0.0; points.len()]; axes.len()];
-    for surface in Surface::BOTH {
+    for (surface, p) in Surface::BOTH.into_iter().zip(passes) {
         let idx: Vec<usize> = (0..points.len())
             .filter(|&i| points[i].surface == surface)
             .collect();
         if idx.is_empty() {
             continue;
         }
-        let p = pass(part, surface, opts)?;
         let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
         let poses = machine_path(part, &opts.chain, surface, opts.branch, &us)?;
         for (a, &axis) in axes.iter().enumerate() {
-            let e = lagged_offset(&p, axis);
+            let e = lagged_offset(p, axis);
             for (&i, pose) in idx.iter().zip(&poses) {
                 let pt = &points[i];
                 // Linear interpolation in u between the grid samples around the point (the

@@ -11,7 +11,8 @@
 //! flank path of both surfaces at the points), `figure19_matrix`, `read_cmm_100` and
 //! `read_cmm_100000` (canonical CSV, the built-in points repeated), `identify_100` and
 //! `identify_100000` (the Figure-19 design with `dR`, the rows repeated, synthetic deviations),
-//! `analyse_100` (read, match, identify, refine and the full gap diagnosis of a 100-row file).
+//! `analyse_100` (read, match, identify, refine and the full gap diagnosis of a 100-row file),
+//! `diagnose_100` (the gap diagnosis alone: part model with all candidates, cross-validation).
 
 use nalgebra::{DMatrix, Vector3};
 use wasm_bindgen::prelude::*;
@@ -22,7 +23,7 @@ use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{machine_path, sensitivity_matrix, SensitivityOptions};
 
 /// The stage names, in table order.
-pub const STAGES: [&str; 12] = [
+pub const STAGES: [&str; 13] = [
     "bspline_eval_1000",
     "builtin_points",
     "projection_100",
@@ -35,6 +36,7 @@ pub const STAGES: [&str; 12] = [
     "identify_100",
     "identify_100000",
     "analyse_100",
+    "diagnose_100",
 ];
 
 /// A canonical CMM file of `rows` rows: the 100 built-in points repeated with unique ids and a
@@ -98,6 +100,7 @@ pub enum Stage {
     Read(String),
     Identify(Design, Observations),
     Analyse(String),
+    Diagnose(SShape, Vec<MeasurementPoint>, Vec<f64>),
 }
 
 impl Stage {
@@ -127,6 +130,15 @@ impl Stage {
                 Stage::Identify(d, o)
             }
             "analyse_100" => Stage::Analyse(cmm_text(100)),
+            "diagnose_100" => {
+                let devs = crate::cmm::read_cmm(cmm_text(100).as_bytes(), "bench.csv")
+                    .map_err(|x| x.to_string())?
+                    .points
+                    .iter()
+                    .map(|p| p.deviation.unwrap_or(0.0))
+                    .collect();
+                Stage::Diagnose(part, pts, devs)
+            }
             _ => {
                 return Err(format!(
                     "unknown stage `{name}` (expected one of {STAGES:?})"
@@ -196,6 +208,12 @@ impl Stage {
                 analyse(text.as_bytes(), "bench.csv", &AnalysisOptions::default())
                     .map_err(|x| e(&x))?;
                 1.0
+            }
+            Stage::Diagnose(part, pts, devs) => {
+                crate::analysis::diagnose_points(part, pts, devs, None)
+                    .map_err(|x| e(&x))?
+                    .baseline
+                    .rms
             }
         })
     }

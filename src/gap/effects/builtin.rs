@@ -115,7 +115,9 @@ pub fn part_model(part: &SShape, points: &[MeasurementPoint]) -> Result<PartMode
         .collect();
     let geo = geometric_candidates(part, &eps, &envelope)?;
     let scales = scale_signatures(part, points, &opts)?;
-    let backlash = backlash_columns(part, points, &opts)?;
+    let passes = crate::sensitivity::reversal::passes(part, &opts)
+        .map_err(|e| GapError::Model(e.to_string()))?;
+    let backlash = backlash_columns(&passes, part, points, &opts)?;
     let take = |id: &str| geo.iter().find(|c| c.id == id).cloned();
     let mut candidates = Vec::new();
     for info in crate::gap::catalog::EFFECTS {
@@ -136,7 +138,7 @@ pub fn part_model(part: &SShape, points: &[MeasurementPoint]) -> Result<PartMode
         points: point_meta(points, &eps),
         baseline,
         candidates,
-        reversals: reversals(part, &opts)?,
+        reversals: reversals(&passes),
     })
 }
 

@@ -11,9 +11,9 @@
 use crate::gap::data::Reversal;
 use crate::gap::GapError;
 use crate::machine::{AxisName, ErrorParam};
-use crate::part::{MeasurementPoint, SShape, Surface};
+use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::defect::jacobian_rows;
-use crate::sensitivity::reversal::{backlash_signatures, directions, pass};
+use crate::sensitivity::reversal::{backlash_signatures_on, directions, Pass};
 use crate::sensitivity::SensitivityOptions;
 
 fn model_err(e: impl std::fmt::Display) -> GapError {
@@ -51,23 +51,25 @@ pub fn scale_signatures(
         .collect())
 }
 
-/// `backlash_<axis>.b` columns (mm/mm or mm/rad), axes of [`BACKLASH_AXES`].
+/// `backlash_<axis>.b` columns (mm/mm or mm/rad), axes of [`BACKLASH_AXES`], on the passes of
+/// [`crate::sensitivity::reversal::passes`].
 pub fn backlash_columns(
+    passes: &[Pass; 2],
     part: &SShape,
     points: &[MeasurementPoint],
     opts: &SensitivityOptions,
 ) -> Result<Vec<Vec<f64>>, GapError> {
-    backlash_signatures(part, points, &BACKLASH_AXES, opts).map_err(model_err)
+    backlash_signatures_on(passes, part, points, &BACKLASH_AXES, opts).map_err(model_err)
 }
 
-/// Where each axis reverses along the path: tool-tip path length from the start of A (mm).
-pub fn reversals(part: &SShape, opts: &SensitivityOptions) -> Result<Vec<Reversal>, GapError> {
+/// Where each axis reverses along the passes (A then B): tool-tip path length from the start of
+/// A (mm).
+pub fn reversals(passes: &[Pass; 2]) -> Vec<Reversal> {
     let mut out = Vec::new();
     let mut offset = 0.0;
-    for surface in Surface::BOTH {
-        let p = pass(part, surface, opts).map_err(model_err)?;
+    for p in passes {
         for axis in BACKLASH_AXES {
-            let d = directions(&p, axis);
+            let d = directions(p, axis);
             for k in 1..d.len() {
                 if d[k] != d[k - 1] {
                     out.push(Reversal {
@@ -80,5 +82,5 @@ pub fn reversals(part: &SShape, opts: &SensitivityOptions) -> Result<Vec<Reversa
         offset += p.s.last().copied().unwrap_or(0.0);
     }
     out.sort_by(|a, b| a.s.total_cmp(&b.s));
-    Ok(out)
+    out
 }
