@@ -2,7 +2,6 @@
 //! analysis settings, and paper 002's surface-frame coefficients (eq. 11-14) along the S-shape
 //! flank path and along the M3 cone-frustum path.
 
-use js_sys::{Float64Array, Object, Reflect};
 use nalgebra::Vector3;
 use wasm_bindgen::prelude::*;
 
@@ -23,12 +22,6 @@ fn options(options: JsValue) -> Result<AnalysisOptions, JsError> {
         .map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))
 }
 
-fn set(o: &Object, k: &str, v: &JsValue) -> Result<(), JsError> {
-    Reflect::set(o, &JsValue::from_str(k), v)
-        .map(|_| ())
-        .map_err(|_| JsError::new(&format!("could not set `{k}` on the result")))
-}
-
 /// Figure-19 matrix at the 100 built-in points for the analysis settings `options`
 /// (`{machine, l0, mode, branch}`): same result as `sensitivity` (`{ids, curves, params, rows,
 /// cols, values}`, column-major, mm per unit error) but for the chosen chain.
@@ -44,18 +37,7 @@ pub fn sensitivity_for(options_js: JsValue) -> Result<JsValue, JsError> {
     let part = SShape::iso();
     let m = sensitivity_matrix(&part, &builtin_points(&part), &sensitivity_options(&opts))
         .map_err(|e| JsError::new(&e.to_string()))?;
-    let o = Object::new();
-    set(&o, "ids", &to_js(&m.ids)?)?;
-    set(&o, "curves", &to_js(&m.curves)?)?;
-    set(&o, "params", &to_js(&m.params)?)?;
-    set(&o, "rows", &JsValue::from(m.values.nrows() as u32))?;
-    set(&o, "cols", &JsValue::from(m.values.ncols() as u32))?;
-    set(
-        &o,
-        "values",
-        &Float64Array::from(m.values.as_slice()).into(),
-    )?;
-    Ok(o.into())
+    super::machine::matrix_to_js(&m)
 }
 
 #[derive(serde::Serialize)]

@@ -9,7 +9,7 @@ use crate::machine::direct::tool_point;
 use crate::machine::location_errors::minimal_set;
 use crate::machine::{AxisName, AxisValues, Branch, Chain};
 use crate::part::{builtin_points, SShape};
-use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityOptions};
+use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions};
 
 fn set(o: &Object, k: &str, v: &JsValue) -> Result<(), JsError> {
     Reflect::set(o, &JsValue::from_str(k), v)
@@ -44,13 +44,18 @@ pub fn sensitivity(mode: &str, branch: &str) -> Result<JsValue, JsError> {
         .with_mode(mode)
         .with_branch(branch);
     let m = sensitivity_matrix(&part, &points, &opts).map_err(|e| JsError::new(&e.to_string()))?;
+    matrix_to_js(&m)
+}
+
+/// A sensitivity matrix as `{ids, curves, params, rows, cols, values}`, `values` a
+/// Float64Array in column-major order (nalgebra's storage).
+pub(crate) fn matrix_to_js(m: &SensitivityMatrix) -> Result<JsValue, JsError> {
     let o = Object::new();
     set(&o, "ids", &to_js(&m.ids)?)?;
     set(&o, "curves", &to_js(&m.curves)?)?;
     set(&o, "params", &to_js(&m.params)?)?;
     set(&o, "rows", &JsValue::from(m.values.nrows() as u32))?;
     set(&o, "cols", &JsValue::from(m.values.ncols() as u32))?;
-    // nalgebra stores column-major.
     set(
         &o,
         "values",
