@@ -4,11 +4,10 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use nalgebra::Vector3;
-use testpiece::machine::inverse::inverse_path;
 use testpiece::machine::{AxisName, Branch, Chain, ErrorParam};
 use testpiece::sensitivity::cone_frustum::ConeFrustum;
 use testpiece::sensitivity::frenet::{
-    coefficients, surface_frames, Coefficients, Cutting, SurfaceFrame,
+    coefficients, cone_frames, Coefficients, Cutting, SurfaceFrame,
 };
 
 fn motion(c: AxisName) -> ErrorParam {
@@ -19,25 +18,10 @@ fn motion(c: AxisName) -> ErrorParam {
     }
 }
 
-fn cone_frames(cone: &ConeFrustum) -> (Chain, Vec<SurfaceFrame>) {
+fn cone_frames_720(cone: &ConeFrustum) -> (Chain, Vec<SurfaceFrame>) {
     let chain = Chain::paper002();
-    let n = 720;
-    let phis: Vec<f64> = (0..n)
-        .map(|k| 2.0 * std::f64::consts::PI * k as f64 / n as f64)
-        .collect();
-    let path = inverse_path(
-        &chain,
-        Branch::Positive,
-        |p| cone.tool_pose(p),
-        (0.0, phis[n - 1]),
-        2000,
-        &phis,
-    )
-    .unwrap();
-    let tips: Vec<Vector3<f64>> = phis.iter().map(|&p| cone.tool_pose(p).0).collect();
-    let axes: Vec<Vector3<f64>> = phis.iter().map(|&p| cone.tool_pose(p).1).collect();
-    let q: Vec<_> = path.iter().map(|s| s.values).collect();
-    (chain, surface_frames(&tips, &axes, &q, Cutting::Up))
+    let (_, frames) = cone_frames(cone, &chain, Branch::Positive, 720).unwrap();
+    (chain, frames)
 }
 
 fn coef(chain: &Chain, frames: &[SurfaceFrame], c: AxisName) -> Coefficients {
@@ -51,7 +35,7 @@ fn max_abs(v: &[f64]) -> f64 {
 #[test]
 fn frame_is_orthonormal_and_normal_points_out_of_the_cone() {
     let cone = ConeFrustum::m3_15();
-    let (_, frames) = cone_frames(&cone);
+    let (_, frames) = cone_frames_720(&cone);
     let a = Vector3::new(cone.inclination.sin(), 0.0, cone.inclination.cos());
     for f in &frames {
         // t ⊥ b holds for a flank path on a cone only to first order in the step.
@@ -66,7 +50,7 @@ fn frame_is_orthonormal_and_normal_points_out_of_the_cone() {
 #[test]
 fn m3_15_without_offset_matches_paper002_findings() {
     let cone = ConeFrustum::m3_15();
-    let (chain, frames) = cone_frames(&cone);
+    let (chain, frames) = cone_frames_720(&cone);
     let exx = coef(&chain, &frames, AxisName::X);
     let eyy = coef(&chain, &frames, AxisName::Y);
     let ezz = coef(&chain, &frames, AxisName::Z);
@@ -100,7 +84,7 @@ fn m3_15_without_offset_matches_paper002_findings() {
     // the normal error of a rotation about an axis through (or near) the cone is far below that
     // of the same rotation with the 62.5 mm / 30 mm offsets.
     let off = ConeFrustum::m3_15().with_offsets();
-    let (chain_o, frames_o) = cone_frames(&off);
+    let (chain_o, frames_o) = cone_frames_720(&off);
     let ebb_o = coef(&chain_o, &frames_o, AxisName::B);
     let ecc_o = coef(&chain_o, &frames_o, AxisName::C);
     eprintln!(

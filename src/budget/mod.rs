@@ -33,6 +33,7 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::AnalysisError;
+use crate::cmm::error::{list_line_problems, write_line_problem};
 use crate::cmm::{CmmError, ColumnRef};
 use crate::machine::MachineError;
 use crate::toolpath::ToolpathError;
@@ -92,26 +93,19 @@ pub struct LineProblem {
 
 impl fmt::Display for LineProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "line {}", self.line)?;
-        if let Some(c) = &self.column {
-            write!(f, ", {c}")?;
-        }
-        write!(
+        write_line_problem(
             f,
-            ": {}: found '{}', expected {}",
-            self.reason, self.found, self.expected
+            self.line,
+            self.column.as_ref(),
+            &self.reason,
+            &self.found,
+            &self.expected,
         )
     }
 }
 
 fn list_problems(p: &[LineProblem]) -> String {
-    let shown: Vec<String> = p.iter().take(50).map(|r| format!("\n  {r}")).collect();
-    let more = if p.len() > 50 {
-        format!("\n  … and {} more", p.len() - 50)
-    } else {
-        String::new()
-    };
-    shown.concat() + &more
+    list_line_problems(p, 50)
 }
 
 /// Failures of the budget stage, with the offending values.

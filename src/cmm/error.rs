@@ -90,26 +90,52 @@ pub struct RowProblem {
 
 impl fmt::Display for RowProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "line {}", self.line)?;
-        if let Some(c) = &self.column {
-            write!(f, ", {c}")?;
-        }
-        write!(
+        write_line_problem(
             f,
-            ": {}: found '{}', expected {}",
+            self.line,
+            self.column.as_ref(),
             self.kind.reason(),
-            self.found,
-            self.expected
+            &self.found,
+            &self.expected,
         )
     }
 }
 
-/// Lists row problems one per line, for [`CmmError::BadRows`].
-fn list_rows(rows: &[RowProblem]) -> String {
-    rows.iter()
+/// The one wording of a bad line, shared by every reader (CMM rows, tool paths, NC traces):
+/// `line L, column C 'name': reason: found 'F', expected E`.
+pub fn write_line_problem(
+    f: &mut fmt::Formatter<'_>,
+    line: usize,
+    column: Option<&ColumnRef>,
+    reason: &str,
+    found: &str,
+    expected: &str,
+) -> fmt::Result {
+    write!(f, "line {line}")?;
+    if let Some(c) = column {
+        write!(f, ", {c}")?;
+    }
+    write!(f, ": {reason}: found '{found}', expected {expected}")
+}
+
+/// Lists problems one per line; past `cap` of them, says how many more there are.
+pub fn list_line_problems<T: fmt::Display>(problems: &[T], cap: usize) -> String {
+    let shown: String = problems
+        .iter()
+        .take(cap)
         .map(|r| format!("\n  {r}"))
-        .collect::<Vec<_>>()
-        .concat()
+        .collect();
+    if problems.len() > cap {
+        format!("{shown}\n  … and {} more", problems.len() - cap)
+    } else {
+        shown
+    }
+}
+
+/// Lists row problems one per line, for [`CmmError::BadRows`] (all of them: the reader's own
+/// limits bound how many there can be).
+fn list_rows(rows: &[RowProblem]) -> String {
+    list_line_problems(rows, usize::MAX)
 }
 
 fn distinct_lines(rows: &[RowProblem]) -> usize {

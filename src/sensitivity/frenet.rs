@@ -16,10 +16,12 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::machine::direct::jacobian;
-use crate::machine::{AxisValues, Chain, ErrorParam, MachineErrors};
+use crate::machine::inverse::inverse_path;
+use crate::machine::{AxisValues, Branch, Chain, ErrorParam, MachineErrors};
 use crate::part::{SShape, Surface};
 use crate::toolpath::flank::tool_pose;
 
+use super::cone_frustum::ConeFrustum;
 use super::defect::SensitivityOptions;
 use super::path::machine_path;
 use super::SensitivityError;
@@ -143,4 +145,33 @@ pub fn flank_frames(
     let axes: Vec<Vector3<f64>> = poses.iter().map(|p| p.axis).collect();
     let q: Vec<AxisValues> = path.iter().map(|p| p.values).collect();
     Ok(surface_frames(&tips, &axes, &q, cutting))
+}
+
+/// Surface frames around the cone frustum `cone` (paper 002 §4.2) at `samples` equally spaced
+/// `φ` in [0, 2π), machined by `chain` on `branch`, up-cutting; returns the angles (rad) with
+/// the frames.
+pub fn cone_frames(
+    cone: &ConeFrustum,
+    chain: &Chain,
+    branch: Branch,
+    samples: usize,
+) -> Result<(Vec<f64>, Vec<SurfaceFrame>), SensitivityError> {
+    let n = samples.max(2);
+    let phis: Vec<f64> = (0..n)
+        .map(|k| 2.0 * std::f64::consts::PI * k as f64 / n as f64)
+        .collect();
+    let path = inverse_path(
+        chain,
+        branch,
+        |p| cone.tool_pose(p),
+        (0.0, phis[n - 1]),
+        2000,
+        &phis,
+    )?;
+    let poses: Vec<_> = phis.iter().map(|&p| cone.tool_pose(p)).collect();
+    let tips: Vec<Vector3<f64>> = poses.iter().map(|p| p.0).collect();
+    let axes: Vec<Vector3<f64>> = poses.iter().map(|p| p.1).collect();
+    let q: Vec<AxisValues> = path.iter().map(|p| p.values).collect();
+    let frames = surface_frames(&tips, &axes, &q, Cutting::Up);
+    Ok((phis, frames))
 }

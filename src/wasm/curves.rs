@@ -2,16 +2,14 @@
 //! analysis settings, and paper 002's surface-frame coefficients (eq. 11-14) along the S-shape
 //! flank path and along the M3 cone-frustum path.
 
-use nalgebra::Vector3;
 use wasm_bindgen::prelude::*;
 
 use super::to_js;
 use crate::analysis::{sensitivity_options, AnalysisOptions};
-use crate::machine::inverse::inverse_path;
 use crate::machine::{Branch, Chain, ErrorParam};
 use crate::part::{builtin_points, SShape, Surface};
 use crate::sensitivity::cone_frustum::ConeFrustum;
-use crate::sensitivity::frenet::{coefficients, flank_frames, surface_frames, Cutting};
+use crate::sensitivity::frenet::{coefficients, cone_frames, flank_frames, Cutting};
 use crate::sensitivity::sensitivity_matrix;
 
 fn options(options: JsValue) -> Result<AnalysisOptions, JsError> {
@@ -105,23 +103,8 @@ pub fn cone_coefficients(kind: &str, offsets: bool, samples: usize) -> Result<Js
         cone = cone.with_offsets();
     }
     let chain = Chain::paper002();
-    let n = samples.clamp(8, 4000);
-    let phis: Vec<f64> = (0..n)
-        .map(|k| 2.0 * std::f64::consts::PI * k as f64 / n as f64)
-        .collect();
-    let path = inverse_path(
-        &chain,
-        Branch::Positive,
-        |p| cone.tool_pose(p),
-        (0.0, phis[n - 1]),
-        2000,
-        &phis,
-    )
-    .map_err(|e| JsError::new(&e.to_string()))?;
-    let tips: Vec<Vector3<f64>> = phis.iter().map(|&p| cone.tool_pose(p).0).collect();
-    let axes: Vec<Vector3<f64>> = phis.iter().map(|&p| cone.tool_pose(p).1).collect();
-    let q: Vec<_> = path.iter().map(|s| s.values).collect();
-    let frames = surface_frames(&tips, &axes, &q, Cutting::Up);
+    let (phis, frames) = cone_frames(&cone, &chain, Branch::Positive, samples.clamp(8, 4000))
+        .map_err(|e| JsError::new(&e.to_string()))?;
     let params: Vec<ErrorParam> = crate::machine::location_errors::minimal_set(&chain)
         .free()
         .into_iter()
