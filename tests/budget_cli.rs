@@ -3,19 +3,9 @@
 //! `tests/data/budget/`: the JSON fields of the contract, the CSV rows, the sum per point, the
 //! messages of a bad CL file and of missing options.
 
-use std::process::Command;
+mod cli_common;
 
-fn testpiece(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_testpiece"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+use cli_common::testpiece;
 
 fn data(name: &str) -> String {
     format!("{}/tests/data/budget/{name}", env!("CARGO_MANIFEST_DIR"))

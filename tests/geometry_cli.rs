@@ -3,21 +3,14 @@
 //! independent implementation) within the tolerances of `testpiece::tolerance`.
 #![cfg(not(target_arch = "wasm32"))]
 
-use std::process::Command;
+mod cli_common;
 
+use cli_common::{testpiece, testpiece_ok};
 use testpiece::tolerance::{ENVELOPE_MM, POINTS_MM, SURFACE_MAX_MM};
 
 fn run(args: &[&str]) -> Vec<csv::StringRecord> {
-    let out = Command::new(env!("CARGO_BIN_EXE_testpiece"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    csv::Reader::from_reader(out.stdout.as_slice())
+    let out = testpiece_ok(args);
+    csv::Reader::from_reader(out.as_bytes())
         .records()
         .map(Result::unwrap)
         .collect()
@@ -85,10 +78,7 @@ fn surface_max_command_matches_envelope_surface_max_csv() {
 
 #[test]
 fn unknown_options_fail_with_a_message() {
-    let out = Command::new(env!("CARGO_BIN_EXE_testpiece"))
-        .args(["envelope", "--bogus"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--bogus"));
+    let (ok, _, stderr) = testpiece(&["envelope", "--bogus"]);
+    assert!(!ok);
+    assert!(stderr.contains("--bogus"));
 }

@@ -4,19 +4,9 @@
 mod identify_common;
 
 use identify_common::*;
-use std::process::Command;
+mod cli_common;
 
-fn testpiece(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_testpiece"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+use cli_common::testpiece;
 
 fn example(name: &str) -> String {
     format!(

@@ -23,16 +23,6 @@ fn no_nan(id: &Identification) {
     assert!(id.residual.rms.is_finite());
 }
 
-/// Typical-size random error vectors (±3e-4 rad, ±0.03 mm as the examples' README).
-fn xi_strategy() -> impl Strategy<Value = Vec<f64>> {
-    prop::collection::vec(-1.0f64..1.0, 8).prop_map(|u| {
-        u.iter()
-            .enumerate()
-            .map(|(j, v)| if j == 5 { 0.03 * v } else { 3e-4 * v })
-            .collect()
-    })
-}
-
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 

@@ -7,8 +7,10 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 mod edge_common;
+mod identify_common;
 
 use edge_common::*;
+use identify_common::xi_strategy;
 use proptest::prelude::*;
 use testpiece::analysis::{analyse, AnalysisOptions};
 use testpiece::identify::Status;
@@ -18,15 +20,6 @@ use testpiece::simulate::simulate_exact;
 const NAMES: [&str; 8] = [
     "EC0Y", "EA0Z", "EB0Z", "EA0C", "EB0C", "EX0B", "EA0B", "EC0B",
 ];
-
-fn xi_strategy() -> impl Strategy<Value = Vec<f64>> {
-    prop::collection::vec(-1.0f64..1.0, 8).prop_map(|u| {
-        u.iter()
-            .enumerate()
-            .map(|(j, v)| if j == 5 { 0.03 * v } else { 3e-4 * v })
-            .collect()
-    })
-}
 
 proptest! {
     // Each case is a full analysis with LM on the exact model (~1 s in the debug build).

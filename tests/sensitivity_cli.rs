@@ -2,8 +2,9 @@
 //! identifiability figures of spec s-shape.md (correlations and condition numbers).
 #![cfg(not(target_arch = "wasm32"))]
 
-use std::process::Command;
+mod cli_common;
 
+use cli_common::{testpiece, testpiece_ok};
 use nalgebra::DMatrix;
 use testpiece::machine::Branch;
 use testpiece::part::{builtin_points, SShape};
@@ -33,17 +34,8 @@ fn cli_matches_reference_in_both_modes_and_branches() {
             "sensitivity_physical_bpositive.csv",
         ),
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_testpiece"))
-            .arg("sensitivity")
-            .args(&args)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let (h1, a) = table(&String::from_utf8(out.stdout).unwrap());
+        let out = testpiece_ok(&[&["sensitivity"][..], &args[..]].concat());
+        let (h1, a) = table(&out);
         let path = format!("{}/tests/data/reference/{file}", env!("CARGO_MANIFEST_DIR"));
         let (h2, b) = table(&std::fs::read_to_string(path).unwrap());
         assert_eq!(h1, h2);
@@ -61,12 +53,9 @@ fn cli_matches_reference_in_both_modes_and_branches() {
             }
         }
     }
-    let bad = Command::new(env!("CARGO_BIN_EXE_testpiece"))
-        .args(["sensitivity", "--mode", "wrong"])
-        .output()
-        .unwrap();
-    assert!(!bad.status.success());
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("wrong"));
+    let (ok, _, stderr) = testpiece(&["sensitivity", "--mode", "wrong"]);
+    assert!(!ok);
+    assert!(stderr.contains("wrong"));
 }
 
 fn correlation(m: &DMatrix<f64>, i: usize, j: usize) -> f64 {

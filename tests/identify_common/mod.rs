@@ -78,3 +78,15 @@ pub fn key_truth(example: &str) -> BTreeMap<String, f64> {
     }
     out
 }
+
+/// Typical-size random error vectors of paper 000's eight location errors, in the design's order
+/// (±3e-4 rad, ±0.03 mm for EX0B, as the examples' README).
+pub fn xi_strategy() -> impl proptest::strategy::Strategy<Value = Vec<f64>> {
+    use proptest::prelude::*;
+    prop::collection::vec(-1.0f64..1.0, 8).prop_map(|u| {
+        u.iter()
+            .enumerate()
+            .map(|(j, v)| if j == 5 { 0.03 * v } else { 3e-4 * v })
+            .collect()
+    })
+}
