@@ -9,6 +9,7 @@ use testpiece::budget::synthetic::{flank_path, trace_of, write_apt, write_trace_
 use testpiece::budget::{
     error_budget, path_deviation, read_cl, read_trace, BudgetOptions, TraceMachine,
 };
+use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::machine::{AxisName, Branch};
 use testpiece::part::{builtin_points, SShape};
 use testpiece::simulate::{builtin_design, simulate_deviation};
@@ -59,23 +60,12 @@ fn generate() -> Vec<(&'static str, String)> {
         ("dR".to_string(), 0.005),
     ];
     let defect = simulate_deviation(&design, &errors, 0.001, 10).unwrap();
-    let mut cmm = String::from(
-        "# testpiece synthetic measured part for the budget example: deviation = NC trace deviation (example_trace.csv) + machine defect EX0B = 0.01 mm, EA0B = 1.2e-4 rad + dR = 0.005 mm + noise 1 um\nid,curve,x,y,z,nx,ny,nz,deviation\n",
+    let measured: Vec<f64> = d_trace.iter().zip(&defect).map(|(a, b)| a + b).collect();
+    let cmm = canonical_csv(
+        pts.iter().zip(measured),
+        Precision::Decimals(6),
+        Some("testpiece synthetic measured part for the budget example: deviation = NC trace deviation (example_trace.csv) + machine defect EX0B = 0.01 mm, EA0B = 1.2e-4 rad + dR = 0.005 mm + noise 1 um"),
     );
-    for ((p, a), b) in pts.iter().zip(&d_trace).zip(&defect) {
-        cmm += &format!(
-            "{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}\n",
-            p.id,
-            p.curve,
-            p.point.x,
-            p.point.y,
-            p.point.z,
-            p.normal.x,
-            p.normal.y,
-            p.normal.z,
-            a + b
-        );
-    }
     vec![
         ("example_cl.apt", apt),
         ("example_trace.csv", trace_text),

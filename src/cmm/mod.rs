@@ -27,6 +27,7 @@ pub mod plausibility;
 pub mod rows;
 pub mod table;
 pub mod units;
+pub mod write;
 
 use std::collections::hash_map::Entry;
 use std::collections::HashMap;

@@ -18,6 +18,7 @@ use nalgebra::{DMatrix, Vector3};
 use wasm_bindgen::prelude::*;
 
 use crate::analysis::{analyse, AnalysisOptions};
+use crate::cmm::write::{canonical_csv, Precision};
 use crate::identify::{identify, Design, IdentifyOptions, Observations};
 use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{machine_path, sensitivity_matrix, SensitivityOptions};
@@ -42,28 +43,22 @@ pub const STAGES: [&str; 13] = [
 /// A canonical CMM file of `rows` rows: the 100 built-in points repeated with unique ids and a
 /// small deterministic deviation.
 pub fn cmm_text(rows: usize) -> String {
-    use std::fmt::Write;
     let part = SShape::iso();
     let pts = builtin_points(&part);
-    let mut s = String::from("id,curve,x,y,z,nx,ny,nz,deviation\n");
-    for i in 0..rows {
-        let p = &pts[i % pts.len()];
-        // Writing to a String cannot fail.
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{},{}",
-            i + 1,
-            p.curve.name(),
-            p.point.x,
-            p.point.y,
-            p.point.z,
-            p.normal.x,
-            p.normal.y,
-            p.normal.z,
-            0.001 * ((i % 17) as f64 - 8.0)
-        );
-    }
-    s
+    let repeated: Vec<MeasurementPoint> = (0..rows)
+        .map(|i| MeasurementPoint {
+            id: i + 1,
+            ..pts[i % pts.len()]
+        })
+        .collect();
+    canonical_csv(
+        repeated
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p, 0.001 * ((i % 17) as f64 - 8.0))),
+        Precision::Shortest,
+        None,
+    )
 }
 
 /// The Figure-19 design with the tool-radius column, its rows repeated to `rows`, and

@@ -1,27 +1,17 @@
 //! Shared helpers of the edge-case tests: CMM files written from the built-in points.
 #![allow(dead_code)]
 
+use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::part::{builtin_points, MeasurementPoint, SShape};
 
 /// A CMM file (`id,curve,x,y,z,nx,ny,nz,deviation`, mm) of `points` with `deviation[i]`, every
 /// number written with Rust's shortest round-trip form (no rounding).
 pub fn csv_of(points: &[MeasurementPoint], deviation: &[f64]) -> String {
-    let mut s = String::from("id,curve,x,y,z,nx,ny,nz,deviation\n");
-    for (p, d) in points.iter().zip(deviation) {
-        s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{}\n",
-            p.id,
-            p.curve.name(),
-            p.point.x,
-            p.point.y,
-            p.point.z,
-            p.normal.x,
-            p.normal.y,
-            p.normal.z,
-            d
-        ));
-    }
-    s
+    canonical_csv(
+        points.iter().zip(deviation.iter().copied()),
+        Precision::Shortest,
+        None,
+    )
 }
 
 /// The 100 built-in points of the ISO S-shape.

@@ -1,6 +1,7 @@
 //! `testpiece simulate`: a synthetic measured part in the canonical CSV format.
 
 use crate::args::Args;
+use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::identify::{Design, ISO_LOCATION_ERRORS};
 use testpiece::part::{builtin_points, SShape};
 use testpiece::simulate::{parse_errors, simulate_deviation, simulate_exact};
@@ -98,13 +99,11 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             dev.len()
         ));
     }
-    let mut out = String::from("id,curve,x,y,z,nx,ny,nz,deviation\n");
-    for (p, d) in pts.iter().zip(&dev) {
-        out.push_str(&format!(
-            "{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?}\n",
-            p.id, p.curve, p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z, d
-        ));
-    }
+    let out = canonical_csv(
+        pts.iter().zip(dev.iter().copied()),
+        Precision::Shortest,
+        None,
+    );
     print!("{out}");
     Ok(())
 }
