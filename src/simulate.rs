@@ -201,9 +201,7 @@ pub fn simulate_deviation(
     noise_sigma: f64,
     seed: u64,
 ) -> Result<Vec<f64>, SimulateError> {
-    if !(noise_sigma.is_finite() && noise_sigma >= 0.0) {
-        return Err(SimulateError::BadNoise(noise_sigma));
-    }
+    check_noise(noise_sigma)?;
     let x = design.vector_from(errors)?;
     let mut y = design.predict(&x);
     add_noise(&mut y, noise_sigma, seed);
@@ -221,9 +219,7 @@ pub fn simulate_exact(
     seed: u64,
 ) -> Result<Vec<f64>, SimulateError> {
     use crate::identify::refine::ExactModel;
-    if !(noise_sigma.is_finite() && noise_sigma >= 0.0) {
-        return Err(SimulateError::BadNoise(noise_sigma));
-    }
+    check_noise(noise_sigma)?;
     let tool_radius = errors.iter().any(|(n, _)| n == TOOL_RADIUS);
     let design = builtin_design(mode, branch, tool_radius)?;
     let x = design.vector_from(errors)?;
@@ -233,6 +229,15 @@ pub fn simulate_exact(
         .map_err(|e| SimulateError::Design(IdentifyError::Model(e)))?;
     add_noise(&mut y, noise_sigma, seed);
     Ok(y)
+}
+
+/// A noise σ (mm) must be finite and ≥ 0.
+fn check_noise(sigma: f64) -> Result<(), SimulateError> {
+    if sigma.is_finite() && sigma >= 0.0 {
+        Ok(())
+    } else {
+        Err(SimulateError::BadNoise(sigma))
+    }
 }
 
 /// Adds `σ·z`, `z` standard normal from ChaCha8 seeded by `seed`, in row order.
