@@ -3,6 +3,7 @@
 
 use nalgebra::DVector;
 
+use super::catalog::{NONE, UNEXPLAINED};
 use super::data::GapInput;
 use super::equivalence::near_equivalent_pairs;
 use super::folds::{build_folds, withheld_sets};
@@ -10,9 +11,10 @@ use super::location::curve_sequences;
 use super::location::{locate, DETECT_FACTOR};
 use super::lsq::{max_abs, rms, Factor};
 use super::noise::second_difference_sigma;
+use super::pairs::best_pair;
 use super::report::{summary, BaselineReport, DiagnosisReport};
 use super::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
-use super::verdict::{decide, DecisionInput, ALPHA};
+use super::verdict::{decide, pair_verdict, DecisionInput, ALPHA};
 use super::which::{
     cross_validate, cv_score, estimates, fit_candidate, per_curve, BaselineFit, Context, SmoothFit,
 };
@@ -126,7 +128,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let equivalences = near_equivalent_pairs(&spans);
 
     // (d) VERDICT and (e) HOW FAR.
-    let verdict = decide(&DecisionInput {
+    let mut verdict = decide(&DecisionInput {
         fits: &fits,
         baseline_cv_score: base_cv_score,
         baseline_structured: structure.structured,
@@ -138,6 +140,16 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         cv_rms_before: baseline.cv.mse().sqrt(),
         baseline_per_curve: per_curve(&input.points, &r0, &r0, &baseline.cv, &baseline.cv),
     });
+    // (d') a pair, when no single candidate is named.
+    let mut pair = None;
+    if verdict.effect == UNEXPLAINED || verdict.effect == NONE {
+        if let Some(pf) = best_pair(&ctx, &input.candidates, &fits, base_cv_score) {
+            if let Some(w) = fits.iter().find(|f| f.effect == pf.first) {
+                verdict = pair_verdict(&verdict, &fits, w, &pf, opts.detect_factor);
+                pair = Some(pf);
+            }
+        }
+    }
     let mut report = DiagnosisReport {
         baseline: BaselineReport {
             rms: rms(&r0),
@@ -157,6 +169,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
             .map(|(name, _)| name)
             .collect(),
         verdict,
+        pair,
         summary: String::new(),
     };
     report.summary = summary(&report);

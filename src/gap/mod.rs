@@ -10,7 +10,8 @@
 //!    noise σ independent of smooth structure; runs / lag-1 / χ² tests;
 //! 3. WHICH ([`which`], [`folds`]): each candidate added on its own; F-test with Bonferroni, BIC,
 //!    k-fold by curve and by region; equivalences from the unabsorbed spans ([`equivalence`]);
-//! 4. VERDICT ([`verdict`]) by the decision rule of effects.md; HOW FAR per curve;
+//! 4. VERDICT ([`verdict`]) by the decision rule of effects.md; when the best candidate explains
+//!    only part of a structured gap, pairs with it ([`pairs`]); HOW FAR per curve;
 //! 5. a serialisable [`DiagnosisReport`] with a plain-language summary ([`report`]).
 //!
 //! Units: mm (deviations, residuals, RMS), parameters in their own units. Sign: deviation =
@@ -26,6 +27,7 @@ pub mod folds;
 pub mod location;
 pub mod lsq;
 pub mod noise;
+pub mod pairs;
 pub mod random;
 pub mod regions;
 pub mod report;

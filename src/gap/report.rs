@@ -5,8 +5,10 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+use super::catalog::plain_name;
 use super::equivalence::Equivalence;
 use super::location::{WhereEntry, WhereReport};
+use super::pairs::PairFit;
 use super::verdict::Verdict;
 use super::which::{CandidateFit, Estimate};
 
@@ -40,6 +42,8 @@ pub struct DiagnosisReport {
     /// Names of the folds of points withheld for cross-validation.
     pub folds: Vec<String>,
     pub verdict: Verdict,
+    /// The pair behind the verdict when two effects together explain the gap ([`super::pairs`]).
+    pub pair: Option<PairFit>,
     /// Plain-language summary; the first line is `Verdict: <plain name> (`<id>`)`.
     pub summary: String,
 }
@@ -51,7 +55,11 @@ fn um(x: f64) -> String {
 /// The plain-language summary of a report (first line: the verdict).
 pub fn summary(r: &DiagnosisReport) -> String {
     let v = &r.verdict;
-    let mut s = format!("Verdict: {} (`{}`)\n", v.plain_name, v.effect);
+    let mut s = format!("Verdict: {} (`{}`)", v.plain_name, v.effect);
+    for w in &v.with {
+        s += &format!(" together with {} (`{w}`)", plain_name(w));
+    }
+    s += "\n";
     s += &format!("Why: {}.\n", v.reason);
     if !v.parameters.is_empty() {
         let ps: Vec<String> = v
@@ -101,6 +109,13 @@ pub fn summary(r: &DiagnosisReport) -> String {
             .map(|c| format!(", concentrated in {c}"))
             .unwrap_or_default()
     );
+    if !v.with_equivalent.is_empty() {
+        s += &format!(
+            "In the pair, this part cannot tell `{}` apart from: {}.\n",
+            v.with.join(", "),
+            v.with_equivalent.join(", ")
+        );
+    }
     if let Some(p) = &v.partial {
         s += &format!("Partly explained by `{p}`.\n");
     }

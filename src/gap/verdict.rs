@@ -21,6 +21,7 @@ use serde::Serialize;
 
 use super::catalog::{plain_name, NONE, UNEXPLAINED};
 use super::equivalence::{cos_to_span, EQUIVALENT_COS};
+use super::pairs::PairFit;
 use super::which::{CandidateFit, CurveShrink, Estimate};
 use std::collections::BTreeMap;
 
@@ -55,6 +56,11 @@ pub struct Verdict {
     pub possible_below_limit: Vec<String>,
     /// The best candidate when the verdict is `unexplained` but one explains part of the gap.
     pub partial: Option<String>,
+    /// A second effect found together with the named one ([`super::pairs`]); empty otherwise.
+    /// The figures and parameters (`<effect>.<name>`) are then those of the pair.
+    pub with: Vec<String>,
+    /// Candidates this part cannot tell apart from the second effect of the pair.
+    pub with_equivalent: Vec<String>,
     /// Per curve, before/after.
     pub per_curve: Vec<CurveShrink>,
     /// One sentence saying why.
@@ -110,6 +116,8 @@ pub fn decide(d: &DecisionInput) -> Verdict {
         parameters: BTreeMap::new(),
         possible_below_limit: possible_below_limit.clone(),
         partial,
+        with: Vec::new(),
+        with_equivalent: Vec::new(),
         per_curve: d.baseline_per_curve.clone(),
         reason,
     };
@@ -149,22 +157,7 @@ pub fn decide(d: &DecisionInput) -> Verdict {
             Some(w.effect.clone()),
         );
     }
-    // Noise variance for the comparison: the larger of σ² and the winner's mean square.
-    let sigma2 = (w.rms * w.rms)
-        .max(w.evidence.sigma * w.evidence.sigma)
-        .max(f64::MIN_POSITIVE);
-    let rss_w = w.rms * w.rms * w.residual.len() as f64;
-    let equivalent: Vec<String> = d
-        .fits
-        .iter()
-        .filter(|f| f.effect != w.effect && f.evidence.added_rank > 0)
-        .filter(|f| {
-            let cos = cos_to_span(&w.unabsorbed_effect, &f.unabsorbed_basis);
-            let rss_f = f.rms * f.rms * f.residual.len() as f64;
-            cos >= EQUIVALENT_COS || (rss_f - rss_w) / sigma2 < CHI2_1_95
-        })
-        .map(|f| f.effect.clone())
-        .collect();
+    let equivalent = equivalents(d.fits, w);
     Verdict {
         effect: w.effect.clone(),
         plain_name: plain_name(&w.effect).into(),
@@ -180,6 +173,8 @@ pub fn decide(d: &DecisionInput) -> Verdict {
         parameters: w.parameters.clone(),
         possible_below_limit,
         partial: None,
+        with: Vec::new(),
+        with_equivalent: Vec::new(),
         per_curve: w.per_curve.clone(),
         reason: format!(
             "significant after Bonferroni over the candidates (p = {:.2e}), its visible part is {:.1} µm RMS (> 2.5σ = {:.1} µm), best on withheld points, and the residual left is noise",
@@ -188,4 +183,93 @@ pub fn decide(d: &DecisionInput) -> Verdict {
             limit * 1e3
         ),
     }
+}
+
+/// Candidates this part cannot tell apart from the winner `w`: those whose unabsorbed span
+/// reproduces `w`'s visible effect (cosine ≥ [`EQUIVALENT_COS`]) or whose fit is not
+/// significantly worse (χ²₁ rule of the module doc).
+pub fn equivalents(fits: &[CandidateFit], w: &CandidateFit) -> Vec<String> {
+    // Noise variance for the comparison: the larger of σ² and the winner's mean square.
+    let sigma2 = (w.rms * w.rms)
+        .max(w.evidence.sigma * w.evidence.sigma)
+        .max(f64::MIN_POSITIVE);
+    let rss_w = w.rms * w.rms * w.residual.len() as f64;
+    fits.iter()
+        .filter(|f| f.effect != w.effect && f.evidence.added_rank > 0)
+        .filter(|f| {
+            let cos = cos_to_span(&w.unabsorbed_effect, &f.unabsorbed_basis);
+            let rss_f = f.rms * f.rms * f.residual.len() as f64;
+            cos >= EQUIVALENT_COS || (rss_f - rss_w) / sigma2 < CHI2_1_95
+        })
+        .map(|f| f.effect.clone())
+        .collect()
+}
+
+/// The verdict of an accepted pair ([`super::pairs`]): the best single candidate `w` named, the
+/// pair's second effect under `with`, the pair's figures and parameters.
+pub fn pair_verdict(
+    before: &Verdict,
+    fits: &[CandidateFit],
+    w: &CandidateFit,
+    pair: &PairFit,
+    detect_factor: f64,
+) -> Verdict {
+    let f = &pair.fit;
+    let limit = detect_factor * f.evidence.sigma;
+    Verdict {
+        effect: w.effect.clone(),
+        plain_name: plain_name(&w.effect).into(),
+        equivalent: pair_equivalent(fits, w, &pair.first_equivalent, &pair.second),
+        rms_before: before.rms_before,
+        rms_after: f.rms,
+        max_before: before.max_before,
+        max_after: f.max_abs,
+        cv_rms_before: before.cv_rms_before,
+        cv_rms_after: f.cv_rms,
+        detection_limit: limit,
+        sigma: f.evidence.sigma,
+        parameters: f.parameters.clone(),
+        possible_below_limit: before.possible_below_limit.clone(),
+        partial: None,
+        with: vec![pair.second.clone()],
+        with_equivalent: pair_equivalent(
+            fits,
+            fits.iter().find(|c| c.effect == pair.second).unwrap_or(w),
+            &pair.second_equivalent,
+            &pair.first,
+        ),
+        per_curve: f.per_curve.clone(),
+        reason: format!(
+            "no single candidate explains the gap; `{}` together with `{}` does: `{}` adds {:.1} µm RMS beyond the baseline and `{}` (F-test p = {:.2e}, Bonferroni over the second candidates), predicts withheld points better than `{}` alone, and the residual left is noise",
+            w.effect,
+            pair.second,
+            pair.second,
+            pair.added_rms * 1e3,
+            w.effect,
+            pair.p_bonferroni,
+            w.effect
+        ),
+    }
+}
+
+/// Equivalents of one member `m` of a pair: the swaps that fit as well (`swaps`) and the candidates
+/// whose unabsorbed span reproduces `m`'s visible effect; never the pair's `other` member.
+fn pair_equivalent(
+    fits: &[CandidateFit],
+    m: &CandidateFit,
+    swaps: &[String],
+    other: &str,
+) -> Vec<String> {
+    let mut out: Vec<String> = swaps.to_vec();
+    for f in fits {
+        if f.effect != m.effect
+            && f.effect != other
+            && f.evidence.added_rank > 0
+            && !out.contains(&f.effect)
+            && cos_to_span(&m.unabsorbed_effect, &f.unabsorbed_basis) >= EQUIVALENT_COS
+        {
+            out.push(f.effect.clone());
+        }
+    }
+    out
 }

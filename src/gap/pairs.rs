@@ -1,0 +1,200 @@
+//! Pairs of effects (effects.md: the diagnosis "adds candidates one at a time (and may try
+//! pairs)"). A real part often carries two unmodelled effects at once, e.g. a worn tool and the
+//! lost motion of an axis. One at a time, each candidate then leaves the other effect in its
+//! residual: its σ is inflated, its visible part falls under 2.5 σ, and the single-candidate rule
+//! of [`super::verdict`] says `unexplained` (or even `none`, when the estimated noise absorbs the
+//! second effect).
+//!
+//! This step runs when the single-candidate verdict names no effect. The candidates that are
+//! significant on their own (F-test with Bonferroni), at most [`POOL`] of them by `cv_score`,
+//! are paired; pairs that the part cannot tell apart from one candidate (cosine ≥
+//! [`EQUIVALENT_COS`] between their unabsorbed spans) are skipped. Each pair `{c₁, c₂}` is
+//! refitted jointly with the baseline ([`fit_candidate`] on the stacked signature `[S₁ | S₂]`),
+//! and accepted when, with `RSS₁`, `RSS₂`, `RSS₁₂` the residual sums of squares of `c₁` alone,
+//! `c₂` alone and the pair, `p` the baseline rank and `q₁₂` the pair's added rank:
+//! - (a) each member adds significantly to the other:
+//!   `F = ((RSS_other − RSS₁₂)/Δq) / (RSS₁₂/(n − p − q₁₂))` against `F(Δq, n − p − q₁₂)`,
+//!   Bonferroni over the pairs tried, family-wise α;
+//! - (b) each member is visible: `√((RSS_other − RSS₁₂)/n)`, which by Frisch–Waugh–Lovell is the
+//!   RMS of the part of its fitted effect that neither the baseline nor the other member can
+//!   absorb, is above 2.5 σ (σ of the pair's fit, or the given repeatability);
+//! - (c) the pair predicts withheld points better than the baseline and than each member alone
+//!   (lower `cv_score`, which charges `ln n` per extra parameter);
+//! - (d) the pair explains the gap: the structure left is at most 2.5 σ.
+//!
+//! Among accepted pairs the lowest `cv_score` wins. The verdict names the member with the larger
+//! visible part first. A candidate the part cannot tell apart from a member is one that, in that
+//! member's place, fits not significantly worse (`(RSS' − RSS₁₂)/σ̂² < χ²₁(0.95)`), as for single
+//! candidates, or whose unabsorbed span reproduces the member's (cosine ≥ [`EQUIVALENT_COS`]).
+
+use nalgebra::DMatrix;
+use serde::Serialize;
+
+use super::data::{Candidate, NamedColumns};
+use super::equivalence::{cos_to_span, EQUIVALENT_COS};
+use super::stats;
+use super::verdict::CHI2_1_95;
+use super::which::{fit_candidate, CandidateFit, Context};
+
+/// Separator of the pair's id and of its parameter names (`backlash_y+tool_radius`,
+/// `tool_radius.dR`).
+pub const PAIR_JOIN: char = '+';
+
+/// The accepted pair and its evidence.
+#[derive(Debug, Clone, Serialize)]
+pub struct PairFit {
+    /// The best single candidate (the verdict's effect).
+    pub first: String,
+    /// The candidate added to it.
+    pub second: String,
+    /// Candidates this part cannot tell apart from `first` (in the pair with `second`).
+    pub first_equivalent: Vec<String>,
+    /// Candidates this part cannot tell apart from `second` (in the pair with `first`).
+    pub second_equivalent: Vec<String>,
+    /// F-test of `second` on top of `first`, Bonferroni-corrected p-value.
+    pub f: f64,
+    pub p_bonferroni: f64,
+    /// RMS of what `second` adds beyond baseline + `first` (mm).
+    pub added_rms: f64,
+    /// The joint fit (parameters named `<effect>.<parameter>`).
+    pub fit: CandidateFit,
+}
+
+/// The candidate `first + second`: stacked signatures, parameters named `<effect>.<name>`.
+fn stacked(first: &Candidate, second: &Candidate) -> Candidate {
+    let (a, b) = (&first.signature, &second.signature);
+    let n = a.matrix.nrows();
+    let mut m = DMatrix::zeros(n, a.matrix.ncols() + b.matrix.ncols());
+    m.columns_mut(0, a.matrix.ncols()).copy_from(&a.matrix);
+    m.columns_mut(a.matrix.ncols(), b.matrix.ncols())
+        .copy_from(&b.matrix);
+    let names = a
+        .names
+        .iter()
+        .map(|p| format!("{}.{p}", first.id))
+        .chain(b.names.iter().map(|p| format!("{}.{p}", second.id)))
+        .collect();
+    Candidate {
+        id: format!("{}{PAIR_JOIN}{}", first.id, second.id),
+        signature: NamedColumns { names, matrix: m },
+    }
+}
+
+/// Most candidates paired (the best by `cv_score` among the significant ones): 15 pairs.
+pub const POOL: usize = 6;
+
+/// `(RSS_other − RSS_pair)`: F-test p-value (uncorrected) and the visible RMS of the member.
+fn added(rss_other: f64, rss_pair: f64, dq: usize, dof: f64, n: f64) -> (f64, f64, f64) {
+    let f = ((rss_other - rss_pair).max(0.0) / dq as f64) / (rss_pair / dof);
+    let p = stats::f_sf(f, dq as f64, dof);
+    (f, p, ((rss_other - rss_pair).max(0.0) / n).sqrt())
+}
+
+/// Pairs the significant candidates `fits` (see the module doc); `None` when no pair meets
+/// (a)-(d). `baseline_cv_score` is the baseline's own score.
+pub fn best_pair(
+    ctx: &Context,
+    candidates: &[Candidate],
+    fits: &[CandidateFit],
+    baseline_cv_score: f64,
+) -> Option<PairFit> {
+    let n = ctx.y.len();
+    let nf = n as f64;
+    let p = ctx.baseline.factor.rank;
+    let mut pool: Vec<&CandidateFit> = fits
+        .iter()
+        .filter(|f| f.evidence.significant && f.evidence.added_rank > 0)
+        .collect();
+    pool.sort_by(|a, b| a.cv_score.total_cmp(&b.cv_score));
+    pool.truncate(POOL);
+    let mut pairs = Vec::new();
+    for (i, a) in pool.iter().enumerate() {
+        for b in &pool[i + 1..] {
+            let same = cos_to_span(&b.unabsorbed_effect, &a.unabsorbed_basis) >= EQUIVALENT_COS
+                || cos_to_span(&a.unabsorbed_effect, &b.unabsorbed_basis) >= EQUIVALENT_COS;
+            if !same {
+                pairs.push((*a, *b));
+            }
+        }
+    }
+    let tries = pairs.len().max(1);
+    let pair_ctx = Context { tries, ..*ctx };
+    let rss = |f: &CandidateFit| f.rms * f.rms * nf;
+    let mut tried: Vec<(String, String, f64)> = Vec::new();
+    let mut accepted: Vec<PairFit> = Vec::new();
+    for (a, b) in pairs {
+        let (ca, cb) = (
+            candidates.iter().find(|c| c.id == a.effect)?,
+            candidates.iter().find(|c| c.id == b.effect)?,
+        );
+        let fit = fit_candidate(&pair_ctx, &stacked(ca, cb));
+        let q = fit.evidence.added_rank;
+        let rss_ab = rss(&fit);
+        tried.push((a.effect.clone(), b.effect.clone(), rss_ab));
+        let (dqa, dqb) = (
+            q.saturating_sub(b.evidence.added_rank),
+            q.saturating_sub(a.evidence.added_rank),
+        );
+        if dqa == 0 || dqb == 0 || rss_ab <= 0.0 {
+            continue;
+        }
+        let dof = (n - p - q).max(1) as f64;
+        let (fa, pa, va) = added(rss(b), rss_ab, dqa, dof, nf);
+        let (fb, pb, vb) = added(rss(a), rss_ab, dqb, dof, nf);
+        let e = &fit.evidence;
+        let limit = ctx.detect_factor * e.sigma;
+        let ok = pa * (tries as f64) < ctx.alpha
+            && pb * (tries as f64) < ctx.alpha
+            && va > limit
+            && vb > limit
+            && fit.cv_score < baseline_cv_score
+            && fit.cv_score < a.cv_score
+            && fit.cv_score < b.cv_score
+            && e.structure_after <= ctx.detect_factor * e.sigma_smooth;
+        if ok {
+            // The member with the larger visible part first.
+            let (first, second, f, pv, v) = if va >= vb {
+                (a, b, fb, pb, vb)
+            } else {
+                (b, a, fa, pa, va)
+            };
+            accepted.push(PairFit {
+                first: first.effect.clone(),
+                second: second.effect.clone(),
+                first_equivalent: Vec::new(),
+                second_equivalent: Vec::new(),
+                f,
+                p_bonferroni: (pv * tries as f64).min(1.0),
+                added_rms: v,
+                fit,
+            });
+        }
+    }
+    let mut best = accepted
+        .into_iter()
+        .min_by(|a, b| a.fit.cv_score.total_cmp(&b.fit.cv_score))?;
+    let rss_best = rss(&best.fit);
+    let sigma2 = (best.fit.rms * best.fit.rms)
+        .max(best.fit.evidence.sigma * best.fit.evidence.sigma)
+        .max(f64::MIN_POSITIVE);
+    // Members the part cannot tell apart: another candidate in the place of one member fits
+    // not significantly worse than the chosen pair.
+    let swap = |keep: &str, out: &str| -> Vec<String> {
+        tried
+            .iter()
+            .filter_map(|(a, b, r)| {
+                let other = if a == keep {
+                    b
+                } else if b == keep {
+                    a
+                } else {
+                    return None;
+                };
+                (other != out && (r - rss_best) / sigma2 < CHI2_1_95).then(|| other.clone())
+            })
+            .collect()
+    };
+    best.first_equivalent = swap(&best.second, &best.first);
+    best.second_equivalent = swap(&best.first, &best.second);
+    Some(best)
+}
