@@ -11,8 +11,9 @@ testpiece diagnose FILE [--sigma MM] [--json]
 
 Diagnoses the sim-to-real gap of a measured S-shape part: the baseline (the 8 location errors,
 physical mode) is fitted, the residual located (per curve, region, reversal), every candidate of
-effects.md added one at a time and cross-validated, and a verdict given (an effect id, none or
-unexplained) with its detection limit.
+effects.md added one at a time and cross-validated (then pairs of the significant ones when no
+single candidate explains the gap), and a verdict given (an effect id, with a second one when a
+pair explains the gap, none or unexplained) with its detection limit.
 
 FILE: any CMM export of shared/spec/cmm-csv.md; every point is matched to the nominal surfaces
 by projection of its own coordinates, and the model (baseline and candidate signatures) is built
