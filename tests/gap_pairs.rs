@@ -51,49 +51,66 @@ fn named(v: &testpiece::gap::verdict::Verdict) -> Vec<String> {
 
 #[test]
 fn two_effects_together_are_both_named() {
-    let mut found = 0;
-    let mut total = 0;
-    for (pair, seed) in [
-        (["tool_radius", "backlash_y"], 1),
-        (["backlash_x", "thermal_drift"], 2),
-        (["overcut", "backlash_c"], 3),
-        (["setup_error", "backlash_y"], 4),
-        (["scale_x", "backlash_x"], 5),
-        (["tool_radius", "thermal_drift"], 6),
-    ] {
-        let y = part(&[(pair[0], 4.0), (pair[1], 4.0)], seed);
-        let r = diagnose(&input(y)).unwrap();
-        let v = &r.verdict;
-        let names = named(v);
-        let ok = pair.iter().all(|p| names.iter().any(|n| n == p));
-        println!(
-            "{pair:?}: verdict {} with {:?} (equivalent {:?} / {:?}), RMS {:.2} -> {:.2} µm, withheld {:.2} -> {:.2} µm",
-            v.effect,
-            v.with,
-            v.equivalent,
-            v.with_equivalent,
-            v.rms_before * 1e3,
-            v.rms_after * 1e3,
-            v.cv_rms_before * 1e3,
-            v.cv_rms_after * 1e3
-        );
-        total += 1;
-        if ok {
-            found += 1;
-            assert_eq!(v.with.len(), 1);
-            assert!(r
-                .summary
-                .lines()
-                .next()
-                .unwrap()
-                .contains(" together with "));
-            // Both explained: what is left is the noise (σ = 1.5 µm) within 30 %.
-            assert!(v.rms_after < 1.3 * SIGMA, "{pair:?}: {}", v.rms_after);
+    let ids: Vec<String> = input(vec![0.0; 100])
+        .candidates
+        .iter()
+        .map(|c| c.id.clone())
+        .collect();
+    // Pairs the part can tell apart: not one of effects.md's near-equivalent pairs and not two
+    // candidates of which one contains the other.
+    let alike = |a: &str, b: &str| {
+        let mut p = [a, b];
+        p.sort();
+        matches!(
+            p,
+            ["tool_radius", "tool_taper"]
+                | ["c_index", "setup_error"]
+                | ["backlash_b", "backlash_z"]
+                | ["pivot_length", "scale_z"]
+        )
+    };
+    let (mut total, mut both, mut unexplained_or_none) = (0, 0, 0);
+    let mut seed = 100;
+    for (i, a) in ids.iter().enumerate() {
+        for b in &ids[i + 1..] {
+            if alike(a, b) {
+                continue;
+            }
+            seed += 1;
+            let y = part(&[(a.as_str(), 4.0), (b.as_str(), 4.0)], seed);
+            let r = diagnose(&input(y)).unwrap();
+            let v = &r.verdict;
+            let names = named(v);
+            total += 1;
+            if [a, b].iter().all(|p| names.contains(p)) {
+                both += 1;
+                assert_eq!(v.with.len(), 1);
+                assert!(r
+                    .summary
+                    .lines()
+                    .next()
+                    .unwrap()
+                    .contains(" together with "));
+                // Both explained: what is left is the noise (σ = 1.5 µm) within 40 %.
+                assert!(v.rms_after < 1.4 * SIGMA, "{a}+{b}: {}", v.rms_after);
+            } else {
+                println!(
+                    "{a} + {b}: verdict {} with {:?} (equivalent {:?} / {:?})",
+                    v.effect, v.with, v.equivalent, v.with_equivalent
+                );
+                if v.effect == "unexplained" || v.effect == "none" {
+                    unexplained_or_none += 1;
+                }
+            }
         }
     }
-    // Floor: 5 of 6 pairs named (the decision rule's family-wise α and the 2.5σ limit of each
-    // effect allow an occasional miss at 4× the limit).
-    assert!(found >= 5, "{found}/{total} pairs named");
+    println!(
+        "two effects at 4x the limit: both named {both}/{total} = {:.1} %, {unexplained_or_none} left unexplained or none",
+        100.0 * both as f64 / total as f64
+    );
+    // Floor: 85 % (measured when written: see the note of the pair step); a miss is mostly a
+    // second effect that the first and the baseline together nearly absorb.
+    assert!(both as f64 >= 0.85 * total as f64, "{both}/{total}");
 }
 
 #[test]

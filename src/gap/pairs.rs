@@ -6,8 +6,9 @@
 //! second effect).
 //!
 //! This step runs when the single-candidate verdict names no effect. The candidates that are
-//! significant on their own (F-test with Bonferroni), at most [`POOL`] of them by `cv_score`,
-//! are paired; pairs that the part cannot tell apart from one candidate (cosine ≥
+//! significant on their own (F-test with Bonferroni), at most [`POOL`] of them by p-value (not
+//! by `cv_score`: with a second effect unmodelled, a step-like signature such as a backlash
+//! predicts withheld curves badly although it fits well), are paired; pairs that the part cannot tell apart from one candidate (cosine ≥
 //! [`EQUIVALENT_COS`] between their unabsorbed spans) are skipped. Each pair `{c₁, c₂}` is
 //! refitted jointly with the baseline ([`fit_candidate`] on the stacked signature `[S₁ | S₂]`),
 //! and accepted when, with `RSS₁`, `RSS₂`, `RSS₁₂` the residual sums of squares of `c₁` alone,
@@ -80,7 +81,7 @@ fn stacked(first: &Candidate, second: &Candidate) -> Candidate {
     }
 }
 
-/// Most candidates paired (the best by `cv_score` among the significant ones): 15 pairs.
+/// Most candidates paired (the most significant ones, by their F-test p-value): 15 pairs.
 pub const POOL: usize = 6;
 
 /// `(RSS_other − RSS_pair)`: F-test p-value (uncorrected) and the visible RMS of the member.
@@ -105,7 +106,7 @@ pub fn best_pair(
         .iter()
         .filter(|f| f.evidence.significant && f.evidence.added_rank > 0)
         .collect();
-    pool.sort_by(|a, b| a.cv_score.total_cmp(&b.cv_score));
+    pool.sort_by(|a, b| a.evidence.p_value.total_cmp(&b.evidence.p_value));
     pool.truncate(POOL);
     let mut pairs = Vec::new();
     for (i, a) in pool.iter().enumerate() {
