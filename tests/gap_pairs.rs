@@ -147,3 +147,77 @@ fn a_single_effect_is_not_paired_and_waviness_stays_unexplained() {
     let r = diagnose(&input(y)).unwrap();
     assert_eq!(r.verdict.effect, "unexplained", "{}", r.summary);
 }
+
+/// The part of `tests/data/gap/two_effects.csv`: the real part model (`part_model` at the 100
+/// built-in points, not the reference signatures), location errors, backlash of Y and a tool
+/// radius error each at 4× the detection limit, noise σ = 1.5 µm, written to 6 decimals (mm).
+fn two_effects_file() -> String {
+    use testpiece::cmm::write::{canonical_csv, Precision};
+    use testpiece::gap::effects::builtin::part_model;
+    use testpiece::part::{builtin_points, SShape};
+    let part = SShape::iso();
+    let pts = builtin_points(&part);
+    let m = part_model(&part, &pts).unwrap();
+    let a = &m.baseline.matrix;
+    let base = Factor::new(a, None);
+    let mut rng = Sampler::new(7);
+    let xi = DVector::from_iterator(
+        a.ncols(),
+        (0..a.ncols()).map(|j| rng.uniform(-1.0, 1.0) * if j == 5 { 0.03 } else { 3e-4 }),
+    );
+    let mut y = a * xi;
+    let mut said = Vec::new();
+    for id in ["backlash_y", "tool_radius"] {
+        let c = m.candidates.iter().find(|c| c.id == id).unwrap();
+        let s = c.signature.matrix.column(0).into_owned();
+        let un = base.unabsorbed_vec(&s).norm() / 10.0;
+        let v = 4.0 * 2.5 * SIGMA / un;
+        y += s * v;
+        said.push(format!("{id} {} = {v:.4e}", c.signature.names[0]));
+    }
+    for v in y.iter_mut() {
+        *v += SIGMA * rng.normal();
+    }
+    canonical_csv(
+        pts.iter().zip(y.iter().copied()),
+        Precision::Decimals(6),
+        Some(&format!(
+            "testpiece synthetic part with two unmodelled effects (tests/gap_pairs.rs): location errors, {}, noise 1.5 um",
+            said.join(", ")
+        )),
+    )
+}
+
+#[test]
+fn a_measured_file_with_two_effects_gets_both() {
+    let path = format!(
+        "{}/tests/data/gap/two_effects.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = two_effects_file();
+    if std::env::var_os("TESTPIECE_WRITE_EXAMPLES").is_some() {
+        std::fs::create_dir_all(std::path::Path::new(&path).parent().unwrap()).unwrap();
+        std::fs::write(&path, &text).unwrap();
+    }
+    let on_disk = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        on_disk == text,
+        "{path} differs from the generator: regenerate with TESTPIECE_WRITE_EXAMPLES=1"
+    );
+    let a =
+        testpiece::analysis::analyse(on_disk.as_bytes(), "two_effects.csv", &Default::default())
+            .unwrap();
+    let d = a.diagnosis.unwrap();
+    println!("{}", d.summary);
+    let names = named(&d.verdict);
+    for id in ["backlash_y", "tool_radius"] {
+        assert!(names.iter().any(|n| n == id), "{id} not in {names:?}");
+    }
+    assert!(d.summary.starts_with("Verdict: "));
+    assert!(d
+        .summary
+        .lines()
+        .next()
+        .unwrap()
+        .contains(" together with "));
+}

@@ -249,6 +249,16 @@ export function gapView(root, a) {
       ['max |r| in-sample', { text: um(v.max_before), num: true, value: v.max_before * 1000 }, { text: um(v.max_after), num: true, value: v.max_after * 1000 }],
       ['RMS withheld', { text: um(v.cv_rms_before), num: true, value: v.cv_rms_before * 1000 }, { text: v.cv_rms_after === undefined ? '—' : um(v.cv_rms_after), num: true, value: (v.cv_rms_after ?? NaN) * 1000 }],
     ]));
+  if (d.pair) {
+    const p = d.pair;
+    root.append(table('gap-pair', `No single candidate explains the gap; ${p.first} and ${p.second} together do (joint refit with the baseline)`,
+      ['pair', 'parameters', 'RMS (µm)', 'withheld RMS (µm)', `what ${p.second} adds beyond ${p.first} (µm RMS)`, 'F-test p (Bonferroni)'],
+      [[`${p.first} + ${p.second}`,
+        Object.entries(p.fit.parameters).map(([k, e]) => `${k} = ${Number(e.value.toPrecision(4))} ± ${Number(e.std.toPrecision(2))}`).join('; '),
+        { text: um(p.fit.rms), num: true, value: p.fit.rms * 1000 }, { text: um(p.fit.cv_rms), num: true, value: p.fit.cv_rms * 1000 },
+        { text: um(p.added_rms), num: true, value: p.added_rms * 1000 },
+        { text: p.p_bonferroni.toExponential(1), num: true, value: p.p_bonferroni }]]));
+  }
   root.append(table('gap-candidates', `Candidate effects, each added alone to the baseline (folds: ${d.folds.join(', ')})`,
     ['effect', 'parameters', 'RMS (µm)', 'withheld RMS (µm)', 'shrink', 'F-test p (Bonferroni)', 'unabsorbed RMS (µm)', 'significant'],
     d.candidates.map((c) => [c.effect,

@@ -229,7 +229,12 @@ pub fn pair_verdict(
         detection_limit: limit,
         sigma: f.evidence.sigma,
         parameters: f.parameters.clone(),
-        possible_below_limit: before.possible_below_limit.clone(),
+        possible_below_limit: before
+            .possible_below_limit
+            .iter()
+            .filter(|c| **c != w.effect && **c != pair.second)
+            .cloned()
+            .collect(),
         partial: None,
         with: vec![pair.second.clone()],
         with_equivalent: pair_equivalent(
@@ -240,14 +245,13 @@ pub fn pair_verdict(
         ),
         per_curve: f.per_curve.clone(),
         reason: format!(
-            "no single candidate explains the gap; `{}` together with `{}` does: `{}` adds {:.1} µm RMS beyond the baseline and `{}` (F-test p = {:.2e}, Bonferroni over the second candidates), predicts withheld points better than `{}` alone, and the residual left is noise",
+            "no single candidate explains the gap; `{}` together with `{}` does: `{}` adds {:.1} µm RMS beyond the baseline and `{}` (F-test p = {:.2e}, Bonferroni over the pairs tried), the pair predicts withheld points better than either alone, and the residual left is noise",
             w.effect,
             pair.second,
             pair.second,
             pair.added_rms * 1e3,
             w.effect,
             pair.p_bonferroni,
-            w.effect
         ),
     }
 }

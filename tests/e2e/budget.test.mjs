@@ -6,30 +6,19 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import { chromium } from 'playwright-core';
-import { serve } from '../../scripts/serve.mjs';
+import { openBrowser, ROOT } from './browser.mjs';
 
-const ROOT = path.resolve(import.meta.dirname, '..', '..');
 const DATA = path.join(ROOT, 'tests', 'data', 'budget');
-const FLAGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync', '--no-first-run'];
-let server, url, context, userDataDir;
+let browser, url, context;
 
 before(async () => {
-  ({ server, url } = await serve());
-  userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'testpiece-budget-'));
-  context = await chromium.launchPersistentContext(userDataDir, {
-    executablePath: '/usr/bin/chromium', headless: true, args: FLAGS, viewport: { width: 1280, height: 800 },
-  });
+  browser = await openBrowser('budget');
+  ({ url, context } = browser);
 });
 
 after(async () => {
-  await context?.close();
-  server?.close();
-  if (userDataDir) fs.rmSync(userDataDir, { recursive: true, force: true });
+  await browser?.close();
 });
 
 test('a CMM file and a CL file give the budget table, equal to the CLI', async () => {
