@@ -221,3 +221,32 @@ fn a_measured_file_with_two_effects_gets_both() {
         .unwrap()
         .contains(" together with "));
 }
+
+/// `testpiece validate --pairs` on the real part model: seed 1, 202 two-effect parts (each
+/// distinguishable pair twice), each effect at 1.5..6× its detection limit. Measured when
+/// written: both named 75.0 % at 404 cases (seed 2: 76.0 %); without the pair step 0.7 %, with
+/// 133 of 404 parts called `none`. Floors: 65 % both named, at most 8 % `none`.
+#[test]
+fn validate_pairs_floor() {
+    use testpiece::gap::effects::builtin::builtin_model;
+    use testpiece::gap::validate::{ValidateOptions, ValidationModel};
+    use testpiece::gap::validate_pairs::validate_pairs;
+    let m = builtin_model(&testpiece::part::SShape::iso()).unwrap();
+    let model = ValidationModel {
+        points: m.points,
+        baseline: m.baseline,
+        candidates: m.candidates,
+    };
+    let r = validate_pairs(&model, &ValidateOptions::default().with_cases(202)).unwrap();
+    println!(
+        "pairs: both named {}/{} = {:.1} %, one {}, unexplained {}, none {}",
+        r.both_named,
+        r.cases,
+        100.0 * r.rate,
+        r.one_named,
+        r.unexplained,
+        r.none
+    );
+    assert!(r.rate >= 0.65, "{}", r.rate);
+    assert!(r.none as f64 <= 0.08 * r.cases as f64, "{}", r.none);
+}

@@ -35,6 +35,7 @@ pub mod smooth_noise;
 pub mod stats;
 pub mod table;
 pub mod validate;
+pub mod validate_pairs;
 pub mod verdict;
 pub mod which;
 

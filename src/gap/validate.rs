@@ -188,6 +188,41 @@ fn hstack(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
 /// The machine part of a simulated deviation for the location errors `ξ` (baseline order), mm.
 pub type MachinePart<'a> = dyn Fn(&DVector<f64>) -> Result<DVector<f64>, GapError> + 'a;
 
+/// Random machine errors: angles uniform in ±`angle_range` rad, lengths (`EX…`, `EY…`, `EZ…`)
+/// in ±`length_range` mm.
+pub fn machine_errors(names: &[String], opts: &ValidateOptions, rng: &mut Sampler) -> DVector<f64> {
+    DVector::from_iterator(
+        names.len(),
+        names.iter().map(|name| {
+            let r = if name.starts_with("EX") || name.starts_with("EY") || name.starts_with("EZ") {
+                opts.length_range
+            } else {
+                opts.angle_range
+            };
+            rng.uniform(-r, r)
+        }),
+    )
+}
+
+/// Parameters of candidate `c` in a random direction of its parameter space, scaled so that the
+/// part of its effect the baseline (`base`) cannot absorb has an RMS over the points of
+/// `unabsorbed_rms` (mm).
+pub fn effect_parameters(
+    c: &Candidate,
+    base: &Factor,
+    unabsorbed_rms: f64,
+    rng: &mut Sampler,
+) -> DVector<f64> {
+    let s = &c.signature.matrix;
+    let dir = DVector::from_iterator(
+        s.ncols(),
+        (0..s.ncols()).map(|j| rng.normal() / s.column(j).norm().max(1e-300)),
+    );
+    let un = base.unabsorbed_vec(&(s * &dir)).norm() / (s.nrows() as f64).sqrt();
+    let scale = if un > 0.0 { unabsorbed_rms / un } else { 0.0 };
+    dir * scale
+}
+
 /// Runs the benchmark on the linear twin (machine part `A ξ`).
 pub fn validate(
     model: &ValidationModel,
@@ -231,32 +266,14 @@ pub fn validate_with(
     let mut results = Vec::with_capacity(opts.cases);
     for case in 0..opts.cases {
         let kind = case % kinds;
-        // Machine errors.
-        let xi = DVector::from_iterator(
-            a.ncols(),
-            model.baseline.names.iter().map(|name| {
-                let r =
-                    if name.starts_with("EX") || name.starts_with("EY") || name.starts_with("EZ") {
-                        opts.length_range
-                    } else {
-                        opts.angle_range
-                    };
-                rng.uniform(-r, r)
-            }),
-        );
+        let xi = machine_errors(&model.baseline.names, opts, &mut rng);
         let ratio = rng.log_uniform(opts.ratio_min, opts.ratio_max);
         let mut parameters = BTreeMap::new();
         let (truth, effect, design): (String, DVector<f64>, Option<DMatrix<f64>>) =
             if kind < model.candidates.len() {
                 let c = &model.candidates[kind];
                 let s = &c.signature.matrix;
-                let dir = DVector::from_iterator(
-                    s.ncols(),
-                    (0..s.ncols()).map(|j| rng.normal() / s.column(j).norm().max(1e-300)),
-                );
-                let un = base.unabsorbed_vec(&(s * &dir)).norm() / (n as f64).sqrt();
-                let scale = if un > 0.0 { ratio * limit / un } else { 0.0 };
-                let theta = dir * scale;
+                let theta = effect_parameters(c, &base, ratio * limit, &mut rng);
                 for (j, name) in c.signature.names.iter().enumerate() {
                     parameters.insert(name.clone(), theta[j]);
                 }

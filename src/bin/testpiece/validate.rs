@@ -1,9 +1,10 @@
-//! `testpiece validate [--cases N] [--seed S] [--known-sigma] [--json]`: the withheld-effect
+//! `testpiece validate [--cases N] [--seed S] [--known-sigma] [--exact] [--pairs] [--json]`: the withheld-effect
 //! benchmark of the gap diagnosis.
 
 use nalgebra::DVector;
 use testpiece::gap::effects::builtin::builtin_model;
 use testpiece::gap::validate::{table, validate, validate_with, ValidateOptions, ValidationModel};
+use testpiece::gap::validate_pairs::{pairs_table, validate_pairs};
 use testpiece::gap::GapError;
 use testpiece::identify::refine::ExactModel;
 use testpiece::part::SShape;
@@ -12,7 +13,7 @@ use testpiece::simulate::{builtin_design, ExactDefectModel};
 use crate::args::Args;
 
 const HELP: &str = "\
-testpiece validate [--cases N] [--seed S] [--known-sigma] [--exact] [--json]
+testpiece validate [--cases N] [--seed S] [--known-sigma] [--exact] [--pairs] [--json]
 
 Simulates N parts (default 200) of the built-in S-shape with random machine errors (angles
 ±3e-4 rad, EX0B ±0.03 mm), each with one effect of effects.md at a random magnitude around its
@@ -22,6 +23,9 @@ the confusion matrix, detection limits and the shrink achieved versus achievable
 --known-sigma  give σ to the diagnosis as the CMM repeatability (default: estimated).
 --exact        simulate the machine part with the exact eq. 12 defect (the diagnosis still fits
                the linear baseline); default: the linear twin.
+--pairs        instead: N parts with TWO effects each (every pair of candidates the part can tell
+               apart, in turn, each at 1.5..6 x its detection limit); prints how often both are
+               named (the verdict's effect, its `with` and their equivalents).
 ";
 
 pub fn run(rest: &[String]) -> Result<(), String> {
@@ -32,6 +36,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let json = args.flag("json");
     let known = args.flag("known-sigma");
     let exact = args.flag("exact");
+    let pairs = args.flag("pairs");
     let parse = |name: &str, default: u64| -> Result<u64, String> {
         args.value(name).map_or(Ok(default), |s| {
             s.parse()
@@ -51,6 +56,18 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         .with_cases(cases)
         .with_seed(seed)
         .with_known_sigma(known);
+    if pairs {
+        let r = validate_pairs(&model, &opts).map_err(|e| e.to_string())?;
+        if json {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
+            );
+        } else {
+            print!("{}", pairs_table(&r));
+        }
+        return Ok(());
+    }
     let r = if exact {
         let design = builtin_design("physical", "signed", false).map_err(|e| e.to_string())?;
         let exact_model =

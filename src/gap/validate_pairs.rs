@@ -1,0 +1,179 @@
+//! The withheld-effect benchmark for two effects at once (`testpiece validate --pairs`): simulated
+//! parts `y = A ξ + S₁ θ₁ + S₂ θ₂ + ε` for every pair of candidates the part can tell apart (not
+//! near-equivalent on it, [`super::equivalence::EQUIVALENT_COS`]), diagnosed with both withheld
+//! from the baseline. Machine errors and noise as in [`super::validate`]; each effect's magnitude
+//! is set so that the RMS of the part the baseline cannot absorb is `ρ · 2.5σ`, `ρ` log-uniform
+//! in [[`RATIO_MIN`], [`RATIO_MAX`]] (each effect detectable on its own).
+//!
+//! A case counts as **both named** when each id is among the verdict's effect, its `with` and
+//! their equivalents, or near-equivalent on this part to one of them (as in [`super::validate`]); **one named** when only one is (a single verdict, or a pair
+//! with a wrong partner); otherwise by the verdict (`unexplained`, `none`).
+
+use serde::Serialize;
+
+use super::data::GapInput;
+use super::diagnose::diagnose;
+use super::equivalence::near_equivalent_pairs;
+use super::lsq::Factor;
+use super::random::Sampler;
+use super::validate::{effect_parameters, machine_errors, ValidateOptions, ValidationModel};
+use super::GapError;
+
+/// Smallest simulated `ρ` of each effect of a pair.
+pub const RATIO_MIN: f64 = 1.5;
+/// Largest simulated `ρ` of each effect of a pair.
+pub const RATIO_MAX: f64 = 6.0;
+
+/// The outcome of the pair benchmark.
+#[derive(Debug, Clone, Serialize)]
+pub struct PairValidation {
+    pub cases: usize,
+    pub seed: u64,
+    pub both_named: usize,
+    pub one_named: usize,
+    pub unexplained: usize,
+    pub none: usize,
+    /// `both_named / cases`.
+    pub rate: f64,
+    /// Per pair: `(first, second, both named?, verdict text)`.
+    pub results: Vec<PairCase>,
+}
+
+/// One simulated two-effect part.
+#[derive(Debug, Clone, Serialize)]
+pub struct PairCase {
+    pub effects: [String; 2],
+    pub ratios: [f64; 2],
+    pub verdict: String,
+    pub with: Vec<String>,
+    pub both_named: bool,
+}
+
+/// Runs `opts.cases` two-effect parts, cycling through the distinguishable pairs.
+pub fn validate_pairs(
+    model: &ValidationModel,
+    opts: &ValidateOptions,
+) -> Result<PairValidation, GapError> {
+    let a = &model.baseline.matrix;
+    let base = Factor::new(a, None);
+    let spans: Vec<_> = model
+        .candidates
+        .iter()
+        .map(|c| {
+            let u = base.unabsorbed(&c.signature.matrix);
+            (c.id.clone(), Factor::new(&u, None).basis)
+        })
+        .collect();
+    let near = near_equivalent_pairs(&spans);
+    let alike = |x: &str, y: &str| {
+        near.iter()
+            .any(|e| (e.a == x && e.b == y) || (e.a == y && e.b == x))
+    };
+    let mut pairs = Vec::new();
+    for (i, c1) in model.candidates.iter().enumerate() {
+        for c2 in &model.candidates[i + 1..] {
+            if !alike(&c1.id, &c2.id) {
+                pairs.push((c1, c2));
+            }
+        }
+    }
+    if pairs.is_empty() {
+        return Err(GapError::Model(
+            "no two candidates can be told apart on this part".into(),
+        ));
+    }
+    let limit = 2.5 * opts.noise_sigma;
+    let mut rng = Sampler::new(opts.seed);
+    let mut results = Vec::with_capacity(opts.cases);
+    for case in 0..opts.cases {
+        let (c1, c2) = pairs[case % pairs.len()];
+        let xi = machine_errors(&model.baseline.names, opts, &mut rng);
+        let mut y = a * xi;
+        let mut ratios = [0.0; 2];
+        for (k, c) in [c1, c2].iter().enumerate() {
+            ratios[k] = rng.log_uniform(RATIO_MIN, RATIO_MAX);
+            let theta = effect_parameters(c, &base, ratios[k] * limit, &mut rng);
+            y += &c.signature.matrix * theta;
+        }
+        for v in y.iter_mut() {
+            *v += opts.noise_sigma * rng.normal();
+        }
+        let report = diagnose(&GapInput {
+            deviations: y.iter().copied().collect(),
+            points: model.points.clone(),
+            baseline: model.baseline.clone(),
+            candidates: model.candidates.clone(),
+            noise_sigma: opts.known_sigma.then_some(opts.noise_sigma),
+            reversals: Vec::new(),
+        })?;
+        let v = &report.verdict;
+        let named: Vec<&String> = std::iter::once(&v.effect)
+            .chain(&v.equivalent)
+            .chain(&v.with)
+            .chain(&v.with_equivalent)
+            .collect();
+        let has = |id: &String| {
+            named
+                .iter()
+                .any(|m| *m == id || alike(m.as_str(), id.as_str()))
+        };
+        results.push(PairCase {
+            effects: [c1.id.clone(), c2.id.clone()],
+            ratios,
+            verdict: v.effect.clone(),
+            with: v.with.clone(),
+            both_named: has(&c1.id) && has(&c2.id),
+        });
+    }
+    let count = |f: &dyn Fn(&PairCase) -> bool| results.iter().filter(|r| f(r)).count();
+    let both_named = count(&|r| r.both_named);
+    let none = count(&|r| r.verdict == super::catalog::NONE);
+    let unexplained = count(&|r| r.verdict == super::catalog::UNEXPLAINED);
+    Ok(PairValidation {
+        cases: results.len(),
+        seed: opts.seed,
+        both_named,
+        one_named: results.len() - both_named - none - unexplained,
+        unexplained,
+        none,
+        rate: both_named as f64 / results.len().max(1) as f64,
+        results,
+    })
+}
+
+/// A plain-text summary of the pair benchmark.
+pub fn pairs_table(r: &PairValidation) -> String {
+    let mut s = format!(
+        "validate --pairs: {} two-effect parts, seed {}, each effect at {RATIO_MIN}..{RATIO_MAX} x the detection limit\n",
+        r.cases, r.seed
+    );
+    s += &format!(
+        "both named: {}/{} = {:.1} %; one named: {}; unexplained: {}; none: {}\n",
+        r.both_named,
+        r.cases,
+        100.0 * r.rate,
+        r.one_named,
+        r.unexplained,
+        r.none
+    );
+    let missed: Vec<&PairCase> = r.results.iter().filter(|c| !c.both_named).collect();
+    if missed.len() > 20 {
+        s += &format!("first 20 of {} misses:\n", missed.len());
+    }
+    for c in missed.into_iter().take(20) {
+        s += &format!(
+            "  missed {} ({:.1}x) + {} ({:.1}x): verdict {}{}\n",
+            c.effects[0],
+            c.ratios[0],
+            c.effects[1],
+            c.ratios[1],
+            c.verdict,
+            if c.with.is_empty() {
+                String::new()
+            } else {
+                format!(" with {}", c.with.join(", "))
+            }
+        );
+    }
+    s
+}
