@@ -3,9 +3,14 @@
 //! reference README) and its reversal counts per pass (X 8/8, Y 6/6, Z 7/9, B 6/8, C 1/1).
 #![cfg(not(target_arch = "wasm32"))]
 
+use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::AxisName;
+use testpiece::machine::{Branch, Chain};
 use testpiece::part::{builtin_points, SShape, Surface};
-use testpiece::sensitivity::reversal::{backlash_signatures, pass, reversal_count};
+use testpiece::sensitivity::machine_path;
+use testpiece::sensitivity::reversal::{
+    backlash_signatures, directions, directions_of, pass, reversal_count, REVERSAL_GRID,
+};
 use testpiece::sensitivity::SensitivityOptions;
 
 fn reference(col: &str) -> Vec<f64> {
@@ -78,5 +83,52 @@ fn backlash_signatures_match_reference() {
             }
         }
         assert!(worst < 1e-6, "{col}: {worst:e}");
+    }
+}
+
+/// `pass` solves the inverse kinematics on every 10th sample and finely only where an axis may
+/// turn or rest; its directions must equal those of the full fine solution (20,001 samples),
+/// exactly, on every axis, for the three chains, both branches and both surfaces.
+#[test]
+fn coarse_then_fine_directions_equal_the_full_grid() {
+    let part = SShape::iso();
+    let us: Vec<f64> = (0..=REVERSAL_GRID)
+        .map(|k| k as f64 / REVERSAL_GRID as f64)
+        .collect();
+    for chain in [
+        Chain::paper000(PAPER000_L0),
+        Chain::paper002(),
+        Chain::paper001(120.0, 80.0),
+    ] {
+        for branch in [Branch::Signed, Branch::Positive] {
+            let opts = SensitivityOptions::default()
+                .with_chain(chain.clone())
+                .with_branch(branch);
+            for surface in Surface::BOTH {
+                let p = pass(&part, surface, &opts).unwrap();
+                let full: Vec<_> = machine_path(&part, &chain, surface, branch, &us)
+                    .unwrap()
+                    .into_iter()
+                    .map(|s| s.values)
+                    .collect();
+                for &axis in &p.axes {
+                    let want = directions_of(&full, axis);
+                    let got = directions(&p, axis);
+                    let diff = want.iter().zip(&got).filter(|(a, b)| a != b).count();
+                    assert_eq!(
+                        diff,
+                        0,
+                        "{} {branch:?} {surface:?} {axis}: {diff} steps differ",
+                        chain.code()
+                    );
+                }
+                println!(
+                    "{} {branch:?} {surface:?}: solved {} of {} samples",
+                    chain.code(),
+                    p.solved,
+                    us.len()
+                );
+            }
+        }
     }
 }

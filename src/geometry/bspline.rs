@@ -206,6 +206,12 @@ impl BSplineCurve {
         self.basis_stack(u, 2)
     }
 
+    /// [`Self::basis_derivs2`] without the second derivatives (row 2 stays 0): the same
+    /// arithmetic for rows 0 and 1, for callers that need no curvature (the tool pose).
+    pub fn basis_derivs1(&self, u: f64) -> (usize, [[f64; STACK_WIDTH]; 3]) {
+        self.basis_stack(u, 1)
+    }
+
     /// [`Self::basis_derivs2`] up to derivative order `nd <= 2` (higher rows stay 0).
     #[inline(always)]
     fn basis_stack(&self, u: f64, nd: usize) -> (usize, [[f64; STACK_WIDTH]; 3]) {

@@ -76,6 +76,18 @@ impl SShape {
     /// `D` uses one basis evaluation applied to the control-point differences `P1_i - P0_i`, so its
     /// x and y components are exactly 0 where those differences are (the vertical zone).
     pub fn section_at(&self, s: Surface, u: f64) -> Section {
+        self.section_upto(s, u, 2)
+    }
+
+    /// [`Self::section_at`] without the second derivatives (`d2` = 0): the same arithmetic for
+    /// the points and first derivatives, which is all a frame needs.
+    pub fn section1_at(&self, s: Surface, u: f64) -> Section {
+        self.section_upto(s, u, 1)
+    }
+
+    /// The section with derivatives up to order `nd` (1 or 2; higher-order fields 0 on the
+    /// shared-basis path).
+    fn section_upto(&self, s: Surface, u: f64, nd: usize) -> Section {
         let [c0, c1] = self.curves(s);
         let rational = c0.weights().iter().chain(c1.weights()).any(|w| *w != 1.0);
         if rational
@@ -99,9 +111,13 @@ impl SShape {
         let (lo, hi) = c0.domain();
         let uc = u.clamp(lo, hi);
         let p = c0.degree();
-        let (span, ders) = c0.basis_derivs2(uc);
+        let (span, ders) = if nd >= 2 {
+            c0.basis_derivs2(uc)
+        } else {
+            c0.basis_derivs1(uc)
+        };
         let mut out = [[Vector3::zeros(); 3]; 3];
-        for (k, row) in ders.iter().enumerate().take(2.min(p) + 1) {
+        for (k, row) in ders.iter().enumerate().take(nd.min(2).min(p) + 1) {
             for (j, nb) in row[..=p].iter().enumerate() {
                 let i = span - p + j;
                 let (p0, p1) = (c0.control_points()[i], c1.control_points()[i]);
@@ -131,7 +147,7 @@ impl SShape {
     /// The frame `{S, R, T, N}` at `(u, v)` (s-shape.md). `u` is clamped to [0, 1]; `v` is not
     /// (the ruled surface extends linearly beyond Z 0..30).
     pub fn frame_at(&self, s: Surface, u: f64, v: f64) -> Frame {
-        self.frame_derivs_at(s, u, v).frame
+        frame_from(&self.section1_at(s, u), v, s.normal_sign())
     }
 
     /// The frame with its first derivatives in `u` and `v` (see the module doc for the formulas).
@@ -140,26 +156,33 @@ impl SShape {
     }
 }
 
+/// The frame alone (no derivatives) of any ruled surface from its section at one `u`: only the
+/// points and first derivatives of the section are used.
+pub fn frame_from(sec: &Section, v: f64, sign: f64) -> Frame {
+    let s_u = sec.c0.d1 * (1.0 - v) + sec.c1.d1 * v;
+    let r = sec.d.point.normalize();
+    Frame {
+        point: sec.c0.point * (1.0 - v) + sec.c1.point * v,
+        r,
+        t: s_u.normalize(),
+        n: r.cross(&s_u).normalize() * sign,
+    }
+}
+
 /// The frame of any ruled surface `(1-v)·C0 + v·C1` from its section at one `u`, with the normal
 /// sign `sign` (`N = sign·unit(R × S_u)`); the formulas of the module doc.
 pub fn frame_derivs_from(sec: &Section, v: f64, sign: f64) -> FrameDerivs {
     let dd = sec.d;
-    let point = sec.c0.point * (1.0 - v) + sec.c1.point * v;
+    let frame = frame_from(sec, v, sign);
     let s_u = sec.c0.d1 * (1.0 - v) + sec.c1.d1 * v;
     let s_uu = sec.c0.d2 * (1.0 - v) + sec.c1.d2 * v;
-    let r = dd.point.normalize();
+    let r = frame.r;
     let r_u = unit_derivative(&dd.point, &dd.d1);
-    let t = s_u.normalize();
     let w = r.cross(&s_u);
     let w_u = r_u.cross(&s_u) + r.cross(&s_uu);
     let w_v = r.cross(&dd.d1);
     FrameDerivs {
-        frame: Frame {
-            point,
-            r,
-            t,
-            n: w.normalize() * sign,
-        },
+        frame,
         s_u,
         s_v: dd.point,
         s_uu,

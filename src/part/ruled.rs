@@ -47,6 +47,9 @@ impl RuledPart for SShape {
     fn section_at(&self, s: Surface, u: f64) -> Section {
         SShape::section_at(self, s, u)
     }
+    fn frame_at(&self, s: Surface, u: f64, v: f64) -> Frame {
+        SShape::frame_at(self, s, u, v)
+    }
     fn normal_sign(&self, s: Surface) -> f64 {
         s.normal_sign()
     }

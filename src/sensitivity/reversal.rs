@@ -20,8 +20,9 @@ use crate::part::{MeasurementPoint, SShape, Surface};
 use crate::toolpath::flank::tool_pose;
 
 use super::defect::{Mode, SensitivityOptions};
-use super::path::machine_path;
+use super::path::{machine_path, PATH_GRID};
 use super::SensitivityError;
+use crate::machine::inverse::inverse_path;
 
 /// Time constant of the servo lag, in mm of tool-tip path (effects.md).
 pub const LAG_LENGTH: f64 = 2.0;
@@ -31,53 +32,208 @@ pub const REVERSAL_GRID: usize = 20000;
 /// rounding noise of the inverse kinematics on stretches where an axis stands still.
 pub const REST_TOLERANCE: f64 = 1e-9;
 
-/// One pass (one surface): grid, cumulative tool-tip path length and axis values.
+/// The axis values are solved on every [`REFINE_STRIDE`]-th grid sample, and on every sample of
+/// the coarse steps where an axis may reverse or rest (see [`pass`]).
+pub const REFINE_STRIDE: usize = 10;
+/// A coarse step over which some axis moves by at most this (mm or rad) is solved on every fine
+/// sample: within it an axis may stand still, so that fine increments can fall under
+/// [`REST_TOLERANCE`] (a coarse step that moves more than 1000× the rest tolerance over
+/// [`REFINE_STRIDE`] samples of a smooth path cannot contain such increments unless it turns).
+pub const REFINE_BELOW: f64 = 1e-6;
+
+/// A coarse step over which an axis moves by at most this (mm or rad) is rest: the axis stands
+/// still there up to the rounding of the inverse kinematics (~1e-13), and every fine increment is
+/// under [`REST_TOLERANCE`], so its direction is held without solving the fine samples.
+pub const REST_BELOW: f64 = 1e-11;
+
+/// What a coarse step of one axis is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Step {
+    Rest,
+    Moving(f64),
+    Unsure,
+}
+
+/// One pass (one surface): grid, cumulative tool-tip path length and each axis's direction of
+/// motion on every grid step.
 #[derive(Debug, Clone)]
 pub struct Pass {
     pub u: Vec<f64>,
     /// Tool-tip path length from the start of the pass (mm, sum of grid chords).
     pub s: Vec<f64>,
-    pub q: Vec<AxisValues>,
     pub tips: Vec<Vector3<f64>>,
+    /// The chain's axes and, per axis, [`directions`] on the grid.
+    pub axes: Vec<AxisName>,
+    pub directions: Vec<Vec<f64>>,
+    /// Grid samples at which the inverse kinematics was solved (of `u.len()`).
+    pub solved: usize,
 }
 
 /// The pass of surface `surface` on the reversal grid.
+///
+/// The direction of motion of an axis on a grid step is the sign of its increment, held through
+/// rest (increments ≤ [`REST_TOLERANCE`]). Solving the inverse kinematics at all 20,001 samples
+/// is not needed for that: the axes are solved on every [`REFINE_STRIDE`]-th sample, and each
+/// coarse step of each axis is *rest* (it moves by at most [`REST_BELOW`]: direction held),
+/// *moving* (by more than [`REFINE_BELOW`], 1000× the rest tolerance over
+/// [`REFINE_STRIDE`] samples: monotone, its fine directions are the coarse step's sign) or
+/// *unsure*. A coarse step is solved on all its fine samples when it is unsure for some axis, or
+/// when some axis changes class or direction between it and a neighbour (a turn, a start or a
+/// stop lies in one of the two). The inverse kinematics
+/// at a given `u` does not depend on the other samples requested ([`machine_path`]), so the
+/// directions are those of the full fine solution (checked against it in
+/// tests/sensitivity_reversal.rs for the three chains and both branches).
 pub fn pass(
     part: &SShape,
     surface: Surface,
     opts: &SensitivityOptions,
 ) -> Result<Pass, SensitivityError> {
-    let u: Vec<f64> = (0..=REVERSAL_GRID)
-        .map(|k| k as f64 / REVERSAL_GRID as f64)
+    let n = REVERSAL_GRID;
+    let u: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
+    let poses: Vec<(Vector3<f64>, Vector3<f64>)> = u
+        .iter()
+        .map(|&x| {
+            let p = tool_pose(part, surface, x);
+            (p.tip, p.axis)
+        })
         .collect();
-    let path = machine_path(part, &opts.chain, surface, opts.branch, &u)?;
-    let tips: Vec<Vector3<f64>> = u.iter().map(|&x| tool_pose(part, surface, x).tip).collect();
+    // The inverse kinematics of `machine_path`, reusing the poses of the grid samples.
+    let solve = |us: &[f64]| {
+        let pose = |x: f64| {
+            let k = (x * n as f64).round();
+            if (0.0..=n as f64).contains(&k) && u[k as usize] == x {
+                poses[k as usize]
+            } else {
+                let p = tool_pose(part, surface, x);
+                (p.tip, p.axis)
+            }
+        };
+        inverse_path(&opts.chain, opts.branch, pose, (0.0, 1.0), PATH_GRID, us)
+    };
+    let tips: Vec<Vector3<f64>> = poses.iter().map(|p| p.0).collect();
     let mut s = vec![0.0; u.len()];
     for k in 1..u.len() {
         s[k] = s[k - 1] + (tips[k] - tips[k - 1]).norm();
     }
+    let axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
+    let stride = REFINE_STRIDE;
+    let coarse_idx: Vec<usize> = (0..=n / stride).map(|m| m * stride).chain([n]).collect();
+    let mut coarse_idx = coarse_idx;
+    coarse_idx.dedup();
+    let coarse_u: Vec<f64> = coarse_idx.iter().map(|&k| u[k]).collect();
+    let coarse = solve(&coarse_u)?;
+    let steps = coarse_idx.len() - 1;
+    // Coarse increments per axis, and the coarse steps to solve finely.
+    let dc: Vec<Vec<f64>> = axes
+        .iter()
+        .map(|&a| {
+            (1..=steps)
+                .map(|m| coarse[m].values.get(a) - coarse[m - 1].values.get(a))
+                .collect()
+        })
+        .collect();
+    let class = |x: f64| {
+        if x.abs() <= REST_BELOW {
+            Step::Rest
+        } else if x.abs() > REFINE_BELOW {
+            Step::Moving(x.signum())
+        } else {
+            Step::Unsure
+        }
+    };
+    let mut refine = vec![false; steps];
+    for d in &dc {
+        for m in 0..steps {
+            let c = class(d[m]);
+            if c == Step::Unsure {
+                refine[m] = true;
+            }
+            // A turn, or a start or stop between rest and motion, lies in one of the two.
+            if m > 0 && c != class(d[m - 1]) {
+                refine[m] = true;
+                refine[m - 1] = true;
+            }
+        }
+    }
+    let mut fine_idx: Vec<usize> = Vec::new();
+    for m in (0..steps).filter(|&m| refine[m]) {
+        fine_idx.extend(coarse_idx[m]..=coarse_idx[m + 1]);
+    }
+    fine_idx.dedup();
+    let fine_u: Vec<f64> = fine_idx.iter().map(|&k| u[k]).collect();
+    let fine = if fine_u.is_empty() {
+        Vec::new()
+    } else {
+        solve(&fine_u)?
+    };
+    // Fine sample k -> its solution, where solved.
+    let mut at = vec![usize::MAX; u.len()];
+    for (j, &k) in fine_idx.iter().enumerate() {
+        at[k] = j;
+    }
+    let directions = axes
+        .iter()
+        .enumerate()
+        .map(|(ai, &axis)| {
+            let mut d = vec![0.0; u.len()];
+            for m in 0..steps {
+                for k in coarse_idx[m] + 1..=coarse_idx[m + 1] {
+                    let step = if refine[m] {
+                        fine[at[k]].values.get(axis) - fine[at[k - 1]].values.get(axis)
+                    } else if class(dc[ai][m]) == Step::Rest {
+                        0.0
+                    } else {
+                        dc[ai][m]
+                    };
+                    d[k] = if step.abs() > REST_TOLERANCE {
+                        step.signum()
+                    } else {
+                        d[k - 1]
+                    };
+                }
+            }
+            settle_start(&mut d);
+            d
+        })
+        .collect();
     Ok(Pass {
         u,
         s,
-        q: path.into_iter().map(|p| p.values).collect(),
         tips,
+        axes,
+        directions,
+        solved: coarse_idx.len() + fine_idx.len(),
     })
 }
 
 /// Direction of motion of `axis` on each grid step `k-1 → k` (index k; index 0 = the first
-/// motion), held through rest.
+/// motion), held through rest; an axis the chain does not have never moves (settled at +1, as
+/// [`directions_of`] gives for constant values).
 pub fn directions(p: &Pass, axis: AxisName) -> Vec<f64> {
-    let n = p.q.len();
-    let mut d = vec![0.0; n];
-    for k in 1..n {
-        let dq = p.q[k].get(axis) - p.q[k - 1].get(axis);
+    p.axes
+        .iter()
+        .position(|&a| a == axis)
+        .map_or_else(|| vec![1.0; p.u.len()], |i| p.directions[i].clone())
+}
+
+/// Directions from the axis values at every grid sample (the definition [`pass`] reproduces
+/// with fewer inverse kinematics; tests compare the two).
+pub fn directions_of(q: &[AxisValues], axis: AxisName) -> Vec<f64> {
+    let mut d = vec![0.0; q.len()];
+    for k in 1..q.len() {
+        let dq = q[k].get(axis) - q[k - 1].get(axis);
         d[k] = if dq.abs() > REST_TOLERANCE {
             dq.signum()
         } else {
             d[k - 1]
         };
     }
-    // Settled for the first motion: back-fill the leading rest with the first direction.
+    settle_start(&mut d);
+    d
+}
+
+/// Settled for the first motion: back-fills the leading rest with the first direction.
+fn settle_start(d: &mut [f64]) {
     let first = d.iter().copied().find(|x| *x != 0.0).unwrap_or(1.0);
     for x in d.iter_mut() {
         if *x != 0.0 {
@@ -85,7 +241,6 @@ pub fn directions(p: &Pass, axis: AxisName) -> Vec<f64> {
         }
         *x = first;
     }
-    d
 }
 
 /// Number of reversals of `axis` along the pass.

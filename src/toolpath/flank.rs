@@ -39,7 +39,12 @@ pub struct ToolPoseDerivs {
 
 /// The tool pose of eq. 2 at path parameter `u ∈ [0, 1]` (clamped) for surface `s`.
 pub fn tool_pose<P: RuledPart + ?Sized>(part: &P, s: Surface, u: f64) -> ToolPose {
-    tool_pose_derivs(part, s, u).pose
+    // The frame alone (no curvature): the same arithmetic as `tool_pose_derivs(..).pose`.
+    let f = part.frame_at(s, u, 1.0);
+    ToolPose {
+        tip: f.point + f.n * TOOL_RADIUS - f.r * part.tip_offset(),
+        axis: f.r,
+    }
 }
 
 /// The tool pose of eq. 2 and its first derivative in `u`.
@@ -71,6 +76,24 @@ mod tests {
     use super::*;
     use crate::assert_near;
     use crate::tolerance::FD_REL;
+
+    /// The fast pose (frame without curvature) is the pose of `tool_pose_derivs`, bit for bit,
+    /// and so is the S-shape's frame (tolerance: none).
+    #[test]
+    fn fast_pose_is_bit_identical() {
+        let part = crate::part::SShape::iso();
+        for s in Surface::BOTH {
+            for k in 0..=10_000 {
+                let u = k as f64 / 10_000.0;
+                let a = tool_pose(&part, s, u);
+                let b = tool_pose_derivs(&part, s, u).pose;
+                assert_eq!((a.tip, a.axis), (b.tip, b.axis), "{s:?} u = {u}");
+                for v in [0.0, 0.37, 1.0] {
+                    assert_eq!(part.frame_at(s, u, v), part.frame_derivs_at(s, u, v).frame);
+                }
+            }
+        }
+    }
 
     #[test]
     fn tool_axis_passes_10_mm_from_the_top_curve_along_n() {
