@@ -1,7 +1,7 @@
 // Times the stages of benches/stages.rs (defined once in src/wasm/bench.rs: same calls, same
 // inputs) through the release wasm (www/pkg) under Node, and prints the table
 // `stage | native median | wasm median | wasm / native`, the native medians read from
-// target/bench-native.json (written by `cargo bench --bench stages`).
+// target/bench-native.json (written by `cargo bench --features bench --bench stages`).
 // Usage: node scripts/bench-wasm.mjs [FILTER]   (env BENCH_BUDGET_MS: time per stage, 500)
 import fs from 'node:fs';
 import path from 'node:path';
@@ -35,7 +35,7 @@ let native = {};
 try {
   native = JSON.parse(fs.readFileSync(path.join(ROOT, 'target', 'bench-native.json'), 'utf8'));
 } catch {
-  console.error('no target/bench-native.json: run `cargo bench --bench stages` first for the native column');
+  console.error('no target/bench-native.json: run `cargo bench --features bench --bench stages` first for the native column');
 }
 const fmt = (us) => (us >= 1000 ? `${(us / 1000).toFixed(2)} ms` : `${us.toFixed(1)} µs`);
 console.log('| stage | native median | wasm median | wasm / native |');

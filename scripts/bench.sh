@@ -4,6 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
-bash scripts/build-wasm.sh
-cargo bench --quiet --bench stages -- "$@"
+# Both builds carry the `bench` feature (the stage list and its inputs, src/wasm/bench.rs).
+TESTPIECE_WASM_FEATURES=bench bash scripts/build-wasm.sh
+cargo bench --quiet --features bench --bench stages -- "$@"
 node scripts/bench-wasm.mjs "$@"

@@ -4,16 +4,19 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
-profile=release; flag=--release
+# Release: the `wasm-release` profile of Cargo.toml (the release profile optimised for size).
+profile=wasm-release; flag="--profile wasm-release"
 if [ "${1:-}" = "--dev" ]; then profile=debug; flag=; fi
-cargo build --lib --target wasm32-unknown-unknown $flag
+# TESTPIECE_WASM_FEATURES: extra cargo features (scripts/bench.sh: `bench`).
+features=${TESTPIECE_WASM_FEATURES:+--features $TESTPIECE_WASM_FEATURES}
+cargo build --lib --target wasm32-unknown-unknown $flag $features
 wasm-bindgen --target web --no-typescript --out-dir www/pkg \
   "target/wasm32-unknown-unknown/$profile/testpiece.wasm"
 # Size step (release only): wasm-opt -Oz from the npm package binaryen (a devDependency, runs
 # offline under Node); skipped with a note when `npm install` has not been run. Idempotent: it
 # always starts from wasm-bindgen's fresh output.
 opt=node_modules/.bin/wasm-opt
-if [ "$profile" = release ]; then
+if [ "$profile" = wasm-release ]; then
   if [ -x "$opt" ]; then
     before=$(stat -c %s www/pkg/testpiece_bg.wasm)
     "$opt" -Oz --strip-debug --strip-producers \

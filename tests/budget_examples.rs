@@ -5,15 +5,8 @@
 
 use std::path::PathBuf;
 
-use testpiece::budget::synthetic::{flank_path, trace_of, write_apt, write_trace_csv};
-use testpiece::budget::{
-    error_budget, path_deviation, read_cl, read_trace, BudgetOptions, TraceMachine,
-};
-use testpiece::cmm::write::{canonical_csv, Precision};
-use testpiece::machine::{AxisName, Branch};
-use testpiece::part::{builtin_points, SShape};
-use testpiece::simulate::{builtin_design, simulate_deviation};
-use testpiece::toolpath::TOOL_RADIUS;
+use testpiece::budget::synthetic::example_files;
+use testpiece::budget::{error_budget, read_cl, read_trace, BudgetOptions, TraceMachine};
 
 fn dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/budget")
@@ -21,56 +14,7 @@ fn dir() -> PathBuf {
 
 /// (file name, content) of the three example files.
 fn generate() -> Vec<(&'static str, String)> {
-    let part = SShape::iso();
-    let pts = builtin_points(&part);
-    let machine = TraceMachine::default();
-    // CAM: eq. 2 every 1 mm, as APT
-    let cl = flank_path(&part, 1.0, "example_cl.apt");
-    let apt = write_apt(
-        &cl,
-        "S-SHAPE EQ2 FLANK PATH EVERY 1 MM (testpiece synthetic example)",
-        Some(6),
-    );
-    // NC: the controller's axis values, with a following error of 4 µm on X and 0.003° on C
-    let mut rows = trace_of(&cl, &machine, Branch::Signed).unwrap();
-    for (k, q) in rows.iter_mut().enumerate() {
-        let s = (k as f64 / 25.0).sin();
-        q.set(AxisName::X, q.get(AxisName::X) + 0.004 * s);
-        q.set(AxisName::C, q.get(AxisName::C) + 0.003f64.to_radians() * s);
-    }
-    let trace_text = write_trace_csv(
-        &rows,
-        &machine,
-        0.008,
-        "testpiece synthetic NC trace of example_cl.apt on paper 000's machine (L0 = 499.889 mm), X Y Z mm, B C degrees, following error 4 um on X and 0.003 deg on C",
-        Some(6),
-    );
-    let trace = read_trace(trace_text.as_bytes(), "example_trace.csv", &machine).unwrap();
-    // the measured part: trace deviation + machine defect (EX0B, EA0B) + 5 µm oversize tool +
-    // CMM noise σ = 1 µm (seed 10)
-    let d_trace: Vec<f64> = path_deviation(&trace, &pts, TOOL_RADIUS)
-        .unwrap()
-        .iter()
-        .map(|h| h.deviation)
-        .collect();
-    let design = builtin_design("physical", "signed", true).unwrap();
-    let errors = vec![
-        ("EX0B".to_string(), 0.01),
-        ("EA0B".to_string(), 1.2e-4),
-        ("dR".to_string(), 0.005),
-    ];
-    let defect = simulate_deviation(&design, &errors, 0.001, 10).unwrap();
-    let measured: Vec<f64> = d_trace.iter().zip(&defect).map(|(a, b)| a + b).collect();
-    let cmm = canonical_csv(
-        pts.iter().zip(measured),
-        Precision::Decimals(6),
-        Some("testpiece synthetic measured part for the budget example: deviation = NC trace deviation (example_trace.csv) + machine defect EX0B = 0.01 mm, EA0B = 1.2e-4 rad + dR = 0.005 mm + noise 1 um"),
-    );
-    vec![
-        ("example_cl.apt", apt),
-        ("example_trace.csv", trace_text),
-        ("example_measured.csv", cmm),
-    ]
+    example_files().unwrap()
 }
 
 #[test]

@@ -162,6 +162,8 @@ pub enum BudgetError {
     Analysis(#[from] AnalysisError),
     #[error("design envelope: {0}")]
     Toolpath(#[from] ToolpathError),
+    #[error("example part: {0}")]
+    Simulate(#[from] crate::simulate::SimulateError),
 }
 
 /// Decodes a tool-path file (size limit, binary data, encodings: the CMM reader's rules).

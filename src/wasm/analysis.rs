@@ -13,8 +13,7 @@ pub fn analyse(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, Js
     let opts: AnalysisOptions = if options.is_undefined() || options.is_null() {
         AnalysisOptions::default()
     } else {
-        serde_wasm_bindgen::from_value(options)
-            .map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))?
+        super::from_js(options).map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))?
     };
     let a = run(bytes, name, &opts).map_err(|e| JsError::new(&e.to_string()))?;
     super::to_js(&a)

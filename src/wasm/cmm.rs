@@ -12,8 +12,7 @@ pub(crate) fn options_from_js(options: JsValue) -> Result<ReadOptions, JsError> 
     if options.is_undefined() || options.is_null() {
         return Ok(ReadOptions::default());
     }
-    serde_wasm_bindgen::from_value(options)
-        .map_err(|e| JsError::new(&format!("invalid CMM reading options: {e}")))
+    super::from_js(options).map_err(|e| JsError::new(&format!("invalid CMM reading options: {e}")))
 }
 
 /// Reads a CMM export (`shared/spec/cmm-csv.md`). `bytes`: the file as uploaded; `name`: its

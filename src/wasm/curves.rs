@@ -16,8 +16,7 @@ fn options(options: JsValue) -> Result<AnalysisOptions, JsError> {
     if options.is_undefined() || options.is_null() {
         return Ok(AnalysisOptions::default());
     }
-    serde_wasm_bindgen::from_value(options)
-        .map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))
+    super::from_js(options).map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))
 }
 
 /// Figure-19 matrix at the 100 built-in points for the analysis settings `options`

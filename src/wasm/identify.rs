@@ -68,8 +68,7 @@ pub fn identify_design(
     let o: JsIdentifyOptions = if options.is_undefined() || options.is_null() {
         JsIdentifyOptions::default()
     } else {
-        serde_wasm_bindgen::from_value(options)
-            .map_err(|e| JsError::new(&format!("identify options: {e}")))?
+        super::from_js(options).map_err(|e| JsError::new(&format!("identify options: {e}")))?
     };
     check_rows(n, deviation, weights)?;
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();

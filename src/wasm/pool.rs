@@ -1,25 +1,32 @@
 //! wasm exports for several parts: pooled identification ([`crate::pool`]) and side-by-side
 //! comparison ([`crate::compare`]).
 
-use serde::Deserialize;
 use wasm_bindgen::prelude::*;
 
 use crate::compare::{compare, ParameterValue};
 use crate::pool::{identify_pooled, PoolOptions};
 
-#[derive(Deserialize)]
-struct JsFile {
-    name: String,
-    #[serde(with = "serde_bytes_compat")]
-    bytes: Vec<u8>,
-}
-
-/// `Uint8Array` or plain array of numbers → bytes.
-mod serde_bytes_compat {
-    use serde::{Deserialize, Deserializer};
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<u8>, D::Error> {
-        Vec::<u8>::deserialize(d)
+/// `[{name, bytes: Uint8Array | number[]}]` → (name, bytes), read field by field (the bytes are
+/// not passed through JSON).
+fn files_from_js(files: &JsValue) -> Result<Vec<(String, Vec<u8>)>, String> {
+    if !js_sys::Array::is_array(files) {
+        return Err("not an array".into());
     }
+    js_sys::Array::from(files)
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let get = |k: &str| js_sys::Reflect::get(&f, &JsValue::from_str(k)).ok();
+            let name = get("name")
+                .and_then(|n| n.as_string())
+                .ok_or_else(|| format!("file {}: no `name` string", i + 1))?;
+            let bytes = get("bytes")
+                .filter(|b| b.is_object())
+                .map(|b| js_sys::Uint8Array::new(&b).to_vec())
+                .ok_or_else(|| format!("file {} ({name}): no `bytes` array", i + 1))?;
+            Ok((name, bytes))
+        })
+        .collect()
 }
 
 /// Identifies one machine from several CMM files. `files`: `[{name, bytes: Uint8Array}]` (at
@@ -28,17 +35,16 @@ mod serde_bytes_compat {
 /// excluded_rows, residual_rms, residual_mean}], shared, per_part, identification}` (mm, rad).
 #[wasm_bindgen(js_name = analysePooled)]
 pub fn analyse_pooled(files: JsValue, options: JsValue) -> Result<JsValue, JsError> {
-    let files: Vec<JsFile> = serde_wasm_bindgen::from_value(files)
+    let files = files_from_js(&files)
         .map_err(|e| JsError::new(&format!("pooled files: expected [{{name, bytes}}]: {e}")))?;
     let opts: PoolOptions = if options.is_undefined() || options.is_null() {
         PoolOptions::default()
     } else {
-        serde_wasm_bindgen::from_value(options)
-            .map_err(|e| JsError::new(&format!("bad pooling settings: {e}")))?
+        super::from_js(options).map_err(|e| JsError::new(&format!("bad pooling settings: {e}")))?
     };
     let list: Vec<(&[u8], &str)> = files
         .iter()
-        .map(|f| (f.bytes.as_slice(), f.name.as_str()))
+        .map(|(name, bytes)| (bytes.as_slice(), name.as_str()))
         .collect();
     let r = identify_pooled(&list, &opts).map_err(|e| JsError::new(&e.to_string()))?;
     super::to_js(&r)
@@ -57,7 +63,7 @@ pub fn compare_parameters(
     b: JsValue,
 ) -> Result<JsValue, JsError> {
     let parse = |v: JsValue, side: &str| -> Result<Vec<ParameterValue>, JsError> {
-        serde_wasm_bindgen::from_value(v).map_err(|e| {
+        super::from_js(v).map_err(|e| {
             JsError::new(&format!(
                 "parameters of {side}: expected [{{name, value, std, unit}}]: {e}"
             ))

@@ -57,3 +57,26 @@ fn a_bad_cl_file_names_the_line_under_wasm() {
         .to_string()
         .contains("line 2, column 3 'GOTO field 3': not a number: found 'x'"));
 }
+
+/// The page's budget examples are generated in the browser (not embedded, to keep the wasm
+/// small): under wasm they are the files of tests/data/budget/ byte for byte (6 decimals).
+#[wasm_bindgen_test]
+fn the_generated_examples_are_the_committed_files() {
+    for (name, disk) in [
+        (
+            "example_measured.csv",
+            include_str!("../data/budget/example_measured.csv"),
+        ),
+        (
+            "example_cl.apt",
+            include_str!("../data/budget/example_cl.apt"),
+        ),
+        (
+            "example_trace.csv",
+            include_str!("../data/budget/example_trace.csv"),
+        ),
+    ] {
+        let made = budget_example_bytes(name).ok().expect("example");
+        assert!(made == disk.as_bytes(), "{name} differs under wasm");
+    }
+}
