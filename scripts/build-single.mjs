@@ -1,7 +1,10 @@
 // Builds dist/testpiece.html: the whole page in one file that works when double-clicked from
-// file:// (a lab machine with no web server). The wasm is inlined as base64 and started with
-// initSync on the main thread; the page's ES modules are folded into one inline module script
-// (file:// forbids loading other modules, module workers and service workers).
+// file:// (a lab machine with no web server). file:// forbids loading other modules, module
+// workers and service workers, so: the page's ES modules are folded into one classic inline
+// script; the core runs in a classic Web Worker made from a Blob URL whose source (the
+// module-free wasm-bindgen glue + www/worker-inline.js) is inlined as a non-executed script; the
+// wasm is inlined as base64, decoded once by the page and posted to the worker, which starts it
+// with initSync. Cancel terminates the worker and starts another from the same source and bytes.
 // Needs www/pkg/ (scripts/build-wasm.sh). Usage: node scripts/build-single.mjs
 import fs from 'node:fs';
 import path from 'node:path';
@@ -44,29 +47,41 @@ const glue = foldGlue(read('pkg/testpiece.js'));
 // Dependency order: each module after the ones it imports.
 const modules = ['pkg/build', 'plot', 'export', 'core', 'views', 'parts', 'curves', 'budget', 'app'].filter((m) => fs.existsSync(path.join(WWW, `${m}.js`)));
 let app = modules.map((m) => fold(m, read(`${m}.js`))).join('\n');
+// The worker's source: the glue, then the message handler. `</script` cannot occur in it.
+// (The glue's default init resolves the wasm next to `import.meta.url`; only initSync is used
+// here, and a classic worker cannot parse `import.meta`.)
+const workerSource = `${glue.replace(/import\.meta\.url/g, 'self.location.href')}\n${read('worker-inline.js')}`;
+if (/import\.meta/.test(workerSource)) throw new Error('import.meta left in the worker source');
+if (/<\/script/i.test(workerSource)) throw new Error('the worker source contains </script');
 const boot = `
 globalThis.__TESTPIECE_INLINE__ = (() => {
   const b64 = document.getElementById('testpiece-wasm').textContent.trim();
   const bin = atob(b64);
   const bytes = new Uint8Array(bin.length);
   for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
-  return { initSync: __m_pkg_testpiece.initSync, module: bytes, exports: __m_pkg_testpiece.exports };
+  return { workerSource: document.getElementById('testpiece-worker').textContent, wasm: bytes };
 })();
 `;
 // app.js starts itself; the inline core must exist before it runs.
 app = app.replace('const __m_app = (() => {', `${boot}\nconst __m_app = (() => {`);
+// A classic script: `import.meta` is a syntax error there (core.js uses it only when served).
+app = app.replace(/import\.meta\.url/g, 'location.href');
+if (/import\.meta/.test(app)) throw new Error('import.meta left in the single-file script');
 
 let html = read('index.html');
 const css = read('style.css');
 // The module graph is inlined below: no module preloads.
 html = html.replace(/^\s*<!-- Fetch the whole module graph[^\n]*\n/m, '').replace(/^\s*<link rel="modulepreload"[^\n]*\n/gm, '');
 html = html.replace(/<link rel="stylesheet" href="style.css">/, `<style>\n${css}\n</style>`);
-html = html.replace(/<script type="module" src="app.js"><\/script>/,
+// (A replacer function: the inlined code may contain `$&`-like text.)
+html = html.replace(/<script type="module" src="app.js"><\/script>/, () =>
   `<script type="application/wasm-base64" id="testpiece-wasm">${wasm.toString('base64')}</script>\n` +
-  `<script type="module">\n${glue}\n${app}\n</script>`);
-// file:// has no origin to connect to: forbid every connection; inline scripts are this file's own.
+  `<script type="text/plain" id="testpiece-worker">\n${workerSource}\n</script>\n` +
+  `<script>\n(() => {\n'use strict';\n${app}\n})();\n</script>`);
+// file:// has no origin to connect to: forbid every connection; inline scripts are this file's
+// own; the only worker is the Blob-URL one made from this file's inline source.
 html = html.replace(/<meta http-equiv="Content-Security-Policy" content="[^"]*">/,
-  `<meta http-equiv="Content-Security-Policy" content="default-src 'none'; script-src 'unsafe-inline' 'wasm-unsafe-eval'; style-src 'unsafe-inline'; img-src data: blob:; connect-src 'none'; object-src 'none'; base-uri 'none'; form-action 'none'">`);
+  `<meta http-equiv="Content-Security-Policy" content="default-src 'none'; script-src 'unsafe-inline' 'wasm-unsafe-eval'; worker-src blob:; style-src 'unsafe-inline'; img-src data: blob:; connect-src 'none'; object-src 'none'; base-uri 'none'; form-action 'none'">`);
 fs.mkdirSync(path.dirname(OUT), { recursive: true });
 fs.writeFileSync(OUT, html);
 console.log(`[build-single] ${path.relative(ROOT, OUT)}: ${fs.statSync(OUT).size} bytes`);

@@ -1,20 +1,35 @@
-// Access to the WebAssembly core: through a module Web Worker when served over http(s), or
-// directly on the main thread in the single-file build (file:// allows neither module workers
-// nor service workers). Every call returns a promise.
+// Access to the WebAssembly core, always in a Web Worker so that heavy work never freezes the
+// page and can be cancelled:
+// - served over http(s): a module worker (worker.js) that loads pkg/testpiece.js;
+// - the single-file build (file://, where module workers and service workers cannot work): a
+//   classic worker made from a Blob URL of the inlined glue + worker-inline.js
+//   (scripts/build-single.mjs), to which the page posts the inlined wasm bytes; the worker
+//   starts the core with initSync.
+// Every call returns a promise. Cancel terminates the worker and starts a fresh one.
 
 let worker = null;
-let direct = null;
+let inlineCore = null; // {workerSource, wasm: Uint8Array} in the single-file build
 let seq = 0;
 const pending = new Map();
 
-/** Starts the core once. `inline` = {initSync, module} for the single-file build. */
+function rejectAll(message) {
+  for (const p of pending.values()) p.reject(new Error(message));
+  pending.clear();
+}
+
+/** Starts the core once. `inline` = {workerSource, wasm} for the single-file build. */
 export async function startCore(inline) {
   if (inline) {
-    inline.initSync({ module: inline.module });
-    direct = inline.exports;
-    return 'main thread';
+    inlineCore = inline;
+    const url = URL.createObjectURL(new Blob([inline.workerSource], { type: 'text/javascript' }));
+    worker = new Worker(url);
+    URL.revokeObjectURL(url);
+    // Messages are handled in order: the core is started before the first call. The bytes are
+    // copied (not transferred) so that a restarted worker can be given them again.
+    worker.postMessage({ init: inline.wasm });
+  } else {
+    worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
   }
-  worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
   worker.onmessage = (ev) => {
     const { id, ok, result, error } = ev.data;
     const p = pending.get(id);
@@ -23,22 +38,14 @@ export async function startCore(inline) {
     ok ? p.resolve(result) : p.reject(new Error(error));
   };
   worker.onerror = (ev) => {
-    for (const p of pending.values()) p.reject(new Error(ev.message || 'the worker stopped'));
-    pending.clear();
+    ev.preventDefault?.();
+    rejectAll(ev.message || 'the worker stopped');
   };
-  return 'web worker';
+  return inline ? 'web worker (single file, Blob URL)' : 'web worker';
 }
 
 /** Calls the core's export `op` with `args`. */
 export function call(op, ...args) {
-  if (direct) {
-    return new Promise((resolve, reject) => {
-      // Let the page paint its progress indication before a synchronous computation.
-      setTimeout(() => {
-        try { resolve(direct[op](...args)); } catch (e) { reject(e instanceof Error ? e : new Error(String(e))); }
-      }, 0);
-    });
-  }
   const id = ++seq;
   return new Promise((resolve, reject) => {
     pending.set(id, { resolve, reject });
@@ -50,8 +57,7 @@ export function call(op, ...args) {
 export function cancel() {
   if (!worker) return false;
   worker.terminate();
-  for (const p of pending.values()) p.reject(new Error('cancelled'));
-  pending.clear();
-  startCore();
+  rejectAll('cancelled');
+  startCore(inlineCore);
   return true;
 }

@@ -39,13 +39,18 @@ function fmt(v) {
  *   xNames?: string[],                     // per-x name for the hover readout (e.g. point id)
  *   groups?: [{label, from, to}],          // x ranges drawn as labelled bands with separators
  *   series: [{name, y: number[], color?, visible?, dashed?, points?}],
- *   highlight?: [{from, to, label}],       // x ranges shaded (e.g. where the residual lies)
+ *   highlight?: [{from, to, label, ids?}], // x ranges shaded (e.g. where the residual lies);
+ *                                          // focusable, named by `label`, `ids` in data-ids
+ *   markers?: [{x, label, short, id?}],    // vertical marks (e.g. axis reversals), focusable
+ *   note?: string,                         // one line under the x label (legend in words)
  *   zeroLine?: true, width?, height?, yUnit?
  * }
  */
 export function chart(container, spec) {
-  const W = spec.width || 900, H = spec.height || 340;
-  const m = { l: 64, r: 12, t: spec.title ? 28 : 10, b: spec.groups ? 58 : 42 };
+  // The note may have several lines ('\n'); room is made for the lines of the first note.
+  const noteH = spec.note ? 14 * String(spec.note).split('\n').length + 2 : 0;
+  const W = spec.width || 900, H = (spec.height || 340) + noteH;
+  const m = { l: 64, r: 12, t: spec.title ? 28 : 10, b: (spec.groups ? 58 : 42) + noteH };
   container.textContent = '';
   const svg = el('svg', { xmlns: NS, viewBox: `0 0 ${W} ${H}`, width: '100%', role: 'img',
     'aria-label': spec.title || 'chart', class: 'chart', 'font-family': 'system-ui, sans-serif', 'font-size': 11 });
@@ -70,8 +75,10 @@ export function chart(container, spec) {
     const Y = (v) => H - m.b - ((v - ylo) / (yhi - ylo)) * (H - m.t - m.b);
     // highlighted ranges
     for (const h of spec.highlight || []) {
-      el('rect', { x: X(h.from) - 3, y: m.t, width: Math.max(6, X(h.to) - X(h.from) + 6), height: H - m.t - m.b,
-        fill: '#ffd54f', opacity: 0.35, class: 'highlight' }, plotG);
+      const r = el('rect', { x: X(h.from) - 3, y: m.t, width: Math.max(6, X(h.to) - X(h.from) + 6), height: H - m.t - m.b,
+        fill: '#ffd54f', 'fill-opacity': 0.45, class: 'highlight', tabindex: 0, role: 'img', 'aria-label': h.label || 'highlighted points' }, plotG);
+      if (h.ids) r.setAttribute('data-ids', h.ids.join(' '));
+      if (h.label) el('title', {}, r).textContent = h.label;
     }
     // y grid and ticks
     for (const t of ticks(ylo, yhi)) {
@@ -92,7 +99,11 @@ export function chart(container, spec) {
       for (const t of ticks(xlo, xhi)) el('text', { x: X(t), y: H - m.b + 14, 'text-anchor': 'middle' }, plotG).textContent = fmt(t);
     }
     el('rect', { x: m.l, y: m.t, width: W - m.l - m.r, height: H - m.t - m.b, fill: 'none', stroke: '#999' }, plotG);
-    if (spec.xLabel) el('text', { x: (m.l + W - m.r) / 2, y: H - 6, 'text-anchor': 'middle' }, plotG).textContent = spec.xLabel;
+    if (spec.xLabel) el('text', { x: (m.l + W - m.r) / 2, y: H - 6 - noteH, 'text-anchor': 'middle' }, plotG).textContent = spec.xLabel;
+    if (spec.note) {
+      const t = el('text', { x: m.l, y: H - noteH + 8, fill: '#7a4b00', class: 'note' }, plotG);
+      String(spec.note).split('\n').forEach((line, j) => { el('tspan', { x: m.l, dy: j ? 14 : 0 }, t).textContent = line; });
+    }
     if (spec.yLabel) el('text', { x: 14, y: (m.t + H - m.b) / 2, 'text-anchor': 'middle', transform: `rotate(-90 14 ${(m.t + H - m.b) / 2})` }, plotG).textContent = spec.yLabel;
     // series: a polyline per group so that curves do not join across separators
     spec.series.forEach((s, k) => {
@@ -107,6 +118,16 @@ export function chart(container, spec) {
         else for (const p of pts) { const [cx, cy] = p.split(','); el('circle', { cx, cy, r: 2.4, fill: color, 'data-series': s.name }, plotG); }
       }
     });
+    // vertical marks (drawn over the series, under the hover area; focusable for the keyboard)
+    for (const mk of spec.markers || []) {
+      const g = el('g', { class: 'marker', tabindex: 0, role: 'img', 'aria-label': mk.label }, plotG);
+      if (mk.id !== undefined) g.setAttribute('data-id', mk.id);
+      const xm = X(mk.x);
+      el('line', { x1: xm, x2: xm, y1: m.t, y2: H - m.b, stroke: '#6a3d9a', 'stroke-width': 1.4, 'stroke-dasharray': '2 2' }, g);
+      el('path', { d: `M${xm - 5},${m.t} L${xm + 5},${m.t} L${xm},${m.t + 8} Z`, fill: '#6a3d9a' }, g);
+      if (mk.short) el('text', { x: xm + 3, y: H - m.b - 4, fill: '#6a3d9a', 'font-size': 10 }, g).textContent = mk.short;
+      el('title', {}, g).textContent = mk.label;
+    }
     // legend
     let lx = m.l + 4;
     const ly = m.t + 12;

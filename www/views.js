@@ -136,6 +136,142 @@ export function fig19View(root, sens, st) {
     series.map((s) => [s.name, { text: Math.min(...s.y).toFixed(1), num: true, value: Math.min(...s.y) }, { text: Math.max(...s.y).toFixed(1), num: true, value: Math.max(...s.y) }])));
 }
 
+
+// ---------------------------------------------------------------- Where (the gap diagnosis on the plots)
+// The diagnosis (src/gap/location.rs) reports, per curve, region of the S, lean of the wall and
+// axis reversal, the points of the group (`ids`), its residual RMS and its concentration (share of
+// the residual sum of squares over share of points). These helpers draw the chosen group as
+// shaded bands on the per-point plots and ringed points on the plan view, and every axis
+// reversal as a mark at the point nearest it along the tool path. The choice is shared by the
+// views; changing it redraws every figure that shows it.
+const where = { choice: 'auto', figures: new Set() };
+
+const GROUP_WORDS = { curve: 'curve', region: 'region of the S', lean: 'lean of the wall', reversal: 'axis reversal' };
+const entryKey = (e) => `${e.group}:${e.name}`;
+
+/** The where report of an analysis: entries, reversals, and the entry to highlight for `choice`. */
+function whereOf(a) {
+  const d = a && a.diagnosis && a.diagnosis.Ok;
+  if (!d) return null;
+  const entries = d.where.filter((e) => e.ids);
+  const reversals = entries.filter((e) => e.group === 'reversal' && e.nearest !== null && e.nearest !== undefined);
+  const auto = () => {
+    const named = d.structure.concentrated_in;
+    return entries.find((e) => (e.group === 'curve' || e.group === 'region') && e.name === named) || null;
+  };
+  // The tool path reverses some axis dozens of times: mark those of the verdict's axis (a
+  // backlash or reversal-spike verdict names it) and those whose ±10 mm window holds more than
+  // 1.5× its share of the residual, and the chosen reversal.
+  const verdictAxis = (/(?:backlash|reversal)_([xyzbc])\b/i.exec(d.verdict.effect || '') || [])[1];
+  const isChosen = (e) => where.choice === entryKey(e);
+  const marked = reversals.filter((e) => isChosen(e) || e.concentration > 1.5 || (verdictAxis && e.name.split('@')[0].toLowerCase() === verdictAxis.toLowerCase()));
+  const chosen = where.choice === 'auto' ? auto() : where.choice === 'none' ? null : entries.find((e) => entryKey(e) === where.choice) || null;
+  // One mark per point: reversals of several axes can share the nearest point.
+  const marks = [];
+  for (const e of marked) {
+    const m = marks.find((k) => String(k.id) === String(e.nearest));
+    if (m) m.entries.push(e); else marks.push({ id: e.nearest, entries: [e] });
+  }
+  for (const m of marks) {
+    m.short = [...new Set(m.entries.map((e) => e.name.split('@')[0]))].join(',');
+    m.label = m.entries.map(describeReversal).join('; ');
+  }
+  return { d, entries, reversals, marked, marks, verdictAxis, chosen, auto: auto() };
+}
+
+const um1 = (x) => `${(x * 1000).toFixed(1)} µm`;
+function describeEntry(e) {
+  return `${GROUP_WORDS[e.group] || e.group} ${e.name}: ${e.n} points, baseline residual RMS ${um1(e.rms)}, ` +
+    `max |r| ${um1(e.max_abs)}, ${Number(e.concentration.toFixed(2))}× its share of the residual`;
+}
+function describeReversal(e) {
+  const [axis, at] = e.name.split('@');
+  return `${axis}-axis reversal at ${at} mm of tool path (point ${e.nearest}); ±10 mm window: ${e.n} points, RMS ${um1(e.rms)}, ${Number(e.concentration.toFixed(2))}× its share`;
+}
+
+/** The legend of the highlight in words and units (also drawn inside the exported figures):
+ * two lines, what is shaded and what the marks are. */
+function whereNote(w) {
+  if (!w) return '';
+  const s = w.d.structure;
+  const what = s.structured ? `structure (RMS ${um1(s.structure_rms)} above noise σ ${um1(s.noise.used)})` : `noise (σ ${um1(s.noise.used)}; no structure above 2.5σ)`;
+  const shade = w.chosen ? `Shaded: ${GROUP_WORDS[w.chosen.group]} ${w.chosen.name} (RMS ${um1(w.chosen.rms)}, ${Number(w.chosen.concentration.toFixed(2))}× its share).` : 'Nothing shaded.';
+  const axes = [...new Set(w.marked.map((e) => e.name.split('@')[0]))].join(', ');
+  const rev = w.marked.length ? `▼ ${w.marked.length} of ${w.reversals.length} axis reversals (${axes}) at the nearest point; ` : `▼ none of ${w.reversals.length} axis reversals marked; `;
+  return `${shade}\nBaseline residual of the diagnosis: ${what}.\n${rev}units µm, tool path in mm.`;
+}
+
+/** Runs of consecutive x positions of the points `ids` (for shaded bands). */
+function runsOf(ids, idToX) {
+  const xs = ids.map((id) => idToX.get(String(id))).filter((x) => x !== undefined).sort((p, q) => p - q);
+  const runs = [];
+  for (const x of xs) {
+    const last = runs[runs.length - 1];
+    if (last && x === last.to + 1) { last.to = x; last.xs.push(x); } else runs.push({ from: x, to: x, xs: [x] });
+  }
+  return runs;
+}
+
+/** highlight / markers / note for a per-point chart laid out by `layout`. */
+function whereChartPatch(a, ids, x) {
+  const w = whereOf(a);
+  if (!w) return { highlight: [], markers: [], note: undefined };
+  const idToX = new Map(ids.map((id, i) => [String(id), x[i]]));
+  const xToId = new Map(ids.map((id, i) => [x[i], String(id)]));
+  const highlight = w.chosen ? runsOf(w.chosen.ids, idToX).map((r) => ({ from: r.from, to: r.to, ids: r.xs.map((v) => xToId.get(v)),
+    label: `${describeEntry(w.chosen)}; points ${r.xs.map((v) => xToId.get(v)).join(', ')}` })) : [];
+  const markers = w.marks.filter((k) => idToX.has(String(k.id))).map((k) => ({ x: idToX.get(String(k.id)), id: k.id, short: k.short, label: k.label }));
+  return { highlight, markers, note: whereNote(w) };
+}
+
+/** The control that chooses what is highlighted, and the legend in words (HTML). */
+function whereControl(a, idSuffix) {
+  const w = whereOf(a);
+  if (!w) return h('p', { class: 'where-legend' }, 'No gap diagnosis: nothing to highlight.');
+  const sel = h('select', { id: `where-choice-${idSuffix}`, class: 'where-choice', 'aria-describedby': `where-legend-${idSuffix}` },
+    h('option', { value: 'auto' }, w.auto ? `where the residual is concentrated (${w.auto.name})` : 'where the residual is concentrated (nowhere markedly: nothing)'),
+    h('option', { value: 'none' }, 'nothing'),
+    ...w.entries.map((e) => h('option', { value: entryKey(e) }, `${GROUP_WORDS[e.group]} ${e.name} (${Number(e.concentration.toFixed(2))}×, RMS ${um1(e.rms)})`)));
+  sel.value = where.choice;
+  if (sel.value !== where.choice) sel.value = 'auto';
+  const legend = h('p', { class: 'where-legend', id: `where-legend-${idSuffix}` });
+  const fill = () => {
+    const x = whereOf(a);
+    legend.textContent = '';
+    legend.append(h('span', { class: 'swatch', 'aria-hidden': 'true' }), ' ',
+      x.chosen ? `Shaded / ringed: ${describeEntry(x.chosen)}.` : 'Nothing shaded.', ' ',
+      h('span', { class: 'rev-swatch', 'aria-hidden': 'true' }, '▼'), ' ',
+      x.marked.length ? `Marked axis reversals (${x.verdictAxis ? `those of the verdict's ${x.verdictAxis.toUpperCase()} axis and ` : ''}those whose ±10 mm window holds over 1.5× its share of the residual; ${x.reversals.length} in all, each can be chosen above), at the point nearest each along the tool path: ${x.marked.map(describeReversal).join('; ')}.`
+        : `None of the ${x.reversals.length} axis reversals of the tool path is marked (none of the verdict's axis or with the residual concentrated near it; each can be chosen above).`, ' ',
+      whereNote(x).split('\n')[1]);
+  };
+  fill();
+  sel.addEventListener('change', () => {
+    where.choice = sel.value;
+    for (const f of [...where.figures]) { if (!f.isConnected()) where.figures.delete(f); else f.redraw(); }
+    for (const o of document.querySelectorAll('select.where-choice')) if (o !== sel) o.value = sel.value;
+  });
+  where.figures.add({ isConnected: () => legend.isConnected, redraw: fill });
+  return h('div', { class: 'where-control' }, h('label', { for: `where-choice-${idSuffix}` }, 'Highlight on the plots and the plan view: '), sel, legend);
+}
+
+/** The measured / simulated / residual chart with the where highlight. */
+function residualChart(a, name) {
+  const id = a.identification;
+  const curves = id.points.map((p) => p.curve);
+  const ids = id.points.map((p) => p.id);
+  const L = layout(curves, ids);
+  const spec = { title: 'Measured, simulated (identified model) and residual', x: L.x, xNames: L.xNames, groups: L.groups,
+    series: [
+      { name: 'measured', y: id.points.map((p) => p.measured * 1000), points: true },
+      { name: 'simulated', y: id.points.map((p) => p.fitted * 1000) },
+      { name: 'residual', y: id.points.map((p) => p.residual * 1000), dashed: true },
+    ], xLabel: 'measurement point (grouped by curve)', yLabel: 'normal deviation (µm)', yUnit: 'µm', ...whereChartPatch(a, ids, L.x) };
+  const block = chartBlock(name, spec);
+  where.figures.add({ isConnected: () => block.el.isConnected, redraw: () => block.chart.update(whereChartPatch(a, ids, L.x)) });
+  return block.el;
+}
+
 // ---------------------------------------------------------------- Identification
 export function identifyView(root, a) {
   root.textContent = '';
@@ -153,44 +289,40 @@ export function identifyView(root, a) {
   if (!id.groups.length) root.append(h('p', {}, 'Every parameter is separately determined by this part.'));
   root.append(h('ul', { id: 'groups' }, id.groups.map((g) => h('li', {}, h('strong', {}, `${g.kind.replace('_', ' ')}: ${g.parameters.join(', ')}. `), g.explanation))));
   if (id.notes && id.notes.length) root.append(h('ul', {}, id.notes.map((n) => h('li', {}, n))));
-  // measured vs simulated vs residual
-  const curves = id.points.map((p) => p.curve);
-  const L = layout(curves, id.points.map((p) => p.id));
-  root.append(chartBlock('measured-simulated-residual', { title: 'Measured, simulated (identified model) and residual', x: L.x, xNames: L.xNames, groups: L.groups,
-    series: [
-      { name: 'measured', y: id.points.map((p) => p.measured * 1000), points: true },
-      { name: 'simulated', y: id.points.map((p) => p.fitted * 1000) },
-      { name: 'residual', y: id.points.map((p) => p.residual * 1000), dashed: true },
-    ], xLabel: 'measurement point (grouped by curve)', yLabel: 'normal deviation (µm)', yUnit: 'µm' }).el);
-  root.append(planView(a));
+  // measured vs simulated vs residual, and the plan view, with where the gap diagnosis lies
+  root.append(h('h2', {}, 'Residual per point and on the part'), whereControl(a, 'identify'));
+  root.append(residualChart(a, 'measured-simulated-residual'));
+  root.append(planView(a, 'plan-view'));
   root.append(table('residual-per-curve', 'Residual per curve (paper 001 eq. 15-17)', ['curve', 'n', 'RMS (µm)', 'max |r| (µm)', 'MAD (µm)', 'RMSE (µm)', 'MAPE (%)'],
     id.per_curve.map((c) => [c.curve, { text: c.n, num: true }, ...[c.rms, c.max_abs, c.mad, c.rmse].map((v) => ({ text: (v * 1000).toFixed(2), num: true, value: v * 1000 })),
       { text: c.mape === null ? '—' : c.mape.toFixed(1), num: true, value: c.mape ?? '' }])));
 }
 
-/** Plan view of the part (x–y) with the residual drawn as coloured arrows along the normal. */
-function planView(a) {
+/** Plan view of the part (x–y) with the residual drawn as coloured arrows along the normal, the
+ * points of the highlighted where-group ringed and the axis reversals marked. */
+function planView(a, name) {
   const pts = a.file.points;
   const res = a.identification.points.map((p) => p.residual);
   const maxr = Math.max(1e-9, ...res.map(Math.abs));
-  const W = 640, H = 540, pad = 30;
+  const W = 640, H = 570, pad = 30;
   const xs = pts.map((p) => p.foot[0]), ys = pts.map((p) => p.foot[1]);
   const x0 = Math.min(...xs) - 15, x1 = Math.max(...xs) + 15, y0 = Math.min(...ys) - 15, y1 = Math.max(...ys) + 15;
-  const k = Math.min((W - 2 * pad) / (x1 - x0), (H - 2 * pad) / (y1 - y0));
-  const X = (x) => pad + (x - x0) * k, Y = (y) => H - pad - (y - y0) * k;
+  const k = Math.min((W - 2 * pad) / (x1 - x0), (H - 2 * pad - 44) / (y1 - y0));
+  const X = (x) => pad + (x - x0) * k, Y = (y) => H - pad - 44 - (y - y0) * k;
   const arrowMm = 12; // the largest residual is drawn 12 mm long
   const NS = 'http://www.w3.org/2000/svg';
   const svg = document.createElementNS(NS, 'svg');
   svg.setAttribute('viewBox', `0 0 ${W} ${H}`); svg.setAttribute('class', 'chart'); svg.setAttribute('role', 'img');
   svg.setAttribute('aria-label', 'plan view with residual arrows'); svg.setAttribute('xmlns', NS);
   svg.setAttribute('font-family', 'system-ui, sans-serif'); svg.setAttribute('font-size', '11');
-  const add = (name, attrs) => { const e = document.createElementNS(NS, name); for (const [kk, v] of Object.entries(attrs)) e.setAttribute(kk, v); svg.appendChild(e); return e; };
+  const add = (tag, attrs, parent = svg) => { const e = document.createElementNS(NS, tag); for (const [kk, v] of Object.entries(attrs)) e.setAttribute(kk, v); parent.appendChild(e); return e; };
   add('rect', { x: 0, y: 0, width: W, height: H, fill: '#fff' });
   add('text', { x: pad, y: 18, 'font-weight': 600, 'font-size': 13 }).textContent = `Plan view: residual along the outward normal (largest ${(maxr * 1000).toFixed(1)} µm = ${arrowMm} mm arrow)`;
   for (const c of CURVES) {
     const idx = a.points.map((p, i) => (p.curve === c ? i : -1)).filter((i) => i >= 0);
     add('polyline', { points: idx.map((i) => `${X(xs[i]).toFixed(1)},${Y(ys[i]).toFixed(1)}`).join(' '), fill: 'none', stroke: '#bbb' });
   }
+  const layer = add('g', { class: 'where-layer' });
   pts.forEach((p, i) => {
     const r = res[i], len = (r / maxr) * arrowMm;
     const color = r >= 0 ? '#1f77b4' : '#d62728';
@@ -200,9 +332,38 @@ function planView(a) {
     add('circle', { cx: xb, cy: yb, r: 2, fill: color }).appendChild(document.createElementNS(NS, 'title')).textContent = `point ${p.file.id}: residual ${(r * 1000).toFixed(2)} µm`;
   });
   add('text', { x: W - pad, y: H - 8, 'text-anchor': 'end', fill: '#555' }).textContent = 'blue: material left (+), red: overcut (−); x, y in mm';
-  const holder = h('div', { 'data-chart': 'plan-view' });
+  const note = add('text', { x: pad, y: H - 52, fill: '#7a4b00', class: 'note' });
+  const byId = new Map(pts.map((p, i) => [String(p.file.id), i]));
+  function drawWhere() {
+    layer.textContent = '';
+    const w = whereOf(a);
+    note.textContent = '';
+    whereNote(w).split('\n').forEach((line, j) => { const t = add('tspan', { x: pad, dy: j ? 14 : 0 }, note); t.textContent = line; });
+    if (!w) return;
+    if (w.chosen) {
+      for (const id of w.chosen.ids) {
+        const i = byId.get(String(id));
+        if (i === undefined) continue;
+        const ring = add('circle', { cx: X(xs[i]), cy: Y(ys[i]), r: 7, fill: '#ffd54f', 'fill-opacity': 0.5, stroke: '#b8860b', 'stroke-width': 1.5,
+          class: 'highlight', 'data-id': id, tabindex: 0, role: 'img', 'aria-label': `point ${id}, in ${GROUP_WORDS[w.chosen.group]} ${w.chosen.name}: residual ${(res[i] * 1000).toFixed(2)} µm` }, layer);
+        add('title', {}, ring).textContent = `point ${id}: ${describeEntry(w.chosen)}`;
+      }
+    }
+    for (const k of w.marks) {
+      const i = byId.get(String(k.id));
+      if (i === undefined) continue;
+      const cx = X(xs[i]), cy = Y(ys[i]);
+      const g = add('g', { class: 'marker', 'data-id': k.id, tabindex: 0, role: 'img', 'aria-label': k.label }, layer);
+      add('path', { d: `M${cx - 6},${cy - 15} L${cx + 6},${cy - 15} L${cx},${cy - 5} Z`, fill: '#6a3d9a' }, g);
+      add('text', { x: cx + 7, y: cy - 8, fill: '#6a3d9a', 'font-weight': 600, 'font-size': 10 }, g).textContent = k.short;
+      add('title', {}, g).textContent = k.label;
+    }
+  }
+  drawWhere();
+  const holder = h('div', { 'data-chart': name });
+  where.figures.add({ isConnected: () => holder.isConnected, redraw: drawWhere });
   const bar = h('div', { class: 'bar' }, h('span', { class: 'spacer' }));
-  exportButtons(bar, { name: 'plan-view', svg: () => svg });
+  exportButtons(bar, { name, svg: () => svg });
   holder.append(bar, svg);
   return holder;
 }
@@ -276,4 +437,7 @@ export function gapView(root, a) {
     d.where.map((w) => [w.group, w.name, { text: w.n, num: true }, { text: um(w.rms), num: true, value: w.rms * 1000 },
       { text: um(w.max_abs), num: true, value: w.max_abs * 1000 }, { text: um(w.mean), num: true, value: w.mean * 1000 },
       { text: Number(w.concentration.toPrecision(3)), num: true }])));
+  root.append(h('h2', {}, 'Where, on the plots and the plan view'),
+    h('p', {}, 'The shaded points are those of the chosen group of the table above (by default the curve or region where the baseline residual is concentrated, more than 1.5× its share); the ▼ marks are the axis reversals of the tool path. The plots show the identification\'s residual at the same points.'),
+    whereControl(a, 'gap'), residualChart(a, 'gap-where-residual'), planView(a, 'gap-where-plan'));
 }

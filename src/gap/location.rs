@@ -40,6 +40,11 @@ pub struct WhereEntry {
     pub mean: f64,
     /// Share of the total residual sum of squares divided by the share of points (1 = average).
     pub concentration: f64,
+    /// Ids of the group's points (as in the file), so that a page or report can highlight them.
+    pub ids: Vec<u32>,
+    /// For a `reversal` entry: the id of the point whose generating pose is nearest the reversal
+    /// along the tool path (the place to mark it); `None` for the other groups.
+    pub nearest: Option<u32>,
 }
 
 /// A linear trend of the residual against one variable.
@@ -92,7 +97,14 @@ pub fn curve_sequences(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
     out
 }
 
-fn entry(group: &str, name: String, idx: &[usize], r: &[f64], total_ss: f64) -> WhereEntry {
+fn entry(
+    group: &str,
+    name: String,
+    idx: &[usize],
+    points: &[PointMeta],
+    r: &[f64],
+    total_ss: f64,
+) -> WhereEntry {
     let vals: Vec<f64> = idx.iter().map(|&i| r[i]).collect();
     let ss: f64 = vals.iter().map(|v| v * v).sum();
     let n = r.len() as f64;
@@ -113,6 +125,8 @@ fn entry(group: &str, name: String, idx: &[usize], r: &[f64], total_ss: f64) -> 
             vals.iter().sum::<f64>() / vals.len() as f64
         },
         concentration,
+        ids: idx.iter().map(|&i| points[i].id).collect(),
+        nearest: None,
     }
 }
 
@@ -161,14 +175,21 @@ pub fn locate(
     let seqs = curve_sequences(points);
     let mut entries = Vec::new();
     for (c, idx) in &seqs {
-        entries.push(entry("curve", c.clone(), idx, r, total_ss));
+        entries.push(entry("curve", c.clone(), idx, points, r, total_ss));
     }
     for reg in Region::ALL {
         let idx: Vec<usize> = (0..r.len())
             .filter(|&i| Region::of_u(points[i].u) == reg)
             .collect();
         if !idx.is_empty() {
-            entries.push(entry("region", reg.name().into(), &idx, r, total_ss));
+            entries.push(entry(
+                "region",
+                reg.name().into(),
+                &idx,
+                points,
+                r,
+                total_ss,
+            ));
         }
     }
     for lean in Lean::ALL {
@@ -176,7 +197,7 @@ pub fn locate(
             .filter(|&i| Lean::of_nz(points[i].nz) == lean)
             .collect();
         if !idx.is_empty() {
-            entries.push(entry("lean", lean.name().into(), &idx, r, total_ss));
+            entries.push(entry("lean", lean.name().into(), &idx, points, r, total_ss));
         }
     }
     for rev in reversals {
@@ -184,13 +205,23 @@ pub fn locate(
             .filter(|&i| (points[i].s - rev.s).abs() <= REVERSAL_WINDOW_MM)
             .collect();
         if !idx.is_empty() {
-            entries.push(entry(
+            let mut e = entry(
                 "reversal",
                 format!("{}@{:.1}", rev.axis, rev.s),
                 &idx,
+                points,
                 r,
                 total_ss,
-            ));
+            );
+            e.nearest = idx
+                .iter()
+                .min_by(|&&a, &&b| {
+                    (points[a].s - rev.s)
+                        .abs()
+                        .total_cmp(&(points[b].s - rev.s).abs())
+                })
+                .map(|&i| points[i].id);
+            entries.push(e);
         }
     }
     let h: Vec<f64> = points.iter().map(|p| p.h).collect();
@@ -237,5 +268,74 @@ pub fn locate(
         structure_rms,
         structured: structure_rms > DETECT_FACTOR * sigma,
         concentrated_in,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::part::Surface;
+
+    /// 20 points on two curves, `u` and `s` increasing; residual zero except in the first turn.
+    fn points() -> Vec<PointMeta> {
+        (0..20)
+            .map(|i| {
+                let k = i % 10;
+                PointMeta {
+                    id: 100 + i as u32,
+                    curve: if i < 10 { "A_Z11" } else { "A_Z25" }.into(),
+                    surface: Surface::A,
+                    u: (k as f64 + 0.5) / 10.0,
+                    h: if i < 10 { 11.0 } else { 25.0 },
+                    s: 20.0 * k as f64,
+                    order: i,
+                    nz: 0.0,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn entries_name_their_points_and_reversals_their_nearest_point() {
+        let pts = points();
+        let r: Vec<f64> = pts
+            .iter()
+            .map(|p| {
+                if Region::of_u(p.u) == Region::Turn1 {
+                    0.004
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let rev = [Reversal {
+            axis: "C".into(),
+            s: 62.0,
+        }];
+        let w = locate(&r, &pts, 0, Some(0.001), None, &rev);
+        // Each group's ids are exactly its points (closed form: the rules of regions.rs).
+        for e in &w.entries {
+            let expect: Vec<u32> = pts
+                .iter()
+                .filter(|p| match e.group.as_str() {
+                    "curve" => p.curve == e.name,
+                    "region" => Region::of_u(p.u).name() == e.name,
+                    "lean" => Lean::of_nz(p.nz).name() == e.name,
+                    _ => (p.s - 62.0).abs() <= REVERSAL_WINDOW_MM,
+                })
+                .map(|p| p.id)
+                .collect();
+            assert_eq!(e.ids, expect, "{} {}", e.group, e.name);
+            assert_eq!(e.n, e.ids.len());
+        }
+        let rv = w.entries.iter().find(|e| e.group == "reversal").unwrap();
+        // s = 60 (k = 3) is the nearest to 62 mm; the first curve's point comes first.
+        assert_eq!(rv.nearest, Some(103));
+        assert!(w
+            .entries
+            .iter()
+            .filter(|e| e.group != "reversal")
+            .all(|e| e.nearest.is_none()));
+        assert_eq!(w.concentrated_in.as_deref(), Some("turn_1"));
     }
 }
