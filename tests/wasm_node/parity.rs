@@ -72,3 +72,26 @@ fn analysis_of_the_examples_matches_native() {
         "{failures:#?}\nmax relative differences: {report:#?}"
     );
 }
+
+/// The page's built-in examples are rebuilt in wasm from the built-in points and their deviation
+/// columns: byte for byte the reference files.
+#[wasm_bindgen_test]
+fn built_in_examples_are_the_reference_files_under_wasm() {
+    for (name, disk) in [
+        (
+            "example_backlash_c.csv",
+            include_str!("../data/reference/examples/example_backlash_c.csv"),
+        ),
+        (
+            "example_tool_radius.csv",
+            include_str!("../data/reference/examples/example_tool_radius.csv"),
+        ),
+        (
+            "example_clean.csv",
+            include_str!("../data/reference/examples/example_clean.csv"),
+        ),
+    ] {
+        let text = testpiece::wasm::examples::example_text(name);
+        assert!(text.as_deref() == Some(disk), "{name} differs under wasm");
+    }
+}
