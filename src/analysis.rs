@@ -32,10 +32,9 @@ use serde::Serialize;
 use crate::cmm::{read_and_match, CmmError, MatchedPart, ReadOptions};
 use crate::gap::effects::builtin::part_model;
 use crate::gap::{diagnose, DiagnosisReport, GapError, GapInput};
-use crate::identify::refine::{refine, RefineOptions, RefineReport};
+use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
-    Status,
 };
 use crate::machine::chain::PAPER000_L0;
 use crate::machine::{Branch, Chain};
@@ -344,21 +343,7 @@ pub fn analyse(
             &iopts,
         )
         .map_err(|e| AnalysisError::Refine(e.to_string()))?;
-        if let Some(w) = &r.warning {
-            identification.notes.push(format!("WARNING: {w}"));
-        }
-        if r.performed && r.success {
-            for (j, p) in identification.parameters.0.iter_mut().enumerate() {
-                p.value = r.values[j];
-                if p.status != Status::NotSeparable {
-                    p.std = r.std[j];
-                }
-            }
-            identification.notes.push(format!(
-                "values refined with the exact eq. 12: {}",
-                r.reason
-            ));
-        }
+        apply_refinement(&mut identification, &r, "");
         Some(r)
     } else {
         None

@@ -51,10 +51,10 @@ use crate::analysis::{
     design_at, measurement_points, sensitivity_options, AnalysisError, AnalysisOptions,
 };
 use crate::cmm::{read_and_match, ReadOptions};
-use crate::identify::refine::{refine, ExactModel, RefineOptions, RefineReport};
+use crate::identify::refine::{apply_refinement, refine, ExactModel, RefineOptions, RefineReport};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
-    Status, TOOL_RADIUS, TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM,
+    TOOL_RADIUS, TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM,
 };
 use crate::part::{MeasurementPoint, SShape};
 use crate::simulate::ExactDefectModel;
@@ -353,21 +353,7 @@ pub fn identify_parts(
             &iopts,
         )
         .map_err(|e| PoolError::Refine(e.to_string()))?;
-        if let Some(w) = &r.warning {
-            identification.notes.push(format!("WARNING: {w}"));
-        }
-        if r.performed && r.success {
-            for (j, p) in identification.parameters.0.iter_mut().enumerate() {
-                p.value = r.values[j];
-                if p.status != Status::NotSeparable {
-                    p.std = r.std[j];
-                }
-            }
-            identification.notes.push(format!(
-                "values refined with the exact eq. 12 at every part's points: {}",
-                r.reason
-            ));
-        }
+        apply_refinement(&mut identification, &r, " at every part's points");
         Some(r)
     } else {
         None

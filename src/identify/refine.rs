@@ -25,6 +25,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{
     Design, Factored, Identification, IdentifyError, IdentifyOptions, Observations, ScaledSvd,
+    Status,
 };
 
 /// Deviations of the exact model at every design row (mm) and its Jacobian (rows x p).
@@ -428,4 +429,25 @@ where
         modelled_rms,
         warning: nonlinear_warning(lin_err, modelled_rms, &outcome),
     })
+}
+
+/// Writes a refinement into the identification it refined: its linearisation warning as a
+/// `WARNING:` note, and, when it ran and converged, the refined values (and the stds of the
+/// separable parameters) with a note saying so (`what`: where the exact model was evaluated).
+pub fn apply_refinement(identification: &mut Identification, r: &RefineReport, what: &str) {
+    if let Some(w) = &r.warning {
+        identification.notes.push(format!("WARNING: {w}"));
+    }
+    if r.performed && r.success {
+        for (j, p) in identification.parameters.0.iter_mut().enumerate() {
+            p.value = r.values[j];
+            if p.status != Status::NotSeparable {
+                p.std = r.std[j];
+            }
+        }
+        identification.notes.push(format!(
+            "values refined with the exact eq. 12{what}: {}",
+            r.reason
+        ));
+    }
 }

@@ -7,31 +7,20 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import { chromium } from 'playwright-core';
-import { serve } from '../../scripts/serve.mjs';
+import { openBrowser, ROOT } from './browser.mjs';
 
-const ROOT = path.resolve(import.meta.dirname, '..', '..');
 const SHOTS = path.join(ROOT, 'tests', 'e2e', 'screenshots');
-const FLAGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync', '--no-first-run'];
-let server, url, context, userDataDir;
+let browser, url, context;
 
 before(async () => {
-  ({ server, url } = await serve());
-  userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'testpiece-where-'));
-  context = await chromium.launchPersistentContext(userDataDir, {
-    executablePath: '/usr/bin/chromium', headless: true, args: FLAGS, viewport: { width: 1280, height: 800 },
-    acceptDownloads: true,
-  });
+  browser = await openBrowser('where');
+  ({ url, context } = browser);
   fs.mkdirSync(SHOTS, { recursive: true });
 });
 
 after(async () => {
-  await context?.close();
-  server?.close();
-  if (userDataDir) fs.rmSync(userDataDir, { recursive: true, force: true });
+  await browser?.close();
 });
 
 const sorted = (a) => [...a].map(Number).sort((p, q) => p - q);
