@@ -303,7 +303,10 @@ pub fn not_separable_groups(
         } else {
             format!(
                 "{} cannot be separated: the data do not determine {}, they determine only {}; \
-                 the unresolved combination is set to 0 in the scaled space (minimum norm within the group)",
+                 the values shown are a convention, not a measurement: the minimum-norm solution \
+                 within the group (each parameter weighted by the deviation its unit value makes on \
+                 the part; the unresolved combination set to 0); only the determined combinations \
+                 are measured",
                 pnames.join(", "),
                 unresolved.join(" and "),
                 estimable.iter().map(|e| e.combination.text.clone()).collect::<Vec<_>>().join(", ")
