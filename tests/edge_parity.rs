@@ -6,6 +6,8 @@
 //! - `tests/data/parity/analysis_examples.json`: `analysis::analyse` of the three examples (the
 //!   page's default settings), every double at full precision; tests/wasm_node/parity.rs
 //!   recomputes them in wasm and compares to 1e-12 relative.
+//! - `tests/data/parity/analysis_paper002.json`: the backlash example on paper 002's tilting
+//!   table (rank 6 of 8: not-separable parameters), compared the same way.
 //!
 //! Rewrite both files after a deliberate change of the results with
 //! `TESTPIECE_WRITE_PARITY=1 cargo test --test edge_parity`; otherwise this test fails when
@@ -20,7 +22,7 @@ use std::path::PathBuf;
 
 use parity_common::*;
 use serde_json::Value;
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse, AnalysisOptions, MachineChoice};
 use testpiece::cmm::{read_and_match, ReadOptions};
 use testpiece::identify::monte_carlo::{monte_carlo, MonteCarloOptions, Noise};
 use testpiece::identify::{identify, IdentifyOptions, Observations};
@@ -94,6 +96,29 @@ fn examples_value() -> Value {
 #[test]
 fn analysis_of_the_examples() {
     check_or_write("analysis_examples.json", &examples_value());
+}
+
+/// The backlash example on paper 002's tilting table: a design of rank 6 of 8, whose
+/// not-separable parameters are fixed by the minimum-norm rule of `identify::least_squares`
+/// (basis-independent), so that wasm must give the same values (tests/wasm_node/parity.rs).
+#[test]
+fn analysis_on_the_tilting_table() {
+    let name = "example_backlash_c.csv";
+    let bytes = std::fs::read(root().join("tests/data/reference/examples").join(name)).unwrap();
+    let opts = AnalysisOptions {
+        machine: MachineChoice::Paper002,
+        ..AnalysisOptions::default()
+    };
+    let a = analyse(&bytes, name, &opts).unwrap();
+    assert!(
+        a.identification
+            .parameters
+            .0
+            .iter()
+            .any(|p| p.std.is_none()),
+        "the tilting table leaves parameters not separable on this part"
+    );
+    check_or_write("analysis_paper002.json", &analysis_value(&a));
 }
 
 /// The same input gives bit-identical results, run after run: the analysis (no hidden

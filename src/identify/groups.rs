@@ -112,11 +112,33 @@ pub struct Group {
     pub explanation: String,
 }
 
+/// Relative width within which two magnitudes count as tied (a few hundred ulps): ties are broken
+/// by the lower parameter index, so a tie that rounding breaks one way natively and the other way
+/// in wasm (different `libm`) names the same leading parameter on both.
+const TIE: f64 = 1e-9;
+
+/// The indices of `(index, magnitude)` pairs in decreasing magnitude, where magnitudes within
+/// [`TIE`] (relative to the larger) count as equal and the lower index comes first. Greedy
+/// selection rather than `sort_by`, since "within a tolerance" is not a total order.
+pub fn by_decreasing_magnitude(mut items: Vec<(usize, f64)>) -> Vec<usize> {
+    let mut out = Vec::with_capacity(items.len());
+    while !items.is_empty() {
+        let top = items.iter().map(|&(_, m)| m).fold(f64::NEG_INFINITY, f64::max);
+        let pick = items
+            .iter()
+            .enumerate()
+            .filter(|(_, &(_, m))| m >= top - TIE * top.abs() || m == top)
+            .min_by_key(|(_, &(j, _))| j)
+            .map_or(0, |(k, _)| k);
+        out.push(items.swap_remove(pick).0);
+    }
+    out
+}
+
 /// Indices of the largest `|v_j|` until they carry `share` of `‖v‖²`, in decreasing order.
 pub fn dominant(v: &[f64], share: f64) -> Vec<usize> {
     let total: f64 = v.iter().map(|x| x * x).sum();
-    let mut idx: Vec<usize> = (0..v.len()).collect();
-    idx.sort_by(|&a, &b| v[b].abs().total_cmp(&v[a].abs()));
+    let idx = by_decreasing_magnitude((0..v.len()).map(|j| (j, v[j].abs())).collect());
     let mut acc = 0.0;
     let mut out = Vec::new();
     for j in idx {
@@ -246,11 +268,13 @@ pub fn not_separable_groups(
         let m = members.len();
         let mut pivots: Vec<usize> = Vec::new(); // column (within members) of each row's pivot
         for r in 0..rows.len() {
-            let best = (0..m).filter(|c| !pivots.contains(c)).max_by(|&a, &b| {
-                (rows[r][a].abs() * scale[members[a]])
-                    .total_cmp(&(rows[r][b].abs() * scale[members[b]]))
-            });
-            let Some(c) = best else { break };
+            let free: Vec<(usize, f64)> = (0..m)
+                .filter(|c| !pivots.contains(c))
+                .map(|c| (c, rows[r][c].abs() * scale[members[c]]))
+                .collect();
+            let Some(&c) = by_decreasing_magnitude(free).first() else {
+                break;
+            };
             let pv = rows[r][c];
             if pv == 0.0 {
                 continue;
@@ -279,8 +303,12 @@ pub fn not_separable_groups(
                 c[members[pc]] = -rows[r][f];
             }
             // Leading term: largest scaled coefficient |c_j| / D_j.
-            let mut keep: Vec<usize> = (0..p).filter(|&j| c[j] != 0.0).collect();
-            keep.sort_by(|&a, &b| (c[b].abs() / scale[b]).total_cmp(&(c[a].abs() / scale[a])));
+            let keep = by_decreasing_magnitude(
+                (0..p)
+                    .filter(|&j| c[j] != 0.0)
+                    .map(|j| (j, c[j].abs() / scale[j]))
+                    .collect(),
+            );
             let comb = combination(names, &c, &keep);
             let cv = comb.vector(names);
             estimable.push(Estimable {
@@ -303,7 +331,10 @@ pub fn not_separable_groups(
         } else {
             format!(
                 "{} cannot be separated: the data do not determine {}, they determine only {}; \
-                 the unresolved combination is set to 0 in the scaled space (minimum norm within the group)",
+                 the values shown are a convention, not a measurement: the minimum-norm solution \
+                 within the group (each parameter weighted by the deviation its unit value makes on \
+                 the part; the unresolved combination set to 0); only the determined combinations \
+                 are measured",
                 pnames.join(", "),
                 unresolved.join(" and "),
                 estimable.iter().map(|e| e.combination.text.clone()).collect::<Vec<_>>().join(", ")
@@ -386,4 +417,23 @@ pub fn weak_groups(
         });
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Magnitudes tied to within rounding (1e-13 relative, far below `TIE`) give the same order
+    /// whichever one rounding made larger; a real difference (1e-6) still wins.
+    #[test]
+    fn ties_within_rounding_go_to_the_lower_index() {
+        let a = by_decreasing_magnitude(vec![(0, 0.5), (1, 1.0), (2, 1.0 + 1e-13)]);
+        let b = by_decreasing_magnitude(vec![(0, 0.5), (1, 1.0 + 1e-13), (2, 1.0)]);
+        assert_eq!(a, vec![1, 2, 0]);
+        assert_eq!(b, a);
+        assert_eq!(
+            by_decreasing_magnitude(vec![(1, 1.0), (2, 1.0 + 1e-6)]),
+            vec![2, 1]
+        );
+    }
 }

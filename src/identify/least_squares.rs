@@ -5,15 +5,27 @@
 //! `η_k = s₁/s_k ≥ η_max` (default 30, Belsley): along it the noise is amplified 30 times more
 //! than along the best direction, and the part cannot separate the parameters that make it up.
 //!
-//! **What is fixed, and why.** Each unresolved direction is named by its dominant parameters
-//! `J_k` ([`super::groups`]) and fixed by the constraint `Σ_{j∈J_k} v_jk ξ_j = 0`: the minimum-norm
-//! choice in the scaled space, but restricted to the group. (The plain truncated-SVD minimum-norm
-//! solution would also pull the well-determined parameters that have a small share in `v_k`:
-//! on Table 4 it biases `EX0B` by 0.5 %, 5 std.) This is the data-driven analogue of paper 000 §6
-//! fixing `EA0C = -EA0Z`. Then ordinary least squares on the constrained subspace
-//! `ξ = N w` (`N` an orthonormal basis of the constraints' null space), by SVD of `B N`.
-//! Only the group's estimable combinations (orthogonal to `v_k`) carry a std; its individual
-//! parameters are reported as not separable.
+//! **What is fixed, and why.** The unresolved directions span a subspace `V_u` of the scaled
+//! parameter space; the parameters with at least `1 − naming_share` (10 %) of their unit vector
+//! in it, `‖P_u e_j‖² ≥ 0.1` with the projector `P_u = V_u V_uᵀ`, form the not-separable set `S`
+//! ([`not_separable_set`]). The solution is fixed by `P_S ξ ⟂ P_S V_u`: within `S` it is the
+//! **minimum-norm solution in the scaled space** (`ξ_j = D_j x_j`, each parameter times its
+//! column norm, i.e. measured by the deviation, in mm, that it makes on the part), the
+//! parameters outside `S` are not pulled toward 0. (The plain truncated-SVD minimum-norm solution
+//! would also pull the well-determined parameters that have a small share in `V_u`: on Table 4
+//! it biases `EX0B` by 0.5 %, 5 std.) This is the data-driven analogue of paper 000 §6 fixing
+//! `EA0C = -EA0Z`. The individual values of a not-separable group are therefore a *convention*:
+//! only the group's estimable combinations (orthogonal to `V_u`) are determined by the part and
+//! carry a std; the report lists the group as not separable.
+//!
+//! The constraint depends on `V_u` only through `P_u`, never on the basis the SVD chose in it:
+//! on an exactly rank-deficient design (e.g. the tilting table of paper 002, rank 6 of 8) the null
+//! directions are a degenerate subspace whose basis is decided by rounding, and it differs
+//! between the native and the wasm build; `P_u` does not (up to `ε·s₁/gap`, the gap being
+//! between the last solved and the first unresolved singular value, ≥ the condition-index
+//! limit). So native and wasm report the same values. Then ordinary least squares on the
+//! constrained subspace `ξ = N w` (`N` an orthonormal basis of the constraints' null space), by
+//! SVD of `B N`; its solution does not depend on the choice of `N` either.
 //!
 //! Covariance: `Cov(x) = σ² D⁻¹ N (NᵀBᵀBN)⁻¹ Nᵀ D⁻¹` with `σ² = Σ w_i r_i² / (n - r)` (a posteriori,
 //! `r` solved directions) or a given σ (a priori; then `w_i` should be `1/σ_i²` relative to it).
@@ -111,6 +123,22 @@ impl IdentifyOptions {
     }
 }
 
+/// The parameters the unresolved subspace `V_u` (columns of `vu`, orthonormal, scaled space)
+/// is restricted to when it is fixed: `j` with `‖P_u e_j‖² = Σ_k v_jk² ≥ 1 − share` (at least
+/// 10 % of the unit vector of parameter `j` lies in `V_u`, by default).
+///
+/// `P_u = V_u V_uᵀ` does not depend on which orthonormal basis of `V_u` the SVD returned: on an
+/// exactly rank-deficient design the null directions are defined only as a subspace, and the SVD
+/// of the native build and of the wasm build pick different bases in it (the rounding of the
+/// tiny singular values decides). A set or a constraint built from one basis vector at a time
+/// would differ between the two; this one does not.
+pub fn not_separable_set(vu: &DMatrix<f64>, share: f64) -> Vec<usize> {
+    let floor = (1.0 - share).max(1e-3);
+    (0..vu.nrows())
+        .filter(|&j| vu.row(j).norm_squared() >= floor)
+        .collect()
+}
+
 /// The factored problem: used points, weights, scaled SVD, the constraints that fix the
 /// unresolved directions, and the SVD of the constrained problem.
 #[derive(Debug, Clone)]
@@ -169,18 +197,18 @@ impl Factored {
             .iter()
             .take_while(|&&s| s > svd.rank_tolerance && s1 / s < opts.condition_index_limit)
             .count();
-        // Constraints G ξ = 0, one row per unresolved direction, restricted to its named set.
-        let mut constrained_sets = Vec::new();
+        // Constraints G ξ = 0: the unresolved subspace restricted to the not-separable set `S`
+        // (decided from its projector, so independent of the basis the SVD picked inside it).
         let t = p - first_unresolved;
+        let vu = svd.v.columns(first_unresolved, t).into_owned();
+        let set = not_separable_set(&vu, opts.naming_share);
         let mut g = DMatrix::zeros(t.max(1), p);
-        for (r, k) in (first_unresolved..p).enumerate() {
-            let v: Vec<f64> = svd.v.column(k).iter().copied().collect();
-            let set = super::groups::dominant(&v, opts.naming_share);
+        for r in 0..t {
             for &j in &set {
-                g[(r, j)] = v[j];
+                g[(r, j)] = vu[(j, r)];
             }
-            constrained_sets.push(set);
         }
+        let constrained_sets = vec![set; t];
         // Orthonormal basis N of null(G): right singular vectors of G beyond its rank.
         let n_basis = if t == 0 {
             DMatrix::identity(p, p)
@@ -234,6 +262,12 @@ impl Factored {
             (basis, s, ur)
         };
         let kept = s_red.len();
+        // An all-zero column is not seen at all: its parameter is exactly 0 (not rounding noise
+        // of the constraint basis), with no variance.
+        let mut basis_xi = basis_xi;
+        for &j in &svd.zero_columns {
+            basis_xi.row_mut(j).fill(0.0);
+        }
         Ok(Factored {
             used,
             sqrt_w,

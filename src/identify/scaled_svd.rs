@@ -7,7 +7,10 @@
 //!
 //! **Numerical rank**: `s_k > τ` with `τ = max(n, p)·ε·s₁` (ε = 2.2e-16), the threshold of
 //! LAPACK's and MATLAB's `rank`: below it a singular value is indistinguishable from the rounding
-//! error of the SVD itself, so its direction is a true null direction of the data.
+//! error of the SVD itself, so its direction is a true null direction of the data. Such singular
+//! values are reported as exact zeros, and the null space by [`canonical_basis`]: the SVD's own
+//! basis of a degenerate subspace is decided by rounding and differs between the native and the
+//! wasm build (its vectors, their signs, the noise values), the canonical one does not.
 //!
 //! **Condition indices** `η_k = s₁/s_k` (Belsley, Kuh & Welsch 1980, *Regression Diagnostics*,
 //! ch. 3): on unit-length columns, `η ≥ 30` marks a moderate-to-strong near-dependency among the
@@ -73,6 +76,16 @@ impl ScaledSvd {
         let s1 = singular.first().copied().unwrap_or(0.0);
         let rank_tolerance = (n.max(p) as f64) * f64::EPSILON * s1;
         let rank = singular.iter().filter(|&&x| x > rank_tolerance).count();
+        // Below the threshold: rounding noise, reported as exact zeros, and the null space
+        // given by its canonical basis rather than the one the SVD happened to return.
+        let mut singular = singular;
+        for s in singular.iter_mut().skip(rank) {
+            *s = 0.0;
+        }
+        if rank < p {
+            let null = canonical_basis(&v.columns(rank, p - rank).into_owned());
+            v.columns_mut(rank, p - rank).copy_from(&null);
+        }
         ScaledSvd {
             scale,
             zero_columns,
@@ -98,6 +111,68 @@ impl ScaledSvd {
             f64::INFINITY
         }
     }
+}
+
+/// A canonical orthonormal basis of the span of the orthonormal columns of `v0` (p x t): the
+/// same whatever basis of that subspace `v0` holds.
+///
+/// The rows `c_j` of `v0` change by a rotation when the basis changes, so their norms and inner
+/// products do not: pivots are chosen by pivoted Gram–Schmidt on them (the parameter with the
+/// largest remaining `‖c_j‖²`, ties within 1e-9 relative going to the lower index), then
+/// `N = v0 · v0[pivots]⁻¹` has the identity on the pivot rows (the reduced echelon form of the
+/// subspace, unique for given pivots) and is orthonormalised in pivot order (each column keeps
+/// `+1` on its pivot row, so the signs are fixed too).
+pub fn canonical_basis(v0: &DMatrix<f64>) -> DMatrix<f64> {
+    let (p, t) = v0.shape();
+    if t == 0 {
+        return v0.clone();
+    }
+    let mut res: Vec<Vec<f64>> = (0..p)
+        .map(|j| v0.row(j).iter().copied().collect())
+        .collect();
+    let mut pivots: Vec<usize> = Vec::with_capacity(t);
+    for _ in 0..t {
+        let norm2 = |j: usize| res[j].iter().map(|x| x * x).sum::<f64>();
+        let best = (0..p)
+            .filter(|j| !pivots.contains(j))
+            .map(norm2)
+            .fold(0.0, f64::max);
+        if best <= 0.0 {
+            break;
+        }
+        let Some(j) = (0..p).find(|&j| !pivots.contains(&j) && norm2(j) >= best * (1.0 - 1e-9))
+        else {
+            break;
+        };
+        let q: Vec<f64> = res[j].iter().map(|x| x / best.sqrt()).collect();
+        for r in res.iter_mut() {
+            let d: f64 = r.iter().zip(&q).map(|(a, b)| a * b).sum();
+            for (a, b) in r.iter_mut().zip(&q) {
+                *a -= d * b;
+            }
+        }
+        pivots.push(j);
+    }
+    if pivots.len() < t {
+        return v0.clone();
+    }
+    let vp = v0.select_rows(&pivots);
+    let Some(inv) = vp.try_inverse() else {
+        return v0.clone();
+    };
+    let mut n = v0 * inv;
+    for c in 0..t {
+        for k in 0..c {
+            let d = n.column(c).dot(&n.column(k));
+            let ck = n.column(k).into_owned();
+            n.column_mut(c).axpy(-d, &ck, 1.0);
+        }
+        let norm = n.column(c).norm();
+        if norm > 0.0 {
+            n.column_mut(c).scale_mut(1.0 / norm);
+        }
+    }
+    n
 }
 
 /// `max/min` of singular values, infinite if the smallest is 0 or the list is empty.

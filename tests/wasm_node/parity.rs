@@ -95,3 +95,35 @@ fn built_in_examples_are_the_reference_files_under_wasm() {
         assert!(text.as_deref() == Some(disk), "{name} differs under wasm");
     }
 }
+
+const NATIVE_PAPER002: &str = include_str!("../data/parity/analysis_paper002.json");
+
+/// The backlash example on paper 002's tilting table (rank 6 of 8): the values of the
+/// not-separable parameters are fixed by the basis-independent minimum-norm rule
+/// (`identify::least_squares`), so they agree with native like every other result.
+#[wasm_bindgen_test]
+fn tilting_table_not_separable_values_match_native() {
+    use testpiece::analysis::MachineChoice;
+    let native: serde_json::Value =
+        serde_json::from_str(NATIVE_PAPER002).expect("analysis_paper002.json");
+    let opts = AnalysisOptions {
+        machine: MachineChoice::Paper002,
+        ..AnalysisOptions::default()
+    };
+    let a = analyse(example("example_backlash_c.csv"), "b.csv", &opts).expect("paper002");
+    let wasm = analysis_value(&a);
+    let mut failures = Vec::new();
+    for key in STRICT {
+        if let (Some(p), Some(q)) = (native.pointer(key), wasm.pointer(key)) {
+            let diff = compare(p, q, PARITY_REL);
+            if !diff.is_empty() {
+                failures.push(format!("{key}: {diff:?}"));
+            }
+        }
+    }
+    let diff = compare_abs(&native, &wasm, LOOSE_REL, LOOSE_ABS);
+    if !diff.is_empty() {
+        failures.push(format!("(whole): {diff:?}"));
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
