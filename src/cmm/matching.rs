@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use super::error::{CmmError, RowProblem, RowProblemKind};
 use super::options::ReadOptions;
 use super::table::{CmmFile, CmmPoint, CmmWarning, FormatInfo};
-use crate::geometry::projection::{project, project_on, Projection};
+use crate::geometry::projection::{Projection, Projector};
 use crate::geometry::GeometryError;
 use crate::part::{SShape, Surface};
 
@@ -142,14 +142,14 @@ impl Tally {
     }
 }
 
-/// [`project`], but when the projection onto one surface fails (it can fail to converge on
+/// [`Projector::project`], but when the projection onto one surface fails (it can fail to converge on
 /// the surface far from the point) the other surface's result is used alone.
-fn project_point(part: &SShape, p: &Vector3<f64>) -> Result<Projection, GeometryError> {
-    match project(part, p) {
+fn project_point(part: &Projector<SShape>, p: &Vector3<f64>) -> Result<Projection, GeometryError> {
+    match part.project(p) {
         Ok(q) => Ok(q),
         Err(first) => {
-            let a = project_on(part, Surface::A, p);
-            let b = project_on(part, Surface::B, p);
+            let a = part.project_on(Surface::A, p);
+            let b = part.project_on(Surface::B, p);
             match (a, b) {
                 (Ok(a), Ok(b)) => Ok(if (p - a.foot).norm() <= (p - b.foot).norm() {
                     a
@@ -180,7 +180,7 @@ fn surface_of_label(label: &str) -> Option<Surface> {
 }
 
 /// Why a point is far: another unit that brings it onto the part, or the alignment.
-fn far_reason(part: &SShape, p: &Vector3<f64>, max_mm: f64) -> String {
+fn far_reason(part: &Projector<SShape>, p: &Vector3<f64>, max_mm: f64) -> String {
     for (f, what) in [
         (25.4, "inches read as mm"),
         (1.0 / 25.4, "mm read as inches"),
@@ -205,6 +205,7 @@ pub fn match_points(
     file: CmmFile,
     opts: &ReadOptions,
 ) -> Result<MatchedPart, CmmError> {
+    let projector = Projector::new(part);
     let mut points = Vec::with_capacity(file.points.len());
     let mut problems: Vec<RowProblem> = Vec::new();
     let mut normal_off = Tally::new(
@@ -231,7 +232,7 @@ pub fn match_points(
             continue;
         };
         let p = v3(pos);
-        let proj: Projection = project_point(part, &p).map_err(|e| CmmError::Projection {
+        let proj: Projection = project_point(&projector, &p).map_err(|e| CmmError::Projection {
             line: pt.line,
             message: e.to_string(),
         })?;
@@ -276,7 +277,7 @@ pub fn match_points(
                 expected: format!(
                     "a point within {} mm of the nominal surfaces; {}",
                     opts.max_distance_mm,
-                    far_reason(part, &p, opts.max_distance_mm)
+                    far_reason(&projector, &p, opts.max_distance_mm)
                 ),
             });
             continue;

@@ -65,29 +65,85 @@ impl Serialize for Projection {
 const START_SAMPLES: usize = 400;
 const MAX_ITER: usize = 100;
 
+/// The start rulings of every surface of a part (`C0` and `D = C1 - C0` at `u = i/400`,
+/// `i = 0..=400`), computed once: a file's points all start from the same 401 rulings, which
+/// are most of the cost of a projection. [`project`] and [`project_on`] build one per call.
+#[derive(Debug)]
+pub struct Projector<'a, P: RuledPart + ?Sized> {
+    part: &'a P,
+    rulings: Vec<(Surface, Vec<Ruling>)>,
+}
+
+/// A ruling `C0 + v·D` of the start search (mm).
+type Ruling = (Vector3<f64>, Vector3<f64>);
+
+fn start_rulings<P: RuledPart + ?Sized>(part: &P, s: Surface) -> Vec<Ruling> {
+    (0..=START_SAMPLES)
+        .map(|i| {
+            let sec = part.section_at(s, i as f64 / START_SAMPLES as f64);
+            (sec.c0.point, sec.d.point)
+        })
+        .collect()
+}
+
+impl<'a, P: RuledPart + ?Sized> Projector<'a, P> {
+    /// Samples the start rulings of every surface of `part`.
+    pub fn new(part: &'a P) -> Self {
+        let rulings = part
+            .surfaces()
+            .iter()
+            .map(|&s| (s, start_rulings(part, s)))
+            .collect();
+        Self { part, rulings }
+    }
+
+    /// Projects `p` (mm) onto the nearest surface of the part (S-shape: A or B).
+    pub fn project(&self, p: &Vector3<f64>) -> Result<Projection, GeometryError> {
+        let mut best: Option<Projection> = None;
+        for (s, rulings) in &self.rulings {
+            let pr = project_from(self.part, *s, rulings, p)?;
+            if best.is_none_or(|b| (p - pr.foot).norm() < (p - b.foot).norm()) {
+                best = Some(pr);
+            }
+        }
+        best.ok_or(GeometryError::NonFinitePoint {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        })
+    }
+
+    /// Projects `p` (mm) onto surface `s` (one of the part's surfaces).
+    pub fn project_on(&self, s: Surface, p: &Vector3<f64>) -> Result<Projection, GeometryError> {
+        match self.rulings.iter().find(|(t, _)| *t == s) {
+            Some((_, rulings)) => project_from(self.part, s, rulings, p),
+            None => project_from(self.part, s, &start_rulings(self.part, s), p),
+        }
+    }
+}
+
 /// Projects `p` (mm) onto the nearest surface of the part (S-shape: A or B).
 pub fn project<P: RuledPart + ?Sized>(
     part: &P,
     p: &Vector3<f64>,
 ) -> Result<Projection, GeometryError> {
-    let mut best: Option<Projection> = None;
-    for &s in part.surfaces() {
-        let pr = project_on(part, s, p)?;
-        if best.is_none_or(|b| (p - pr.foot).norm() < (p - b.foot).norm()) {
-            best = Some(pr);
-        }
-    }
-    best.ok_or(GeometryError::NonFinitePoint {
-        x: p.x,
-        y: p.y,
-        z: p.z,
-    })
+    Projector::new(part).project(p)
 }
 
 /// Projects `p` (mm) onto surface `s`.
 pub fn project_on<P: RuledPart + ?Sized>(
     part: &P,
     s: Surface,
+    p: &Vector3<f64>,
+) -> Result<Projection, GeometryError> {
+    project_from(part, s, &start_rulings(part, s), p)
+}
+
+/// Projects `p` onto surface `s`, starting from the best of `rulings` ([`start_rulings`]).
+fn project_from<P: RuledPart + ?Sized>(
+    part: &P,
+    s: Surface,
+    rulings: &[Ruling],
     p: &Vector3<f64>,
 ) -> Result<Projection, GeometryError> {
     if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
@@ -98,17 +154,11 @@ pub fn project_on<P: RuledPart + ?Sized>(
         });
     }
     // 1. start on the best ruling
-    let ruling_fit = |u: f64| {
-        let sec = part.section_at(s, u);
-        let d = sec.d.point;
-        let v = (p - sec.c0.point).dot(&d) / d.norm_squared();
-        let q = sec.c0.point + d * v;
-        ((q - p).norm_squared(), v)
-    };
     let (mut u, mut v, mut best) = (0.0, 0.0, f64::INFINITY);
-    for i in 0..=START_SAMPLES {
+    for (i, (c0, d)) in rulings.iter().enumerate() {
         let ui = i as f64 / START_SAMPLES as f64;
-        let (f, vi) = ruling_fit(ui);
+        let vi = (p - c0).dot(d) / d.norm_squared();
+        let f = (c0 + d * vi - p).norm_squared();
         if f < best {
             (u, v, best) = (ui, vi, f);
         }

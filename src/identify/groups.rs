@@ -123,7 +123,10 @@ const TIE: f64 = 1e-9;
 pub fn by_decreasing_magnitude(mut items: Vec<(usize, f64)>) -> Vec<usize> {
     let mut out = Vec::with_capacity(items.len());
     while !items.is_empty() {
-        let top = items.iter().map(|&(_, m)| m).fold(f64::NEG_INFINITY, f64::max);
+        let top = items
+            .iter()
+            .map(|&(_, m)| m)
+            .fold(f64::NEG_INFINITY, f64::max);
         let pick = items
             .iter()
             .enumerate()

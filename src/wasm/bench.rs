@@ -7,7 +7,7 @@
 //! Stages (inputs: the ISO S-shape and its 100 built-in points):
 //! `bspline_eval_1000` (1000 evaluations of `C0` of surface A with two derivatives),
 //! `builtin_points`, `projection_100` (the points offset 0.01 mm along `N`, projected onto the
-//! part), `envelope_100`, `surface_max_overcut` (surface A), `inverse_kinematics_path` (the
+//! part by one `Projector`, as the reader does), `envelope_100`, `surface_max_overcut` (surface A), `inverse_kinematics_path` (the
 //! flank path of both surfaces at the points), `figure19_matrix`, `read_cmm_100` and
 //! `read_cmm_100000` (canonical CSV, the built-in points repeated), `identify_100` and
 //! `identify_100000` (the Figure-19 design with `dR`, the rows repeated, synthetic deviations),
@@ -152,11 +152,11 @@ impl Stage {
             }
             Stage::Points(part) => builtin_points(part)[99].u,
             Stage::Project(part, ps) => {
+                // As the reader does: the start rulings once per file, then each point.
+                let projector = crate::geometry::projection::Projector::new(part);
                 let mut s = 0.0;
                 for p in ps {
-                    s += crate::geometry::project(part, p)
-                        .map_err(|x| e(&x))?
-                        .distance;
+                    s += projector.project(p).map_err(|x| e(&x))?.distance;
                 }
                 s
             }
