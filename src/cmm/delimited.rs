@@ -48,6 +48,13 @@ impl Separator {
 pub fn split(line: &str, sep: Separator) -> Vec<String> {
     match sep.byte() {
         None => line.split_whitespace().map(str::to_string).collect(),
+        // Without quotes or carriage returns the csv crate splits at every separator and trims
+        // (Unicode whitespace): the same fields without building a reader per line (the header
+        // search and the mixed-separator check split many lines).
+        Some(b) if !line.is_empty() && !line.bytes().any(|c| c == b'"' || c == b'\r') => line
+            .split(b as char)
+            .map(|f| f.trim().to_string())
+            .collect(),
         Some(b) => {
             let mut reader = csv::ReaderBuilder::new()
                 .delimiter(b)
@@ -385,6 +392,13 @@ mod tests {
         for sep in [Separator::Comma, Separator::Semicolon, Separator::Tab] {
             let b = sep.byte().unwrap();
             assert_eq!(split_all(&data, sep), split_all_csv(&data, b), "{sep:?}");
+            for (_, t) in &data {
+                let csv_fields: Vec<String> = split_all_csv(&[(1, t)], b)
+                    .into_iter()
+                    .flat_map(|r| r.fields)
+                    .collect();
+                assert_eq!(split(t, sep), csv_fields, "{sep:?} {t:?}");
+            }
         }
     }
 
