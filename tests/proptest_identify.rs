@@ -3,7 +3,8 @@
 //! EX0B) → the exact eq. 12 deviations at the 100 built-in points (`simulate_exact`, σ = 0) →
 //! a CMM file (positions, normals, deviations at full precision) → `analysis::analyse` (reader,
 //! projection, design, identification, exact-model refinement). Physical mode: every parameter
-//! is identified and recovered (paper mode: see the note in the test). (Noiseless linear data: tests/identify_properties.rs.)
+//! is identified and recovered; paper mode (rank 6): the estimable combinations are recovered and
+//! the other parameters within the truncation bias described in the test. (Noiseless linear data: tests/identify_properties.rs.)
 #![cfg(not(target_arch = "wasm32"))]
 
 mod edge_common;
@@ -26,10 +27,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(6))]
     #[test]
     fn noiseless_simulated_parts_are_recovered(x in xi_strategy()) {
-        // Physical mode only: in paper mode (rank 6) a lone EB0C = -5.2e-5 rad came back with
-        // EX0B = 1.4e-4 mm (exact model, unresolved directions held at the linear solution);
-        // open question, reported in issue 9, not asserted here.
-        let paper = false;
+      for paper in [false, true] {
         let mode = if paper { "paper" } else { "physical" };
         let errors: Vec<(String, f64)> =
             NAMES.iter().zip(&x).map(|(n, v)| (n.to_string(), *v)).collect();
@@ -43,17 +41,29 @@ proptest! {
         let id = &a.identification;
         let names = id.names();
         let values = id.values();
-        // Tolerance. Physical mode: 1e-9 rad / 1e-7 mm (LM on the exact model stops at its
-        // xtol, far below any machine error). Paper mode: the not-separable directions stay at
-        // the linear minimum-norm solution, and the exact model's second-order terms couple
-        // them into the separable parameters: 1e-3 of the vector's size (3e-7 rad, 3e-5 mm;
-        // measured 4.5e-8 rad), still 300x below a typical error.
-        let k = if paper { 1e-3 } else { 1e-5 };
-        let tol = |j: usize| if j == 5 { k * 0.03 } else { k * 3e-4 };
+        // Tolerance, in typical magnitudes (1e-4 rad, 0.01 mm: paper 000 Figure 19's units).
+        // Physical mode (full rank, LM on the exact model down to its xtol): 1e-5 of the
+        // typical size. Paper mode (rank 6): the two squareness directions `EB0C + 0.99 EB0Z`
+        // and `EA0C + 0.96 EA0Z` are nearly, not exactly, null (condition index 323 and 147);
+        // the product fixes them by the minimum-norm convention within the not-separable set
+        // (parameters with ≥ 10 % of their unit vector in the unresolved subspace). The truth's
+        // component along such a direction `v` is then missing from the solution, and so is its
+        // share `v_j` on the parameters outside the set: a truncation bias proportional to the
+        // size of the squareness errors. Measured over 30 random vectors (PROPTEST_CASES=30):
+        // bias / (largest component of the vector, typical units) at most 0.243 (EX0B), 0.058
+        // (EC0Y), 0.050 (EC0B), 0.035 (EA0B). Bound asserted: 0.3 of the vector's size plus the
+        // 1e-3 of the exact model's second-order terms. (A known limit of paper mode, reported in
+        // the issue-9 note: these parameters are listed as identified although a part of their
+        // value is the convention's.) The estimable combinations carry no truncation bias:
+        // 3e-5 in both modes.
+        let typical = |j: usize| if j == 5 { 0.01 } else { 1e-4 };
+        let size = (0..8).map(|j| x[j].abs() / typical(j)).fold(0.0, f64::max);
+        let k = if paper { 1e-3 + 0.3 * size } else { 1e-5 };
         for (j, p) in id.parameters.0.iter().enumerate() {
             prop_assert_eq!(&p.name, NAMES[j]);
             if p.status != Status::NotSeparable {
-                prop_assert!((p.value - x[j]).abs() < tol(j), "{} {}: {} vs {}", mode, p.name, p.value, x[j]);
+                let bias = (p.value - x[j]).abs() / typical(j);
+                prop_assert!(bias < k, "{} {}: {} vs {}", mode, p.name, p.value, x[j]);
             }
         }
         if paper {
@@ -65,8 +75,9 @@ proptest! {
             for e in &g.estimable {
                 let want = e.combination.apply(&names, &x);
                 let got = e.combination.apply(&names, &values);
-                prop_assert!((got - want).abs() < k * 0.03, "{}: {} vs {}", mode, got, want);
+                prop_assert!((got - want).abs() < 1e-3 * 0.03, "{}: {} vs {}", mode, got, want);
             }
         }
+      }
     }
 }
