@@ -165,10 +165,28 @@ fn axis_match(patterns: &[&str], name: &str) -> Option<usize> {
     (0..3).find(|&k| {
         let a = ["x", "y", "z"][k];
         let i = ["i", "j", "k"][k];
-        patterns
-            .iter()
-            .any(|p| p.replace("{a}", a).replace("{i}", i) == name)
+        patterns.iter().any(|p| fills(p, name, a, i))
     })
+}
+
+/// Whether `name` is `pattern` with `{a}` replaced by `a` and `{i}` by `i` (without building the
+/// replaced string: every header candidate of a file is matched against every pattern).
+fn fills(pattern: &str, name: &str, a: &str, i: &str) -> bool {
+    let (mut pat, mut rest) = (pattern, name);
+    loop {
+        let (sub, after) = match (pat.strip_prefix("{a}"), pat.strip_prefix("{i}")) {
+            (Some(r), _) => (a, r),
+            (_, Some(r)) => (i, r),
+            _ => match pat.chars().next() {
+                None => return rest.is_empty(),
+                Some(c) => (&pat[..c.len_utf8()], &pat[c.len_utf8()..]),
+            },
+        };
+        match rest.strip_prefix(sub) {
+            Some(r) => (pat, rest) = (after, r),
+            None => return false,
+        }
+    }
 }
 
 /// Meaning of an already normalised name.
@@ -406,6 +424,24 @@ mod tests {
 
     fn role(s: &str) -> Option<Role> {
         read_name(s).role
+    }
+
+    /// `fills` agrees with plain string replacement on every pattern, for names that match,
+    /// nearly match (one letter more, less or changed) and do not match.
+    #[test]
+    fn fills_is_the_replaced_pattern() {
+        for p in NOMINAL.iter().chain(NORMAL).chain(MEASURED) {
+            for (a, i) in [("x", "i"), ("y", "j"), ("z", "k")] {
+                let full = p.replace("{a}", a).replace("{i}", i);
+                let mut names = vec![full.clone(), format!("{full}x"), format!("x{full}")];
+                names.push(full[..full.len() - 1].to_string());
+                names.push(full.replacen(a, "q", 1));
+                names.push(String::new());
+                for n in &names {
+                    assert_eq!(fills(p, n, a, i), *n == full, "{p} {a}{i} {n:?}");
+                }
+            }
+        }
     }
 
     #[test]
