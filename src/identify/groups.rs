@@ -110,7 +110,27 @@ pub struct Group {
     pub estimable: Vec<Estimable>,
     /// One sentence for the report.
     pub explanation: String,
+    /// Parameters outside the group whose value the group's convention also moves (not-separable
+    /// groups): a nearly, not exactly, null direction has small components on parameters that
+    /// are otherwise determined, and fixing the direction fixes that part of their value too.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub also_convention: Vec<ConventionShare>,
 }
+
+/// A parameter outside a not-separable group that the group's convention also moves.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ConventionShare {
+    pub name: String,
+    /// `‖P_g e_j‖`: the length of the part of the parameter's unit vector (scaled space) that
+    /// lies in the group's unresolved directions (0: not moved; 1: entirely in them).
+    pub share: f64,
+}
+
+/// Smallest [`ConventionShare::share`] reported (3 % of the unit vector). In paper mode the
+/// `EA0Z, EA0C` direction has a share of 4 % on EX0B (the backlash example); over random error
+/// vectors (tests/proptest_identify.rs) that moved EX0B by up to 0.24 of the vector's largest
+/// component in typical units (1e-4 rad, 0.01 mm), since EX0B's column scale is small.
+pub const CONVENTION_SHARE_FLOOR: f64 = 0.03;
 
 /// Relative width within which two magnitudes count as tied (a few hundred ulps): ties are broken
 /// by the lower parameter index, so a tie that rounding breaks one way natively and the other way
@@ -343,12 +363,44 @@ pub fn not_separable_groups(
                 estimable.iter().map(|e| e.combination.text.clone()).collect::<Vec<_>>().join(", ")
             )
         };
+        // Parameters outside every not-separable group with a share in these directions.
+        let also_convention: Vec<ConventionShare> = (0..p)
+            .filter(|j| !sel.iter().any(|s| s.contains(j)))
+            .map(|j| ConventionShare {
+                name: names[j].clone(),
+                share: ids
+                    .iter()
+                    .map(|&k| dirs[k].0[j].powi(2))
+                    .sum::<f64>()
+                    .sqrt(),
+            })
+            .filter(|c| c.share >= CONVENTION_SHARE_FLOOR)
+            .collect();
+        let explanation =
+            if also_convention.is_empty() {
+                explanation
+            } else {
+                let one = also_convention.len() == 1;
+                format!(
+                "{explanation}; outside the group, {} {} on this convention too ({} of the unit \
+                 vector in the unresolved directions): part of {} value is set by it, not measured",
+                also_convention.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", "),
+                if one { "depends" } else { "depend" },
+                also_convention
+                    .iter()
+                    .map(|c| format!("{} {:.0} %", c.name, 100.0 * c.share))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                if one { "its" } else { "their" },
+            )
+            };
         out.push(Group {
             kind: GroupKind::NotSeparable,
             parameters: pnames,
             directions,
             estimable,
             explanation,
+            also_convention,
         });
     }
     out
@@ -417,6 +469,7 @@ pub fn weak_groups(
             directions,
             estimable: Vec::new(),
             explanation,
+            also_convention: Vec::new(),
         });
     }
     out

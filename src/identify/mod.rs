@@ -35,7 +35,10 @@ pub use design::{
     Design, Parameter, ISO_LOCATION_ERRORS, TOOL_RADIUS, TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM,
 };
 pub use error::IdentifyError;
-pub use groups::{Combination, Direction, Estimable, Group, GroupKind, Term};
+pub use groups::{
+    Combination, ConventionShare, Direction, Estimable, Group, GroupKind, Term,
+    CONVENTION_SHARE_FLOOR,
+};
 pub use least_squares::{identify, Factored, IdentifyOptions};
 pub use observations::Observations;
 pub use report::{
