@@ -1,38 +1,17 @@
 //! Pooled identification (src/pool.rs): several simulated parts of one machine.
 #![cfg(not(target_arch = "wasm32"))]
 
+mod pool_common;
+
+use pool_common::{part_csv, NOISE, TRUTH};
 use testpiece::analysis::{analyse, AnalysisOptions};
-use testpiece::part::{builtin_points, SShape};
 use testpiece::pool::{identify_pooled, PoolOptions};
-use testpiece::simulate::simulate_exact;
 
-/// The machine of example_clean.key.json (`xi_true`, rad; EX0B mm).
-const TRUTH: [(&str, f64); 8] = [
-    ("EC0Y", 7.505727996280019e-05),
-    ("EA0Z", 0.00023832828058174528),
-    ("EB0Z", 0.0001654114141471161),
-    ("EA0C", -0.00016487568600564488),
-    ("EB0C", -0.00011990022905326473),
-    ("EX0B", 0.01782416572512277),
-    ("EA0B", -0.00029684081726065513),
-    ("EC0B", 0.00019273705102965973),
-];
-const NOISE: f64 = 0.0015;
-
-/// A canonical CSV part (`id,curve,x,y,z,nx,ny,nz,deviation`) of this machine: exact eq. 12 at
-/// the 100 built-in points plus N(0, σ²) noise with `seed`; `extra` adds to every deviation.
+/// A part of the machine (`seed` for its noise); `extra` errors are added to the truth.
 fn part(seed: u64, extra: &[(&str, f64)]) -> String {
     let mut errs: Vec<(String, f64)> = TRUTH.iter().map(|(n, v)| (n.to_string(), *v)).collect();
     errs.extend(extra.iter().map(|(n, v)| (n.to_string(), *v)));
-    let dev = simulate_exact("physical", "signed", &errs, NOISE, seed).unwrap();
-    let mut out = String::from("id,curve,x,y,z,nx,ny,nz,deviation\n");
-    for (p, d) in builtin_points(&SShape::iso()).iter().zip(&dev) {
-        out.push_str(&format!(
-            "{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?}\n",
-            p.id, p.curve, p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z, d
-        ));
-    }
-    out
+    part_csv(&errs, seed)
 }
 
 fn single(text: &str, opts: &AnalysisOptions) -> testpiece::identify::Identification {

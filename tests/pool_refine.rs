@@ -3,43 +3,25 @@
 //! LM on the exact eq. 12 at every part's points recovers the truth.
 #![cfg(not(target_arch = "wasm32"))]
 
+mod pool_common;
+
+use pool_common::{part_csv, NOISE, TRUTH};
 use testpiece::analysis::AnalysisOptions;
 use testpiece::identify::refine::ExactModel;
-use testpiece::part::{builtin_points, SShape};
 use testpiece::pool::{identify_pooled, pool_part, stack, PoolOptions, PooledExactModel};
-use testpiece::simulate::simulate_exact;
 use testpiece::tolerance::FD_REL;
 
-/// example_clean.key.json's machine (`xi_true`) × `SCALE`: angles of 0.75e-3 to 3e-3 rad,
-/// EX0B 0.18 mm (deviations up to 1.6 mm), where the linearisation error is many σ.
-const TRUTH: [(&str, f64); 8] = [
-    ("EC0Y", 7.505727996280019e-05),
-    ("EA0Z", 0.00023832828058174528),
-    ("EB0Z", 0.0001654114141471161),
-    ("EA0C", -0.00016487568600564488),
-    ("EB0C", -0.00011990022905326473),
-    ("EX0B", 0.01782416572512277),
-    ("EA0B", -0.00029684081726065513),
-    ("EC0B", 0.00019273705102965973),
-];
+/// Truth × `SCALE`: angles of 0.75e-3 to 3e-3 rad, EX0B 0.18 mm (deviations up to 1.6 mm),
+/// where the linearisation error is many σ.
 const SCALE: f64 = 10.0;
-const NOISE: f64 = 0.0015;
 
-/// A canonical CSV part of the scaled machine: exact eq. 12 at the built-in points + noise.
+/// A part of the machine with every error × `scale`.
 fn part(seed: u64, scale: f64) -> String {
     let errs: Vec<(String, f64)> = TRUTH
         .iter()
         .map(|(n, v)| (n.to_string(), v * scale))
         .collect();
-    let dev = simulate_exact("physical", "signed", &errs, NOISE, seed).unwrap();
-    let mut out = String::from("id,curve,x,y,z,nx,ny,nz,deviation\n");
-    for (p, d) in builtin_points(&SShape::iso()).iter().zip(&dev) {
-        out.push_str(&format!(
-            "{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?}\n",
-            p.id, p.curve, p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z, d
-        ));
-    }
-    out
+    part_csv(&errs, seed)
 }
 
 fn opts(refine: bool, setup: bool) -> PoolOptions {

@@ -4,34 +4,23 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
-import { chromium } from 'playwright-core';
-import { serve } from '../../scripts/serve.mjs';
+import { ROOT, openBrowser } from './browser.mjs';
 
-const ROOT = path.resolve(import.meta.dirname, '..', '..');
 const SHOTS = path.join(ROOT, 'tests', 'e2e', 'screenshots');
 const EXAMPLES = path.join(ROOT, 'tests', 'data', 'reference', 'examples');
 const BROKEN = path.join(ROOT, 'tests', 'data', 'cmm', 'broken');
-const FLAGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync', '--no-first-run'];
-let server, url, context, userDataDir;
+let browser, url, context;
 
 before(async () => {
-  ({ server, url } = await serve());
-  userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'testpiece-chromium-'));
-  context = await chromium.launchPersistentContext(userDataDir, {
-    executablePath: '/usr/bin/chromium', headless: true, args: FLAGS, viewport: { width: 1280, height: 800 },
-    acceptDownloads: true,
-  });
+  browser = await openBrowser('chromium', { acceptDownloads: true });
+  ({ url, context } = browser);
   fs.mkdirSync(SHOTS, { recursive: true });
 });
 
 after(async () => {
-  await context?.close();
-  server?.close();
-  if (userDataDir) fs.rmSync(userDataDir, { recursive: true, force: true });
+  await browser?.close();
 });
 
 /** The native CLI (the same core built for this machine). */
