@@ -51,6 +51,29 @@ pub struct ValidationModel {
     pub candidates: Vec<Candidate>,
 }
 
+impl ValidationModel {
+    /// Whether two candidates are near-equivalent on this part (their unabsorbed signatures
+    /// span nearly the same directions, [`near_equivalent_pairs`]): the diagnosis may name
+    /// either, so a validation counts either as right.
+    pub fn near_equivalence(&self) -> impl Fn(&str, &str) -> bool {
+        let base = Factor::new(&self.baseline.matrix, None);
+        let spans: Vec<(String, DMatrix<f64>)> = self
+            .candidates
+            .iter()
+            .map(|c| {
+                let u = base.unabsorbed(&c.signature.matrix);
+                (c.id.clone(), Factor::new(&u, None).basis)
+            })
+            .collect();
+        let pairs = near_equivalent_pairs(&spans);
+        move |x: &str, y: &str| {
+            pairs
+                .iter()
+                .any(|e| (e.a == x && e.b == y) || (e.a == y && e.b == x))
+        }
+    }
+}
+
 /// Options of a validation run.
 #[derive(Debug, Clone, Copy)]
 pub struct ValidateOptions {
@@ -245,20 +268,7 @@ pub fn validate_with(
     let limit = 2.5 * sigma;
     let a = &model.baseline.matrix;
     let base = Factor::new(a, None);
-    let spans: Vec<(String, DMatrix<f64>)> = model
-        .candidates
-        .iter()
-        .map(|c| {
-            let u = base.unabsorbed(&c.signature.matrix);
-            (c.id.clone(), Factor::new(&u, None).basis)
-        })
-        .collect();
-    let pairs = near_equivalent_pairs(&spans);
-    let near = |x: &str, y: &str| {
-        pairs
-            .iter()
-            .any(|e| (e.a == x && e.b == y) || (e.a == y && e.b == x))
-    };
+    let near = model.near_equivalence();
     let s_path: Vec<f64> = model.points.iter().map(|p| p.s).collect();
     let s_max = s_path.iter().cloned().fold(0.0, f64::max);
     let kinds = model.candidates.len() + 4;

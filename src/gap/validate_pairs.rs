@@ -13,7 +13,6 @@ use serde::Serialize;
 
 use super::data::GapInput;
 use super::diagnose::diagnose;
-use super::equivalence::near_equivalent_pairs;
 use super::lsq::Factor;
 use super::random::Sampler;
 use super::validate::{effect_parameters, machine_errors, ValidateOptions, ValidationModel};
@@ -56,19 +55,7 @@ pub fn validate_pairs(
 ) -> Result<PairValidation, GapError> {
     let a = &model.baseline.matrix;
     let base = Factor::new(a, None);
-    let spans: Vec<_> = model
-        .candidates
-        .iter()
-        .map(|c| {
-            let u = base.unabsorbed(&c.signature.matrix);
-            (c.id.clone(), Factor::new(&u, None).basis)
-        })
-        .collect();
-    let near = near_equivalent_pairs(&spans);
-    let alike = |x: &str, y: &str| {
-        near.iter()
-            .any(|e| (e.a == x && e.b == y) || (e.a == y && e.b == x))
-    };
+    let alike = model.near_equivalence();
     let mut pairs = Vec::new();
     for (i, c1) in model.candidates.iter().enumerate() {
         for c2 in &model.candidates[i + 1..] {
