@@ -17,9 +17,12 @@
 //!    The machine is a setting ([`MachineChoice`]): paper 000's B head / C table (default),
 //!    paper 001's A-B head or paper 002's B-C tilting table; each has its own minimal set of
 //!    location errors (the design's columns).
-//! 5. [`crate::gap::diagnose`] on the same points: the baseline of effects.md (location errors,
-//!    `physical` mode, signed B) and every candidate effect, whatever the identification's own
-//!    mode; where the residual lies, which effect, how far it shrinks.
+//! 5. [`crate::gap::diagnose`] on the same points ([`diagnose_on_machine`]): the baseline of
+//!    effects.md (the chosen machine's location errors, `physical` mode, the chosen branch) and
+//!    every candidate effect on that machine's axes, whatever the identification's own mode;
+//!    where the residual lies, which effect, how far it shrinks. Paper 001's A-B head has no C
+//!    axis for the catalogue's `backlash_c` / `c_index`: its parts are diagnosed on paper 000's
+//!    machine, and the summary says so.
 //!
 //! Edge cases (tests/edge_*.rs): non-finite or non-positive `l0` and `noise_sigma` are refused
 //! with the value; a refinement whose linear and exact models disagree by more than
@@ -30,7 +33,7 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::cmm::{read_and_match, CmmError, MatchedPart, ReadOptions};
-use crate::gap::effects::builtin::part_model;
+use crate::gap::effects::builtin::{part_model, part_model_on};
 use crate::gap::{diagnose, DiagnosisReport, GapError, GapInput};
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{
@@ -256,14 +259,48 @@ pub fn design_at(
     Ok((design, columns))
 }
 
-/// The gap diagnosis (effects.md) of deviations at `points`.
+/// The gap diagnosis (effects.md) of deviations at `points`, on paper 000's machine.
 pub fn diagnose_points(
     part: &SShape,
     points: &[MeasurementPoint],
     deviations: &[f64],
     noise_sigma: Option<f64>,
 ) -> Result<DiagnosisReport, GapError> {
-    let m = part_model(part, points)?;
+    diagnose_model(part_model(part, points)?, deviations, noise_sigma)
+}
+
+/// The gap diagnosis on the machine the analysis identifies: its own location errors as the
+/// baseline and its own axes for backlash, scale and reversals, when it has the catalogue's axes
+/// (paper 000, paper 002); otherwise (paper 001's A-B head) paper 000's machine, said in the
+/// summary.
+pub fn diagnose_on_machine(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    deviations: &[f64],
+    opts: &AnalysisOptions,
+) -> Result<DiagnosisReport, GapError> {
+    let sopts = sensitivity_options(opts);
+    match part_model_on(part, points, &sopts) {
+        Ok(m) => diagnose_model(m, deviations, opts.noise_sigma),
+        Err(GapError::Model(why)) if opts.machine != MachineChoice::Paper000 => {
+            let mut d = diagnose_points(part, points, deviations, opts.noise_sigma)?;
+            d.summary = format!(
+                "{}\nMachine: the diagnosis used paper 000's B head / C table, not the {} chosen \
+                 for the identification: {why}.\n",
+                d.summary.trim_end(),
+                opts.machine.describe()
+            );
+            Ok(d)
+        }
+        Err(e) => Err(e),
+    }
+}
+
+fn diagnose_model(
+    m: crate::gap::effects::builtin::PartModel,
+    deviations: &[f64],
+    noise_sigma: Option<f64>,
+) -> Result<DiagnosisReport, GapError> {
     diagnose(&GapInput {
         deviations: deviations.to_vec(),
         points: m.points,
@@ -349,7 +386,7 @@ pub fn analyse(
         None
     };
     let mut diagnosis =
-        diagnose_points(&part, &points, &deviations, opts.noise_sigma).map_err(|e| e.to_string());
+        diagnose_on_machine(&part, &points, &deviations, opts).map_err(|e| e.to_string());
     if let Some(k) = &opts.known {
         let note = known_note(k);
         identification.notes.push(note.clone());

@@ -1,16 +1,19 @@
-//! `testpiece diagnose FILE [--sigma MM] [--json]`: the sim-to-real gap of a measured part.
+//! `testpiece diagnose FILE [--sigma MM] [--machine M] [--json]`: the sim-to-real gap of a
+//! measured part.
 
-use testpiece::analysis::{diagnose_points, measurement_points};
+use testpiece::analysis::{diagnose_on_machine, measurement_points, AnalysisOptions};
 use testpiece::cmm::{read_and_match, ReadOptions};
+use testpiece::machine::Branch;
 use testpiece::part::SShape;
 
 use crate::args::Args;
 
 const HELP: &str = "\
-testpiece diagnose FILE [--sigma MM] [--json]
+testpiece diagnose FILE [--sigma MM] [--machine paper000|paper001|paper002] [--l0 MM]
+                        [--branch signed|positive] [--exclude-bad-rows] [--json]
 
-Diagnoses the sim-to-real gap of a measured S-shape part: the baseline (the 8 location errors,
-physical mode) is fitted, the residual located (per curve, region, reversal), every candidate of
+Diagnoses the sim-to-real gap of a measured S-shape part: the baseline (the machine's location
+errors, physical mode) is fitted, the residual located (per curve, region, reversal), every candidate of
 effects.md added one at a time and cross-validated (then pairs of the significant ones when no
 single candidate explains the gap), and a verdict given (an effect id, with a second one when a
 pair explains the gap, none or unexplained) with its detection limit.
@@ -19,6 +22,12 @@ FILE: any CMM export of shared/spec/cmm-csv.md; every point is matched to the no
 by projection of its own coordinates, and the model (baseline and candidate signatures) is built
 at the matched points.
 --sigma MM   CMM repeatability (1σ, mm); default: estimated from the data.
+--machine M  the machine whose location errors are the baseline and whose axes the backlash,
+             scale and reversal candidates use: paper000 (B head / C table, default),
+             paper002 (B-C tilting table); paper001 (A-B head) has no C axis for the catalogue's
+             backlash_c and c_index, so its parts are diagnosed on paper000's machine and the
+             summary says so. --l0 the pivot-to-tip length (mm, 499.889); --branch the B-axis
+             branch of the inverse kinematics (signed, default, or positive).
 --exclude-bad-rows  leave out the rows the reader rejects instead of refusing the file.
 --json       the report as JSON (shared/spec/cli.md); default: the plain-language summary.
 ";
@@ -27,7 +36,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     if crate::wants_help(rest, HELP) {
         return Ok(());
     }
-    let args = Args::parse(rest, &["sigma"])?;
+    let args = Args::parse(rest, &["sigma", "machine", "l0", "branch"])?;
     let json = args.flag("json");
     let exclude_bad_rows = args.flag("exclude-bad-rows");
     let sigma = args
@@ -37,6 +46,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
                 .map_err(|_| format!("--sigma: `{s}` is not a number"))
         })
         .transpose()?;
+    let (machine, l0) = crate::identify::machine_and_l0(&args)?;
+    let (_, branch) = crate::simulate::mode_and_branch(&args)?;
     args.reject_unknown("diagnose")?;
     let [file] = args.positional.as_slice() else {
         return Err("diagnose needs exactly one FILE (see `testpiece diagnose --help`)".into());
@@ -49,7 +60,15 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let part = SShape::iso();
     let matched = read_and_match(&bytes, &name, &opts).map_err(|e| format!("{file}: {e}"))?;
     let points = measurement_points(&part, &matched);
-    let report = diagnose_points(&part, &points, &matched.deviations(), sigma)
+    let settings = AnalysisOptions {
+        machine,
+        l0,
+        branch: Branch::parse(&branch)
+            .ok_or_else(|| format!("--branch `{branch}`: expected signed or positive"))?,
+        noise_sigma: sigma,
+        ..AnalysisOptions::default()
+    };
+    let report = diagnose_on_machine(&part, &points, &matched.deviations(), &settings)
         .map_err(|e| format!("{file}: {e}"))?;
     if json {
         println!(

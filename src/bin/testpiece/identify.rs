@@ -89,22 +89,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             .map_err(|_| format!("--seed `{t}`: expected a non-negative integer"))?,
         None => 7,
     };
-    let machine = match args.value("machine").unwrap_or("paper000") {
-        "paper000" => MachineChoice::Paper000,
-        "paper001" => MachineChoice::Paper001,
-        "paper002" => MachineChoice::Paper002,
-        m => {
-            return Err(format!(
-                "--machine `{m}`: expected paper000, paper001 or paper002"
-            ))
-        }
-    };
-    let l0 = match args.value("l0") {
-        Some(t) => t
-            .parse::<f64>()
-            .map_err(|_| format!("--l0 `{t}`: expected a length in mm"))?,
-        None => testpiece::machine::chain::PAPER000_L0,
-    };
+    let (machine, l0) = machine_and_l0(&args)?;
     let setup_per_part = args.flag("setup-per-part");
     args.reject_unknown("identify")?;
     let settings = AnalysisOptions {
@@ -327,4 +312,25 @@ fn pooled(
         id.residual.rms, id.residual.max_abs
     );
     Ok(())
+}
+
+/// `--machine paper000|paper001|paper002` and `--l0 MM` (default paper 000's 499.889 mm).
+pub fn machine_and_l0(args: &Args) -> Result<(MachineChoice, f64), String> {
+    let machine = match args.value("machine").unwrap_or("paper000") {
+        "paper000" => MachineChoice::Paper000,
+        "paper001" => MachineChoice::Paper001,
+        "paper002" => MachineChoice::Paper002,
+        m => {
+            return Err(format!(
+                "--machine `{m}`: expected paper000, paper001 or paper002"
+            ))
+        }
+    };
+    let l0 = match args.value("l0") {
+        Some(t) => t
+            .parse::<f64>()
+            .map_err(|_| format!("--l0 `{t}`: expected a length in mm"))?,
+        None => testpiece::machine::chain::PAPER000_L0,
+    };
+    Ok((machine, l0))
 }

@@ -100,11 +100,56 @@ pub struct PartModel {
     pub reversals: Vec<crate::gap::data::Reversal>,
 }
 
-/// The model of the given measurement points (`physical` mode, signed B).
+/// Below this largest |signature| (mm of deviation per unit of every parameter of the effect,
+/// mm or rad) an effect cannot show on this machine at any plausible size: e.g. the backlash and
+/// the scale error of Z on paper 002's tilting table, whose Z moves along the tool axis, which
+/// lies in the flank-milled walls (their columns are ~1e-17, rounding).
+pub const INVISIBLE_SIGNATURE: f64 = 1e-12;
+
+/// A candidate whose signature is below [`INVISIBLE_SIGNATURE`] gets exact zeros, so that the
+/// diagnosis reports it as adding nothing (rank 0) instead of fitting rounding noise, whose
+/// column scaling would make it look like a direction of its own.
+fn invisible_as_zero(mut c: Candidate) -> Candidate {
+    if c.signature
+        .matrix
+        .iter()
+        .all(|v| v.abs() < INVISIBLE_SIGNATURE)
+    {
+        c.signature.matrix.fill(0.0);
+    }
+    c
+}
+
+/// The model of the given measurement points on paper 000's machine (`physical` mode, signed B).
 pub fn part_model(part: &SShape, points: &[MeasurementPoint]) -> Result<PartModel, GapError> {
-    use super::machine::{backlash_columns, reversals, scale_signatures};
-    let opts = crate::sensitivity::SensitivityOptions::default();
-    let sens = crate::sensitivity::sensitivity_matrix(part, points, &opts)
+    part_model_on(
+        part,
+        points,
+        &crate::sensitivity::SensitivityOptions::default(),
+    )
+}
+
+/// The model of the given measurement points on the machine of `opts` (its chain and B branch;
+/// the baseline is its location errors in `physical` mode whatever `opts.mode` says, as
+/// effects.md defines it). The machine must have the axes the catalogue names (X, Y, Z, B, C):
+/// paper 000's B head / C table and paper 002's B-C tilting table; otherwise an error.
+pub fn part_model_on(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &crate::sensitivity::SensitivityOptions,
+) -> Result<PartModel, GapError> {
+    use super::machine::{backlash_columns, reversals, scale_signatures, BACKLASH_AXES};
+    if let Some(missing) = BACKLASH_AXES
+        .iter()
+        .find(|&&a| opts.chain.axis(a).is_none())
+    {
+        return Err(GapError::Model(format!(
+            "the effect catalogue (effects.md) names the axes X, Y, Z, B and C; this machine has \
+             no {missing:?} axis"
+        )));
+    }
+    let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
+    let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)
         .map_err(|e| GapError::Model(e.to_string()))?;
     let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
     let eps = effect_points(part, points);
@@ -114,10 +159,10 @@ pub fn part_model(part: &SShape, points: &[MeasurementPoint]) -> Result<PartMode
         .map(|d| d.deviation)
         .collect();
     let geo = geometric_candidates(part, &eps, &envelope)?;
-    let scales = scale_signatures(part, points, &opts)?;
-    let passes = crate::sensitivity::reversal::passes(part, &opts)
+    let scales = scale_signatures(part, points, opts)?;
+    let passes = crate::sensitivity::reversal::passes(part, opts)
         .map_err(|e| GapError::Model(e.to_string()))?;
-    let backlash = backlash_columns(&passes, part, points, &opts)?;
+    let backlash = backlash_columns(&passes, part, points, opts)?;
     let take = |id: &str| geo.iter().find(|c| c.id == id).cloned();
     let mut candidates = Vec::new();
     for info in crate::gap::catalog::EFFECTS {
@@ -132,7 +177,7 @@ pub fn part_model(part: &SShape, points: &[MeasurementPoint]) -> Result<PartMode
             "scale_z" => candidate(info.id, vec![scales[2].clone()])?,
             id => take(id).ok_or_else(|| GapError::UnknownEffect(id.to_string()))?,
         };
-        candidates.push(c);
+        candidates.push(invisible_as_zero(c));
     }
     Ok(PartModel {
         points: point_meta(points, &eps),
