@@ -24,6 +24,12 @@ fn options(machine: MachineChoice) -> AnalysisOptions {
     }
 }
 
+/// example_clean.csv analysed on `machine`.
+fn analyse_clean(machine: MachineChoice) -> testpiece::analysis::Analysis {
+    let bytes = data("reference/examples/example_clean.csv");
+    analyse(&bytes, "clean.csv", &options(machine)).unwrap()
+}
+
 fn model_of(machine: MachineChoice) -> PartModel {
     let sopts = SensitivityOptions::default().with_chain(machine.chain(PAPER000_L0));
     part_model_on(&SShape::iso(), &builtin(), &sopts).unwrap()
@@ -45,13 +51,7 @@ fn column(m: &PartModel, id: &str) -> Vec<f64> {
 #[test]
 fn the_tilting_table_model_is_its_own() {
     let tilt = model_of(MachineChoice::Paper002);
-    let text = String::from_utf8(data("reference/examples/example_clean.csv")).unwrap();
-    let a = analyse(
-        text.as_bytes(),
-        "clean.csv",
-        &options(MachineChoice::Paper002),
-    )
-    .unwrap();
+    let a = analyse_clean(MachineChoice::Paper002);
     assert_eq!(tilt.baseline.names, a.identification.names());
     let p000 = part_model(&SShape::iso(), &builtin()).unwrap();
     for c in &p000.candidates {
@@ -120,13 +120,7 @@ fn a_tilting_table_part_is_diagnosed_on_its_own_axes() {
 /// summary's last line says which machine and why.
 #[test]
 fn the_a_b_head_is_diagnosed_on_paper_000s_machine_and_says_so() {
-    let text = String::from_utf8(data("reference/examples/example_clean.csv")).unwrap();
-    let a = analyse(
-        text.as_bytes(),
-        "clean.csv",
-        &options(MachineChoice::Paper001),
-    )
-    .unwrap();
+    let a = analyse_clean(MachineChoice::Paper001);
     let d = a.diagnosis.unwrap();
     let last = d.summary.lines().last().unwrap();
     assert!(
