@@ -33,14 +33,14 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::cmm::{read_and_match, CmmError, MatchedPart, ReadOptions};
-use crate::gap::effects::builtin::{part_model, part_model_on};
+use crate::gap::effects::builtin::{missing_catalogue_axis, part_model, part_model_on};
 use crate::gap::{diagnose, DiagnosisReport, GapError, GapInput};
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
 };
 use crate::machine::chain::PAPER000_L0;
-use crate::machine::{Branch, Chain};
+use crate::machine::{AxisName, Branch, Chain};
 use crate::part::{Curve, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
 use crate::simulate::{ExactDefectModel, SimulateError};
@@ -68,6 +68,24 @@ impl MachineChoice {
             MachineChoice::Paper002 => Chain::paper002(),
         }
     }
+    /// The three chains, in the page's order.
+    pub const ALL: [MachineChoice; 3] = [
+        MachineChoice::Paper000,
+        MachineChoice::Paper002,
+        MachineChoice::Paper001,
+    ];
+    /// Whether the pivot length L0 enters the chain (not on the tilting table).
+    pub fn uses_l0(self) -> bool {
+        self != MachineChoice::Paper002
+    }
+    /// What a page or report shows of the machine.
+    pub fn info(self) -> MachineInfo {
+        MachineInfo {
+            id: self,
+            name: self.describe(),
+            uses_l0: self.uses_l0(),
+        }
+    }
     /// A plain description for reports.
     pub fn describe(self) -> &'static str {
         match self {
@@ -76,6 +94,14 @@ impl MachineChoice {
             MachineChoice::Paper002 => "B-C tilting table (paper 002, w C' B' b X Y Z t)",
         }
     }
+}
+
+/// A machine as the page lists it (JSON `{id, name, uses_l0}`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MachineInfo {
+    pub id: MachineChoice,
+    pub name: &'static str,
+    pub uses_l0: bool,
 }
 
 /// Settings of an analysis; `Default` is the spec's default (physical mode, signed B, paper
@@ -184,10 +210,15 @@ pub struct Analysis {
     /// What the exact-model refinement did (absent when switched off).
     pub refinement: Option<RefineReport>,
     /// The sim-to-real gap diagnosis, or why it could not be made.
-    pub diagnosis: Result<DiagnosisReport, String>,
-    /// The fitted design and observations (for Monte Carlo and exports; not serialised).
-    #[serde(skip)]
-    pub fitted: Option<(Design, Observations)>,
+    pub diagnosis: Diagnosis,
+}
+
+/// What an analysis fitted, for further work on the same part (Monte Carlo): the design and
+/// the observations of the identification.
+#[derive(Debug, Clone)]
+pub struct Fitted {
+    pub design: Design,
+    pub observations: Observations,
 }
 
 impl Analysis {
@@ -269,30 +300,89 @@ pub fn diagnose_points(
     diagnose_model(part_model(part, points)?, deviations, noise_sigma)
 }
 
+/// The gap diagnosis of an analysis, or why it could not be made (JSON: `status` = `made` or
+/// `not_made`).
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum Diagnosis {
+    Made {
+        /// The machine whose errors and axes the diagnosis used.
+        machine: MachineChoice,
+        /// Why that is not the identification's machine, when it is not.
+        instead_of: Option<Substitute>,
+        report: Box<DiagnosisReport>,
+    },
+    NotMade {
+        /// The diagnosis stage's message.
+        reason: String,
+    },
+}
+
+/// The identification's machine, when the diagnosis had to use another one.
+#[derive(Debug, Clone, Serialize)]
+pub struct Substitute {
+    pub machine: MachineChoice,
+    /// The axis of the effect catalogue it does not have.
+    pub missing_axis: AxisName,
+}
+
+impl Diagnosis {
+    /// The report, when the diagnosis was made.
+    pub fn report(&self) -> Option<&DiagnosisReport> {
+        match self {
+            Diagnosis::Made { report, .. } => Some(report),
+            Diagnosis::NotMade { .. } => None,
+        }
+    }
+    /// The report, or the reason it could not be made.
+    pub fn into_report(self) -> Result<DiagnosisReport, String> {
+        match self {
+            Diagnosis::Made { report, .. } => Ok(*report),
+            Diagnosis::NotMade { reason } => Err(reason),
+        }
+    }
+}
+
 /// The gap diagnosis on the machine the analysis identifies: its own location errors as the
 /// baseline and its own axes for backlash, scale and reversals, when it has the catalogue's axes
-/// (paper 000, paper 002); otherwise (paper 001's A-B head) paper 000's machine, said in the
-/// summary.
+/// (paper 000, paper 002); otherwise (paper 001's A-B head, no C axis) paper 000's machine with
+/// its defaults (signed B, its own L0), said in the summary.
 pub fn diagnose_on_machine(
     part: &SShape,
     points: &[MeasurementPoint],
     deviations: &[f64],
     opts: &AnalysisOptions,
-) -> Result<DiagnosisReport, GapError> {
-    let sopts = sensitivity_options(opts);
-    match part_model_on(part, points, &sopts) {
-        Ok(m) => diagnose_model(m, deviations, opts.noise_sigma),
-        Err(GapError::Model(why)) if opts.machine != MachineChoice::Paper000 => {
-            let mut d = diagnose_points(part, points, deviations, opts.noise_sigma)?;
-            d.summary = format!(
-                "{}\nMachine: the diagnosis used paper 000's B head / C table, not the {} chosen \
-                 for the identification: {why}.\n",
-                d.summary.trim_end(),
-                opts.machine.describe()
-            );
-            Ok(d)
+) -> Diagnosis {
+    let made = match missing_catalogue_axis(&opts.machine.chain(opts.l0)) {
+        None => part_model_on(part, points, &sensitivity_options(opts))
+            .and_then(|m| diagnose_model(m, deviations, opts.noise_sigma))
+            .map(|report| (opts.machine, None, report)),
+        Some(missing_axis) => {
+            diagnose_points(part, points, deviations, opts.noise_sigma).map(|mut report| {
+                report.summary = format!(
+                    "{}\nMachine: the diagnosis used paper 000's B head / C table, not the {} \
+                     chosen for the identification: the effect catalogue (effects.md) names the \
+                     axes X, Y, Z, B and C; this machine has no {missing_axis:?} axis.\n",
+                    report.summary.trim_end(),
+                    opts.machine.describe()
+                );
+                let instead = Substitute {
+                    machine: opts.machine,
+                    missing_axis,
+                };
+                (MachineChoice::Paper000, Some(instead), report)
+            })
         }
-        Err(e) => Err(e),
+    };
+    match made {
+        Ok((machine, instead_of, report)) => Diagnosis::Made {
+            machine,
+            instead_of,
+            report: Box::new(report),
+        },
+        Err(e) => Diagnosis::NotMade {
+            reason: e.to_string(),
+        },
     }
 }
 
@@ -347,6 +437,15 @@ pub fn analyse(
     name: &str,
     opts: &AnalysisOptions,
 ) -> Result<Analysis, AnalysisError> {
+    analyse_fitted(bytes, name, opts).map(|(a, _)| a)
+}
+
+/// [`analyse`], and what it fitted.
+pub fn analyse_fitted(
+    bytes: &[u8],
+    name: &str,
+    opts: &AnalysisOptions,
+) -> Result<(Analysis, Fitted), AnalysisError> {
     if let Some(s) = opts.noise_sigma {
         if !(s.is_finite() && s > 0.0) {
             return Err(AnalysisError::BadSigma(s));
@@ -385,16 +484,15 @@ pub fn analyse(
     } else {
         None
     };
-    let mut diagnosis =
-        diagnose_on_machine(&part, &points, &deviations, opts).map_err(|e| e.to_string());
+    let mut diagnosis = diagnose_on_machine(&part, &points, &deviations, opts);
     if let Some(k) = &opts.known {
         let note = known_note(k);
         identification.notes.push(note.clone());
-        if let Ok(d) = diagnosis.as_mut() {
-            d.summary = format!("{}\n{note}", d.summary.trim_end());
+        if let Diagnosis::Made { report, .. } = &mut diagnosis {
+            report.summary = format!("{}\n{note}", report.summary.trim_end());
         }
     }
-    Ok(Analysis {
+    let analysis = Analysis {
         diagnosis,
         version: crate::VERSION,
         settings: opts.clone(),
@@ -403,8 +501,14 @@ pub fn analyse(
         design: columns,
         identification,
         refinement,
-        fitted: Some((design, obs)),
-    })
+    };
+    Ok((
+        analysis,
+        Fitted {
+            design,
+            observations: obs,
+        },
+    ))
 }
 
 #[cfg(test)]
@@ -469,11 +573,11 @@ mod tests {
             ),
         ] {
             let a = analyse(text.as_bytes(), file, &AnalysisOptions::default()).unwrap();
-            let d = a.diagnosis.as_ref().unwrap();
+            let d = a.diagnosis.report().unwrap();
             assert!(
-                accept.contains(&d.verdict.effect.as_str()),
+                accept.contains(&d.verdict.id().as_str()),
                 "{file}: {}",
-                d.verdict.effect
+                d.verdict.id()
             );
             assert!(d.summary.starts_with("Verdict: "), "{file}: {}", d.summary);
         }

@@ -23,11 +23,13 @@ pub mod identify;
 pub mod machine;
 pub mod part;
 pub mod pool;
+pub mod random;
 pub mod sensitivity;
 pub mod simulate;
 pub mod summary;
 pub mod tolerance;
 pub mod toolpath;
+pub mod validate;
 pub mod wasm;
 
 /// The crate version, printed by the CLI and on the page's report.

@@ -6,7 +6,8 @@
 mod gap_common;
 use gap_common::*;
 use nalgebra::{Rotation3, Vector3};
-use testpiece::gap::effects::builtin::{effect_points, geometric_candidates, point_meta};
+use testpiece::gap::effect::{Effect, SignatureModel};
+use testpiece::gap::effects::builtin::{effect_points, point_meta};
 use testpiece::gap::effects::path_length::total_path_length;
 use testpiece::part::points::builtin_points;
 use testpiece::part::SShape;
@@ -39,20 +40,32 @@ fn geometric_signatures_match_the_reference() {
     println!("s: max relative difference {ds:.2e}");
     assert!(ds < 1e-5);
     testpiece::assert_near!(total_path_length(&part), 1342.293, 1e-3);
-    let cands = geometric_candidates(&part, &eps, &env).unwrap();
-    for c in &cands {
-        for (j, p) in c.signature.names.iter().enumerate() {
-            let col: Vec<f64> = c.signature.matrix.column(j).iter().copied().collect();
-            let reference = sig.numbers(&format!("{}.{p}", c.id)).unwrap();
-            let d = rel_max_diff(&col, &reference);
-            println!("{}.{p}: max relative difference {d:.2e}", c.id);
-            let tol = match c.id.as_str() {
-                "thermal_drift" => 1e-5,
+    // The effects whose signature is geometry alone (no axis path): every one but backlash and
+    // scale, which need the kinematics stage (`full_model_matches_the_reference`).
+    let model = SignatureModel {
+        points: eps.clone(),
+        envelope: env,
+        s_total: total_path_length(&part),
+        ..Default::default()
+    };
+    let geometric: Vec<Effect> = Effect::ALL
+        .into_iter()
+        .filter(|e| e.axis().is_none())
+        .collect();
+    assert_eq!(geometric.len(), 7);
+    for e in geometric {
+        let cols = e.signature(&model).unwrap();
+        for (j, (p, _)) in e.parameters().iter().enumerate() {
+            let reference = sig.numbers(&format!("{e}.{p}")).unwrap();
+            let d = rel_max_diff(&cols[j], &reference);
+            println!("{e}.{p}: max relative difference {d:.2e}");
+            let tol = match e {
+                Effect::ThermalDrift => 1e-5,
                 // 1e-5 mm absolute on a column whose largest value is 0.00986 mm.
-                "overcut" => 1e-5 / 0.00986,
+                Effect::Overcut => 1e-5 / 0.00986,
                 _ => 1e-6,
             };
-            assert!(d < tol, "{}.{p}: {d:e} > {tol:e}", c.id);
+            assert!(d < tol, "{e}.{p}: {d:e} > {tol:e}");
         }
     }
     // Metadata: order A then B by path length, curve names as in points.csv.
@@ -70,7 +83,11 @@ fn c_index_is_the_derivative_of_a_table_rotation() {
     let part = SShape::iso();
     let pts = builtin_points(&part);
     let eps = effect_points(&part, &pts[..5]);
-    let col = testpiece::gap::effects::rigid::c_index(&eps);
+    let model = SignatureModel {
+        points: eps.clone(),
+        ..Default::default()
+    };
+    let col = Effect::CIndex.signature(&model).unwrap();
     let d = 1e-6;
     for (k, e) in eps.iter().enumerate() {
         let minus = Rotation3::from_axis_angle(&Vector3::z_axis(), -d);
@@ -103,14 +120,14 @@ fn full_model_matches_the_reference() {
     for c in &m.candidates {
         for (j, p) in c.signature.names.iter().enumerate() {
             let col: Vec<f64> = c.signature.matrix.column(j).iter().copied().collect();
-            let d = rel_max_diff(&col, &sig.numbers(&format!("{}.{p}", c.id)).unwrap());
-            println!("{}.{p}: {d:.2e}", c.id);
-            let tol = if c.id.starts_with("backlash") {
+            let d = rel_max_diff(&col, &sig.numbers(&format!("{}.{p}", c.effect)).unwrap());
+            println!("{}.{p}: {d:.2e}", c.effect);
+            let tol = if matches!(c.effect, Effect::Backlash(_)) {
                 1e-4
             } else {
                 1e-5
             };
-            assert!(d < tol, "{}.{p}: {d:e}", c.id);
+            assert!(d < tol, "{}.{p}: {d:e}", c.effect);
         }
     }
     // Reversals per pass (README, signed B): X 8/8, Y 6/6, Z 7/9, B 6/8, C 1/1 → 60 in all.

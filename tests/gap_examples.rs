@@ -8,7 +8,7 @@ use nalgebra::DVector;
 use testpiece::assert_near;
 use testpiece::gap::equivalence::cos_to_span;
 use testpiece::gap::lsq::Factor;
-use testpiece::gap::{diagnose, GapError};
+use testpiece::gap::{diagnose, Effect, GapError};
 
 /// The examples are written with 6 decimals (0.5 µm rounding, ≈0.29 µm RMS): the residual RMS
 /// after the true effect is fitted agrees with the key's `achievable_rms_after` within 0.1 µm.
@@ -26,8 +26,8 @@ fn accepts(name: &str) -> Vec<String> {
 #[test]
 fn clean_part_is_none() {
     let r = diagnose(&input(example("example_clean"))).unwrap();
-    assert_eq!(r.verdict.effect, "none", "{}", r.summary);
-    assert!(accepts("example_clean").contains(&r.verdict.effect));
+    assert_eq!(r.verdict.id().as_str(), "none", "{}", r.summary);
+    assert!(accepts("example_clean").contains(&r.verdict.id().to_string()));
     let k = key("example_clean");
     assert_near!(
         r.verdict.rms_after,
@@ -53,9 +53,13 @@ fn tool_radius_part_names_tool_radius_and_its_equivalent() {
     let name = "example_tool_radius";
     let r = diagnose(&input(example(name))).unwrap();
     let k = key(name);
-    assert!(accepts(name).contains(&r.verdict.effect), "{}", r.summary);
-    assert_eq!(r.verdict.effect, "tool_radius", "{}", r.summary);
-    assert!(r.verdict.equivalent.contains(&"tool_taper".to_string()));
+    assert!(
+        accepts(name).contains(&r.verdict.id().to_string()),
+        "{}",
+        r.summary
+    );
+    assert_eq!(r.verdict.id().as_str(), "tool_radius", "{}", r.summary);
+    assert!(r.verdict.finding.equivalent().contains(&Effect::ToolTaper));
     assert_near!(
         r.verdict.rms_after,
         k["achievable_rms_after"].as_f64().unwrap(),
@@ -79,7 +83,7 @@ fn backlash_c_part_names_backlash_c() {
     let name = "example_backlash_c";
     let r = diagnose(&input(example(name))).unwrap();
     let k = key(name);
-    assert_eq!(r.verdict.effect, "backlash_c", "{}", r.summary);
+    assert_eq!(r.verdict.id().as_str(), "backlash_c", "{}", r.summary);
     assert_near!(
         r.verdict.rms_after,
         k["achievable_rms_after"].as_f64().unwrap(),
@@ -97,13 +101,13 @@ fn near_equivalences_of_the_readme_are_found() {
     let find = |a: &str, b: &str| {
         r.equivalences
             .iter()
-            .find(|e| (e.a == a && e.b == b) || (e.a == b && e.b == a))
+            .find(|e| (e.a.id() == a && e.b.id() == b) || (e.a.id() == b && e.b.id() == a))
             .unwrap_or_else(|| panic!("{a}/{b} not found in {:?}", r.equivalences))
             .clone()
     };
     let e = find("tool_radius", "tool_taper");
     assert_near!(e.cosine, 1.0, 5e-4);
-    assert_eq!(e.a, "tool_radius");
+    assert_eq!(e.a, Effect::ToolRadius);
     assert_near!(e.a_within_b.unwrap(), 1.0, 5e-4);
     let e = find("c_index", "setup_error");
     assert_near!(e.a_within_b.unwrap(), 1.0, 5e-4);
@@ -123,7 +127,7 @@ fn unabsorbed_parts_match_the_keys() {
         ("example_backlash_c", "backlash_c", 6e-4),
     ] {
         let k = key(name);
-        let c = inp.candidates.iter().find(|c| c.id == id).unwrap();
+        let c = inp.candidates.iter().find(|c| c.effect.id() == id).unwrap();
         let e: DVector<f64> = c.signature.matrix.column(0).into_owned() * value;
         let u = base.unabsorbed_vec(&e);
         assert_near!(
@@ -132,12 +136,12 @@ fn unabsorbed_parts_match_the_keys() {
             1e-9
         );
         for other in &inp.candidates {
-            if other.id == id {
+            if other.effect.id() == id {
                 continue;
             }
             let uo = base.unabsorbed(&other.signature.matrix);
             let qo = Factor::new(&uo, None).basis;
-            let expected = k["equivalence_corr"][other.id.as_str()].as_f64().unwrap();
+            let expected = k["equivalence_corr"][other.effect.id()].as_f64().unwrap();
             assert_near!(cos_to_span(&u, &qo), expected, 1e-5);
         }
     }

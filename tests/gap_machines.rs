@@ -12,9 +12,12 @@ use edge_common::*;
 use testpiece::analysis::{analyse, diagnose_on_machine, AnalysisOptions, MachineChoice};
 use testpiece::gap::effects::builtin::{part_model, part_model_on, PartModel};
 use testpiece::gap::lsq::{rms, Factor};
-use testpiece::gap::random::Sampler;
+use testpiece::gap::verdict::VerdictId;
+use testpiece::gap::Effect;
 use testpiece::machine::chain::PAPER000_L0;
+use testpiece::machine::AxisName;
 use testpiece::part::SShape;
+use testpiece::random::Sampler;
 use testpiece::sensitivity::SensitivityOptions;
 
 fn options(machine: MachineChoice) -> AnalysisOptions {
@@ -35,8 +38,8 @@ fn model_of(machine: MachineChoice) -> PartModel {
     part_model_on(&SShape::iso(), &builtin(), &sopts).unwrap()
 }
 
-fn column(m: &PartModel, id: &str) -> Vec<f64> {
-    let c = m.candidates.iter().find(|c| c.id == id).unwrap();
+fn column(m: &PartModel, effect: Effect) -> Vec<f64> {
+    let c = m.candidates.iter().find(|c| c.effect == effect).unwrap();
     c.signature.matrix.column(0).iter().copied().collect()
 }
 
@@ -55,21 +58,21 @@ fn the_tilting_table_model_is_its_own() {
     assert_eq!(tilt.baseline.names, a.identification.names());
     let p000 = part_model(&SShape::iso(), &builtin()).unwrap();
     for c in &p000.candidates {
-        let own = column(&tilt, &c.id);
-        let other = column(&p000, &c.id);
+        let own = column(&tilt, c.effect);
+        let other = column(&p000, c.effect);
         let diff: Vec<f64> = own.iter().zip(&other).map(|(a, b)| a - b).collect();
         let (r_own, r_other, r_diff) = (rms(&own), rms(&other), rms(&diff));
         println!(
             "{}: rms {r_own:.3e} (tilting table), {r_other:.3e} (paper 000), difference {r_diff:.3e}",
-            c.id
+            c.effect
         );
-        match c.id.as_str() {
+        match c.effect.id() {
             "backlash_b" | "backlash_x" | "scale_x" => {
-                assert!(r_diff > 0.5 * r_other.min(r_own), "{}", c.id)
+                assert!(r_diff > 0.5 * r_other.min(r_own), "{}", c.effect)
             }
-            "backlash_z" | "scale_z" => assert!(own.iter().all(|v| *v == 0.0), "{}", c.id),
-            "backlash_c" | "scale_y" => assert!(r_diff <= 1e-12 * r_other, "{}", c.id),
-            _ => assert_eq!(own, other, "{}", c.id),
+            "backlash_z" | "scale_z" => assert!(own.iter().all(|v| *v == 0.0), "{}", c.effect),
+            "backlash_c" | "scale_y" => assert!(r_diff <= 1e-12 * r_other, "{}", c.effect),
+            _ => assert_eq!(own, other, "{}", c.effect),
         }
     }
 }
@@ -82,7 +85,8 @@ fn the_tilting_table_model_is_its_own() {
 fn a_tilting_table_part_is_diagnosed_on_its_own_axes() {
     let m = model_of(MachineChoice::Paper002);
     let sigma = 0.0015;
-    let sig = column(&m, "backlash_c");
+    let backlash_c = Effect::Backlash(AxisName::C);
+    let sig = column(&m, backlash_c);
     let base = Factor::new(&m.baseline.matrix, None);
     let sig_m = nalgebra::DMatrix::from_column_slice(sig.len(), 1, &sig);
     let visible: Vec<f64> = base.unabsorbed(&sig_m).iter().copied().collect();
@@ -106,11 +110,12 @@ fn a_tilting_table_part_is_diagnosed_on_its_own_axes() {
         &y,
         &options(MachineChoice::Paper002),
     )
+    .into_report()
     .unwrap();
     println!("b = {b:.3e} rad\n{}", d.summary);
     let v = &d.verdict;
     assert!(
-        v.effect == "backlash_c" || v.equivalent.iter().any(|e| e == "backlash_c"),
+        v.id() == VerdictId::Effect(backlash_c) || v.finding.equivalent().contains(&backlash_c),
         "{}",
         d.summary
     );
@@ -121,7 +126,7 @@ fn a_tilting_table_part_is_diagnosed_on_its_own_axes() {
 #[test]
 fn the_a_b_head_is_diagnosed_on_paper_000s_machine_and_says_so() {
     let a = analyse_clean(MachineChoice::Paper001);
-    let d = a.diagnosis.unwrap();
+    let d = a.diagnosis.into_report().unwrap();
     let last = d.summary.lines().last().unwrap();
     assert!(
         last.starts_with("Machine: the diagnosis used paper 000's B head / C table")
@@ -146,7 +151,7 @@ fn the_cli_diagnoses_on_the_chosen_machine() {
         let out = testpiece_ok(&["diagnose", &file, "--machine", m]);
         let text = std::fs::read(&file).unwrap();
         let a = analyse(&text, "b.csv", &options(choice)).unwrap();
-        let d = a.diagnosis.unwrap();
+        let d = a.diagnosis.into_report().unwrap();
         assert_eq!(out.lines().next(), d.summary.lines().next(), "{m}");
         assert_eq!(out.lines().last(), d.summary.lines().last(), "{m}");
     }

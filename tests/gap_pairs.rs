@@ -8,7 +8,7 @@ use gap_common::*;
 use nalgebra::{DMatrix, DVector};
 use testpiece::gap::diagnose;
 use testpiece::gap::lsq::Factor;
-use testpiece::gap::random::Sampler;
+use testpiece::random::Sampler;
 
 const SIGMA: f64 = 0.0015;
 
@@ -25,7 +25,11 @@ fn part(effects: &[(&str, f64)], seed: u64) -> Vec<f64> {
     );
     let mut y = a * xi;
     for (id, ratio) in effects {
-        let c = inp.candidates.iter().find(|c| c.id == *id).unwrap();
+        let c = inp
+            .candidates
+            .iter()
+            .find(|c| c.effect.id() == *id)
+            .unwrap();
         let s: &DMatrix<f64> = &c.signature.matrix;
         let dir = DVector::from_iterator(
             s.ncols(),
@@ -42,10 +46,13 @@ fn part(effects: &[(&str, f64)], seed: u64) -> Vec<f64> {
 }
 
 fn named(v: &testpiece::gap::verdict::Verdict) -> Vec<String> {
-    let mut all = vec![v.effect.clone()];
-    all.extend(v.equivalent.iter().cloned());
-    all.extend(v.with.iter().cloned());
-    all.extend(v.with_equivalent.iter().cloned());
+    let f = &v.finding;
+    let mut all = vec![v.id().to_string()];
+    all.extend(f.equivalent().iter().map(|e| e.to_string()));
+    if let Some(w) = f.with() {
+        all.push(w.effect.to_string());
+        all.extend(w.equivalent.iter().map(|e| e.to_string()));
+    }
     all
 }
 
@@ -54,7 +61,7 @@ fn two_effects_together_are_both_named() {
     let ids: Vec<String> = input(vec![0.0; 100])
         .candidates
         .iter()
-        .map(|c| c.id.clone())
+        .map(|c| c.effect.to_string())
         .collect();
     // Pairs the part can tell apart: not one of effects.md's near-equivalent pairs and not two
     // candidates of which one contains the other.
@@ -84,7 +91,7 @@ fn two_effects_together_are_both_named() {
             total += 1;
             if [a, b].iter().all(|p| names.contains(p)) {
                 both += 1;
-                assert_eq!(v.with.len(), 1);
+                assert!(v.finding.with().is_some());
                 assert!(r
                     .summary
                     .lines()
@@ -94,11 +101,8 @@ fn two_effects_together_are_both_named() {
                 // Both explained: what is left is the noise (σ = 1.5 µm) within 40 %.
                 assert!(v.rms_after < 1.4 * SIGMA, "{a}+{b}: {}", v.rms_after);
             } else {
-                println!(
-                    "{a} + {b}: verdict {} with {:?} (equivalent {:?} / {:?})",
-                    v.effect, v.with, v.equivalent, v.with_equivalent
-                );
-                if v.effect == "unexplained" || v.effect == "none" {
+                println!("{a} + {b}: verdict {:?}", v.finding);
+                if v.finding.effects().is_empty() {
                     unexplained_or_none += 1;
                 }
             }
@@ -122,9 +126,9 @@ fn a_single_effect_is_not_paired_and_waviness_stays_unexplained() {
     ] {
         let r = diagnose(&input(part(&[(id, 4.0)], seed))).unwrap();
         assert!(
-            r.verdict.with.is_empty(),
+            r.verdict.finding.with().is_none(),
             "{id}: paired with {:?}",
-            r.verdict.with
+            r.verdict.finding.with()
         );
         assert!(r.pair.is_none());
     }
@@ -145,7 +149,7 @@ fn a_single_effect_is_not_paired_and_waviness_stays_unexplained() {
         .map(|w| w * 4.0 * 2.5 * SIGMA / un + SIGMA * rng.normal())
         .collect();
     let r = diagnose(&input(y)).unwrap();
-    assert_eq!(r.verdict.effect, "unexplained", "{}", r.summary);
+    assert_eq!(r.verdict.id().as_str(), "unexplained", "{}", r.summary);
 }
 
 /// The part of `tests/data/gap/two_effects.csv`: the real part model (`part_model` at the 100
@@ -168,7 +172,7 @@ fn two_effects_file() -> String {
     let mut y = a * xi;
     let mut said = Vec::new();
     for id in ["backlash_y", "tool_radius"] {
-        let c = m.candidates.iter().find(|c| c.id == id).unwrap();
+        let c = m.candidates.iter().find(|c| c.effect.id() == id).unwrap();
         let s = c.signature.matrix.column(0).into_owned();
         let un = base.unabsorbed_vec(&s).norm() / 10.0;
         let v = 4.0 * 2.5 * SIGMA / un;
@@ -207,7 +211,7 @@ fn a_measured_file_with_two_effects_gets_both() {
     let a =
         testpiece::analysis::analyse(on_disk.as_bytes(), "two_effects.csv", &Default::default())
             .unwrap();
-    let d = a.diagnosis.unwrap();
+    let d = a.diagnosis.into_report().unwrap();
     println!("{}", d.summary);
     let names = named(&d.verdict);
     for id in ["backlash_y", "tool_radius"] {
@@ -229,8 +233,7 @@ fn a_measured_file_with_two_effects_gets_both() {
 #[test]
 fn validate_pairs_floor() {
     use testpiece::gap::effects::builtin::builtin_model;
-    use testpiece::gap::validate::{ValidateOptions, ValidationModel};
-    use testpiece::gap::validate_pairs::validate_pairs;
+    use testpiece::validate::{validate_pairs, ValidateOptions, ValidationModel};
     let m = builtin_model(&testpiece::part::SShape::iso()).unwrap();
     let model = ValidationModel {
         points: m.points,

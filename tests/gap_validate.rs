@@ -5,7 +5,7 @@
 #![cfg(not(target_arch = "wasm32"))]
 mod gap_common;
 use gap_common::*;
-use testpiece::gap::validate::{table, validate, ValidateOptions, ValidationModel};
+use testpiece::validate::{table, validate, ValidateOptions, ValidationModel};
 
 fn model() -> ValidationModel {
     let inp = input(example("example_clean"));
@@ -78,11 +78,11 @@ fn same_seed_same_report() {
 fn verdicts_hold_on_the_exact_model() {
     use nalgebra::DVector;
     use testpiece::gap::effects::builtin::builtin_model;
-    use testpiece::gap::validate::validate_with;
     use testpiece::gap::GapError;
     use testpiece::identify::refine::ExactModel;
     use testpiece::part::SShape;
     use testpiece::simulate::{builtin_design, ExactDefectModel};
+    use testpiece::validate::validate_with;
 
     let m = builtin_model(&SShape::iso()).unwrap();
     let model = ValidationModel {

@@ -5,7 +5,7 @@ import { partsView } from './parts.js';
 import { curvesView } from './curves.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
-import { h, dataView, fig19View, identifyView, gapView, reportView } from './views.js';
+import { h, dataView, fig19View, identifyView, gapView, reportView, diagnosisOf, machines, machineName } from './views.js';
 import { setupBudget } from './budget.js';
 
 const $ = (id) => document.getElementById(id);
@@ -182,9 +182,9 @@ function summaryText() {
   const weak = id.groups.map((g) => g.parameters.join('/')).join('; ');
   const strong = Object.entries(id.parameters).filter(([, p]) => p.status === 'identified' && p.t !== null && p.t >= 3)
     .map(([n, p]) => `${n} = ${p.unit === 'rad' ? p.value.toExponential(2) : p.value.toFixed(4)} ${p.unit}`);
-  const d = a.diagnosis.Ok;
+  const d = diagnosisOf(a);
   box.append(
-    h('div', { class: 'verdict', id: 'verdict-line' }, d ? d.summary.split('\n')[0] : `Verdict: not available (${a.diagnosis.Err})`),
+    h('div', { class: 'verdict', id: 'verdict-line' }, d ? d.summary.split('\n')[0] : `Verdict: not available (${a.diagnosis.reason})`),
     h('div', {}, `${f.name}: identification of ${Object.keys(id.parameters).length} parameters from ${id.points_used} points.`),
     h('div', {}, `Clearly non-zero (|value| ≥ 3 std): ${strong.length ? strong.join(', ') : 'none'}.`),
     h('div', {}, `Residual after the fit: RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`),
@@ -273,9 +273,12 @@ async function main() {
   const runner = await coreStarted;
   $('runner').textContent = runner;
   // Queue the first calls together: the worker answers them in order as soon as the wasm is up.
-  const [version, examples] = await Promise.all([call('version'), call('exampleList'), loadSensitivity()]);
+  const [version, examples, offered] = await Promise.all([call('version'), call('exampleList'), call('machines'), loadSensitivity()]);
   mark('tp-core-ready');
   $('version').textContent = version;
+  // The machine names are the core's (src/analysis.rs MachineChoice::describe).
+  machines.list = offered;
+  for (const o of $('machine').options) o.textContent = machineName(o.value);
   for (const e of examples) $('example').append(h('option', { value: e.name }, `${e.name}: ${e.description}`));
   // The first plot (Figure 19) before the example's identification and diagnosis finish.
   renderFig19($('view-fig19'));

@@ -4,11 +4,15 @@ import { chart } from './plot.js';
 import { exportButtons, toCsv } from './export.js';
 
 export const CURVES = ['A_Z11', 'A_Z25', 'B_Z11', 'B_Z25'];
-export const MACHINES = {
-  paper000: 'B head / C table (paper 000)',
-  paper001: 'A-B head, X table (paper 001)',
-  paper002: 'B-C tilting table (paper 002)',
-};
+
+/** The machines the core offers (`machines()`: id, name, whether L0 is used), set at start. */
+export const machines = { list: [] };
+/** The core's description of the machine `id`. */
+export const machineName = (id) => (machines.list.find((m) => m.id === id) || { name: id }).name;
+const machineUsesL0 = (id) => (machines.list.find((m) => m.id === id) || { uses_l0: true }).uses_l0;
+
+/** The gap diagnosis of an analysis when it was made (`diagnosis.status` of the core). */
+export const diagnosisOf = (a) => (a && a.diagnosis && a.diagnosis.status === 'made' ? a.diagnosis.report : null);
 
 export function h(tag, attrs = {}, ...children) {
   const e = document.createElement(tag);
@@ -114,7 +118,7 @@ export function fig19View(root, sens, st) {
   root.textContent = '';
   const scaleOf = (p) => (/^E[XYZ]/.test(p) ? 0.01 : 1e-4);
   root.append(h('h2', {}, 'Machined defect per error at the 100 built-in points (Figure 19 of paper 000, for the chosen machine)'),
-    h('p', {}, `Machine: ${MACHINES[st.settings.machine] || st.settings.machine}. Mode ${st.settings.mode}, ${st.settings.branch} B. Each curve: the normal defect (µm) that one error alone leaves at each point, for 1e-4 rad (angles) or 0.01 mm (position errors such as EX0B). Points are grouped by measurement curve; hover for the value.`));
+    h('p', {}, `Machine: ${machineName(st.settings.machine)}. Mode ${st.settings.mode}, ${st.settings.branch} B. Each curve: the normal defect (µm) that one error alone leaves at each point, for 1e-4 rad (angles) or 0.01 mm (position errors such as EX0B). Points are grouped by measurement curve; hover for the value.`));
   const L = layout(sens.curves, sens.ids);
   const series = sens.params.map((p, k) => ({
     name: p,
@@ -138,12 +142,14 @@ export function fig19View(root, sens, st) {
 
 
 // ---------------------------------------------------------------- Where (the gap diagnosis on the plots)
-// The diagnosis (src/gap/location.rs) reports, per curve, region of the S, lean of the wall and
-// axis reversal, the points of the group (`ids`), its residual RMS and its concentration (share of
-// the residual sum of squares over share of points). These helpers draw the chosen group as
-// shaded bands on the per-point plots and ringed points on the plan view, and every axis
-// reversal as a mark at the point nearest it along the tool path. The choice is shared by the
-// views; changing it redraws every figure that shows it.
+// The diagnosis (src/gap/location.rs) reports typed groups: `group` is curve, region, lean or
+// reversal (a reversal with its `axis`, path position `s` in mm and `nearest` point id), each
+// with the points of the group (`ids`), its residual RMS and its concentration (share of the
+// residual sum of squares over share of points). The core decides what is notable: `concentrated`,
+// `structure.concentrated_entry` (the default highlight) and, for reversals, `of_verdict` and
+// `marked`. These helpers only draw: the chosen group as shaded bands on the per-point plots
+// and ringed points on the plan view, the marked reversals at their nearest point. The choice
+// is shared by the views; changing it redraws every figure that shows it.
 const where = { choice: 'auto', figures: new Set() };
 
 const GROUP_WORDS = { curve: 'curve', region: 'region of the S', lean: 'lean of the wall', reversal: 'axis reversal' };
@@ -151,20 +157,16 @@ const entryKey = (e) => `${e.group}:${e.name}`;
 
 /** The where report of an analysis: entries, reversals, and the entry to highlight for `choice`. */
 function whereOf(a) {
-  const d = a && a.diagnosis && a.diagnosis.Ok;
+  const d = diagnosisOf(a);
   if (!d) return null;
-  const entries = d.where.filter((e) => e.ids);
-  const reversals = entries.filter((e) => e.group === 'reversal' && e.nearest !== null && e.nearest !== undefined);
-  const auto = () => {
-    const named = d.structure.concentrated_in;
-    return entries.find((e) => (e.group === 'curve' || e.group === 'region') && e.name === named) || null;
-  };
-  // The tool path reverses some axis dozens of times: mark those of the verdict's axis (a
-  // backlash or reversal-spike verdict names it) and those whose ±10 mm window holds more than
-  // 1.5× its share of the residual, and the chosen reversal.
-  const verdictAxis = (/(?:backlash|reversal)_([xyzbc])\b/i.exec(d.verdict.effect || '') || [])[1];
+  const entries = d.where;
+  const reversals = entries.filter((e) => e.group === 'reversal');
+  const auto = () => (d.structure.concentrated_entry === null ? null : entries[d.structure.concentrated_entry]);
+  // The tool path reverses some axis dozens of times: the core marks those of a named
+  // backlash's axis and those where the residual is concentrated; the chosen one is marked too.
+  const verdictAxes = d.structure.verdict_axes;
   const isChosen = (e) => where.choice === entryKey(e);
-  const marked = reversals.filter((e) => isChosen(e) || e.concentration > 1.5 || (verdictAxis && e.name.split('@')[0].toLowerCase() === verdictAxis.toLowerCase()));
+  const marked = reversals.filter((e) => isChosen(e) || e.marked);
   const chosen = where.choice === 'auto' ? auto() : where.choice === 'none' ? null : entries.find((e) => entryKey(e) === where.choice) || null;
   // One mark per point: reversals of several axes can share the nearest point.
   const marks = [];
@@ -173,10 +175,10 @@ function whereOf(a) {
     if (m) m.entries.push(e); else marks.push({ id: e.nearest, entries: [e] });
   }
   for (const m of marks) {
-    m.short = [...new Set(m.entries.map((e) => e.name.split('@')[0]))].join(',');
+    m.short = [...new Set(m.entries.map((e) => e.axis))].join(',');
     m.label = m.entries.map(describeReversal).join('; ');
   }
-  return { d, entries, reversals, marked, marks, verdictAxis, chosen, auto: auto() };
+  return { d, entries, reversals, marked, marks, verdictAxes, chosen, auto: auto() };
 }
 
 const um1 = (x) => `${(x * 1000).toFixed(1)} µm`;
@@ -185,8 +187,25 @@ function describeEntry(e) {
     `max |r| ${um1(e.max_abs)}, ${Number(e.concentration.toFixed(2))}× its share of the residual`;
 }
 function describeReversal(e) {
-  const [axis, at] = e.name.split('@');
-  return `${axis}-axis reversal at ${at} mm of tool path (point ${e.nearest}); ±10 mm window: ${e.n} points, RMS ${um1(e.rms)}, ${Number(e.concentration.toFixed(2))}× its share`;
+  return `${e.axis}-axis reversal at ${e.s.toFixed(1)} mm of tool path (point ${e.nearest}); ±10 mm window: ${e.n} points, RMS ${um1(e.rms)}, ${Number(e.concentration.toFixed(2))}× its share`;
+}
+
+/** Why the marked reversals are marked, in words (from the core's flags). */
+function markedWhy(w) {
+  const axes = w.verdictAxes.length ? `those of the named backlash's ${w.verdictAxes.join(', ')} axis and ` : '';
+  return `${axes}those where the residual is concentrated (the core's \`concentrated\`), and the one chosen above`;
+}
+
+/** The marked reversals as a compact table inside a collapsible block. */
+function reversalList(w) {
+  if (!w.marked.length) return h('span', {}, `None of the ${w.reversals.length} axis reversals of the tool path is marked (none of a named backlash's axis nor with the residual concentrated near it; each can be chosen above).`);
+  const rows = w.marked.map((e) => h('tr', {}, h('td', {}, e.axis), h('td', { class: 'num' }, e.s.toFixed(1)), h('td', { class: 'num' }, String(e.nearest)),
+    h('td', { class: 'num' }, String(e.n)), h('td', { class: 'num' }, (e.rms * 1000).toFixed(1)), h('td', { class: 'num' }, e.concentration.toFixed(2)),
+    h('td', {}, e.of_verdict ? 'named backlash axis' : e.concentrated ? 'residual concentrated' : 'chosen')));
+  return h('details', { class: 'reversal-list' },
+    h('summary', {}, `▼ ${w.marked.length} of ${w.reversals.length} axis reversals marked (${[...new Set(w.marked.map((e) => e.axis))].join(', ')}): ${markedWhy(w)}`),
+    h('table', {}, h('thead', {}, h('tr', {}, ...['axis', 'at (mm of tool path)', 'nearest point', 'points in ±10 mm', 'RMS (µm)', 'share ×', 'why marked'].map((t) => h('th', { scope: 'col' }, t)))),
+      h('tbody', {}, ...rows)));
 }
 
 /** The legend of the highlight in words and units (also drawn inside the exported figures):
@@ -196,7 +215,7 @@ function whereNote(w) {
   const s = w.d.structure;
   const what = s.structured ? `structure (RMS ${um1(s.structure_rms)} above noise σ ${um1(s.noise.used)})` : `noise (σ ${um1(s.noise.used)}; no structure above 2.5σ)`;
   const shade = w.chosen ? `Shaded: ${GROUP_WORDS[w.chosen.group]} ${w.chosen.name} (RMS ${um1(w.chosen.rms)}, ${Number(w.chosen.concentration.toFixed(2))}× its share).` : 'Nothing shaded.';
-  const axes = [...new Set(w.marked.map((e) => e.name.split('@')[0]))].join(', ');
+  const axes = [...new Set(w.marked.map((e) => e.axis))].join(', ');
   const rev = w.marked.length ? `▼ ${w.marked.length} of ${w.reversals.length} axis reversals (${axes}) at the nearest point; ` : `▼ none of ${w.reversals.length} axis reversals marked; `;
   return `${shade}\nBaseline residual of the diagnosis: ${what}.\n${rev}units µm, tool path in mm.`;
 }
@@ -240,10 +259,8 @@ function whereControl(a, idSuffix) {
     legend.textContent = '';
     legend.append(h('span', { class: 'swatch', 'aria-hidden': 'true' }), ' ',
       x.chosen ? `Shaded / ringed: ${describeEntry(x.chosen)}.` : 'Nothing shaded.', ' ',
-      h('span', { class: 'rev-swatch', 'aria-hidden': 'true' }, '▼'), ' ',
-      x.marked.length ? `Marked axis reversals (${x.verdictAxis ? `those of the verdict's ${x.verdictAxis.toUpperCase()} axis and ` : ''}those whose ±10 mm window holds over 1.5× its share of the residual; ${x.reversals.length} in all, each can be chosen above), at the point nearest each along the tool path: ${x.marked.map(describeReversal).join('; ')}.`
-        : `None of the ${x.reversals.length} axis reversals of the tool path is marked (none of the verdict's axis or with the residual concentrated near it; each can be chosen above).`, ' ',
-      whereNote(x).split('\n')[1]);
+      whereNote(x).split('\n')[1], ' ',
+      h('span', { class: 'rev-swatch', 'aria-hidden': 'true' }, '▼'), ' ', reversalList(x));
   };
   fill();
   sel.addEventListener('change', () => {
@@ -383,7 +400,7 @@ export function reportView(root, st) {
     ['software', `testpiece ${a.version}`],
     ['file', f.name], ['SHA-256', f.sha256 || ''], ['format', a.file.format.description],
     ['points used', String(a.identification.points_used)], ['rows excluded', a.file.excluded.map((p) => p.line).join(' ') || 'none'],
-    ['machine', MACHINES[s.machine] || s.machine], ['L0', s.machine === 'paper002' ? 'not used (tilting table)' : `${s.l0} mm`], ['mode', s.mode], ['branch', s.branch],
+    ['machine', machineName(s.machine)], ['L0', machineUsesL0(s.machine) ? `${s.l0} mm` : 'not used by this machine'], ['mode', s.mode], ['branch', s.branch],
     ['tool-radius term', s.tool_radius ? 'fitted (dR)' : 'not fitted'], ['CMM σ', s.noise_sigma ? `${(s.noise_sigma * 1000).toFixed(2)} µm` : 'from the residual'],
   ]));
   const id = a.identification;
@@ -391,7 +408,7 @@ export function reportView(root, st) {
     Object.entries(id.parameters).map(([n, p]) => [n, { text: fmtNum(p.value, p.unit), num: true, value: p.value }, { text: fmtNum(p.std, p.unit), num: true, value: p.std ?? '' }, p.unit, p.status.replace('_', ' ')])));
   root.append(h('p', {}, `Residual RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm; rank ${id.rank}, condition ${fmtNum(id.condition)}.`));
   root.append(h('ul', {}, id.groups.map((g) => h('li', {}, g.explanation))));
-  if (a.diagnosis.Ok) root.append(h('h2', {}, 'Sim-to-real gap'), h('pre', {}, a.diagnosis.Ok.summary));
+  if (diagnosisOf(a)) root.append(h('h2', {}, 'Sim-to-real gap'), h('pre', {}, diagnosisOf(a).summary));
   root.append(h('p', { class: 'signature' }, 'Checked by: ____________________   Date: ____________'));
 }
 
@@ -399,8 +416,8 @@ export function reportView(root, st) {
 export function gapView(root, a) {
   root.textContent = '';
   if (!a) { root.append(h('p', {}, 'Load a measured part to diagnose the gap.')); return; }
-  if (a.diagnosis.Err !== undefined) { root.append(h('pre', { class: 'error' }, `The diagnosis could not be made: ${a.diagnosis.Err}`)); return; }
-  const d = a.diagnosis.Ok;
+  if (!diagnosisOf(a)) { root.append(h('pre', { class: 'error' }, `The diagnosis could not be made: ${a.diagnosis.reason}`)); return; }
+  const d = diagnosisOf(a);
   const v = d.verdict;
   const um = (x) => (x * 1000).toFixed(2);
   root.append(h('h2', {}, 'Sim-to-real gap'), h('pre', { id: 'gap-summary', class: 'summary' }, d.summary));
@@ -438,6 +455,6 @@ export function gapView(root, a) {
       { text: um(w.max_abs), num: true, value: w.max_abs * 1000 }, { text: um(w.mean), num: true, value: w.mean * 1000 },
       { text: Number(w.concentration.toPrecision(3)), num: true }])));
   root.append(h('h2', {}, 'Where, on the plots and the plan view'),
-    h('p', {}, 'The shaded points are those of the chosen group of the table above (by default the curve or region where the baseline residual is concentrated, more than 1.5× its share); the ▼ marks are the axis reversals of the tool path. The plots show the identification\'s residual at the same points.'),
+    h('p', {}, 'The shaded points are those of the chosen group of the table above (by default the curve or region where the core finds the baseline residual concentrated); the ▼ marks are the axis reversals of the tool path that the core marks. The plots show the identification\'s residual at the same points.'),
     whereControl(a, 'gap'), residualChart(a, 'gap-where-residual'), planView(a, 'gap-where-plan'));
 }

@@ -394,8 +394,7 @@ pub fn error_budget(
     }
     let verdict = analysis
         .diagnosis
-        .as_ref()
-        .ok()
+        .report()
         .and_then(|d| d.summary.lines().next().map(str::to_string));
     let mut settings = opts.clone();
     settings.analysis.known = None;

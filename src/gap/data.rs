@@ -9,7 +9,8 @@
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
-use super::GapError;
+use super::{Effect, GapError};
+use crate::machine::AxisName;
 use crate::part::Surface;
 
 /// Where a measured point lies on the part and on the tool path.
@@ -97,11 +98,11 @@ impl NamedColumns {
     }
 }
 
-/// A candidate unmodelled effect: its id (effects.md) and its signature per unit of each
-/// parameter (`n × q`, column names = parameter names, e.g. `dR0`, `g`).
+/// A candidate unmodelled effect of effects.md and its signature per unit of each parameter
+/// (`n × q`, column names = parameter names, e.g. `dR0`, `g`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Candidate {
-    pub id: String,
+    pub effect: Effect,
     pub signature: NamedColumns,
 }
 
@@ -123,10 +124,9 @@ pub struct GapInput {
 }
 
 /// An axis reversal along the tool path: the axis and the tool-tip path length where it happens.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Reversal {
-    /// `X`, `Y`, `Z`, `B` or `C`.
-    pub axis: String,
+    pub axis: AxisName,
     /// Tool-tip path length from the start of A (mm).
     pub s: f64,
 }
@@ -180,15 +180,15 @@ impl GapInput {
         }
         let mut seen = std::collections::BTreeSet::new();
         for c in &self.candidates {
-            if !seen.insert(c.id.as_str()) {
-                return Err(GapError::DuplicateCandidate(c.id.clone()));
+            if !seen.insert(c.effect) {
+                return Err(GapError::DuplicateCandidate(c.effect));
             }
             if c.signature.ncols() == 0 {
-                return Err(GapError::EmptyCandidate(c.id.clone()));
+                return Err(GapError::EmptyCandidate(c.effect));
             }
             if c.signature.nrows() != n {
                 return Err(GapError::LengthMismatch {
-                    what: format!("signature of `{}`", c.id),
+                    what: format!("signature of `{}`", c.effect),
                     got: c.signature.nrows(),
                     expected: n,
                 });

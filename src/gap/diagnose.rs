@@ -3,7 +3,6 @@
 
 use nalgebra::DVector;
 
-use super::catalog::{NONE, UNEXPLAINED};
 use super::data::GapInput;
 use super::equivalence::near_equivalent_pairs;
 use super::folds::{build_folds, withheld_sets};
@@ -14,7 +13,7 @@ use super::noise::second_difference_sigma;
 use super::pairs::best_pair;
 use super::report::{summary, BaselineReport, DiagnosisReport};
 use super::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
-use super::verdict::{decide, pair_verdict, DecisionInput, ALPHA};
+use super::verdict::{decide, pair_verdict, DecisionInput, Finding, ALPHA};
 use super::which::{
     cross_validate, cv_score, estimates, fit_candidate, per_curve, BaselineFit, Context, SmoothFit,
 };
@@ -23,7 +22,10 @@ use super::GapError;
 /// Options of a diagnosis (defaults: α = 0.05 family-wise, 2.5 σ).
 #[derive(Debug, Clone, Copy)]
 pub struct DiagnoseOptions {
+    /// Family-wise false-alarm rate of the significance tests.
     pub alpha: f64,
+    /// `k` of the `k σ` rule: the detection limit of an effect's visible part, the structure
+    /// test of WHERE, the "structure left" check of the verdict and of pairs.
     pub detect_factor: f64,
 }
 
@@ -83,13 +85,14 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         factor: sfactor,
         residual: sresid,
     };
-    let structure = locate(
+    let mut structure = locate(
         &r0,
         &input.points,
         p,
         input.noise_sigma,
         Some((sm, sm_robust, sm_d2)),
         &input.reversals,
+        opts.detect_factor,
     );
     let sigma = structure.noise.used.max(1e-12);
 
@@ -123,7 +126,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let spans: Vec<_> = fits
         .iter()
         .filter(|f| f.evidence.added_rank > 0)
-        .map(|f| (f.effect.clone(), f.unabsorbed_basis.clone()))
+        .map(|f| (f.effect, f.unabsorbed_basis.clone()))
         .collect();
     let equivalences = near_equivalent_pairs(&spans);
 
@@ -142,14 +145,22 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     });
     // (d') a pair, when no single candidate is named.
     let mut pair = None;
-    if verdict.effect == UNEXPLAINED || verdict.effect == NONE {
+    if !matches!(verdict.finding, Finding::Named { .. }) {
         if let Some(pf) = best_pair(&ctx, &input.candidates, &fits, base_cv_score) {
-            if let Some(w) = fits.iter().find(|f| f.effect == pf.first) {
-                verdict = pair_verdict(&verdict, &fits, w, &pf, opts.detect_factor);
-                pair = Some(pf);
-            }
+            verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
+            pair = Some(pf);
         }
     }
+    let backlash_axes: Vec<_> = verdict
+        .finding
+        .effects()
+        .into_iter()
+        .filter_map(|e| match e {
+            super::Effect::Backlash(axis) => Some(axis),
+            _ => None,
+        })
+        .collect();
+    structure.mark_verdict_axes(&backlash_axes);
     let mut report = DiagnosisReport {
         baseline: BaselineReport {
             rms: rms(&r0),

@@ -17,14 +17,16 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
+use super::Effect;
+
 /// Cosine at or above which two candidates are reported as near-equivalent on this part.
 pub const EQUIVALENT_COS: f64 = 0.98;
 
 /// A pair of candidates that this part can hardly tell apart.
 #[derive(Debug, Clone, Serialize)]
 pub struct Equivalence {
-    pub a: String,
-    pub b: String,
+    pub a: Effect,
+    pub b: Effect,
     /// Cosine of the smallest principal angle between the unabsorbed spans.
     pub cosine: f64,
     /// Smallest singular value of `Q_aᵀ Q_b` when `dim a ≤ dim b` (1 = `a` inside `b`).
@@ -52,7 +54,7 @@ pub fn cos_to_span(v: &DVector<f64>, qb: &DMatrix<f64>) -> f64 {
 }
 
 /// All pairs whose unabsorbed spans are within [`EQUIVALENT_COS`].
-pub fn near_equivalent_pairs(spans: &[(String, DMatrix<f64>)]) -> Vec<Equivalence> {
+pub fn near_equivalent_pairs(spans: &[(Effect, DMatrix<f64>)]) -> Vec<Equivalence> {
     let mut out = Vec::new();
     for i in 0..spans.len() {
         for j in i + 1..spans.len() {
@@ -68,8 +70,8 @@ pub fn near_equivalent_pairs(spans: &[(String, DMatrix<f64>)]) -> Vec<Equivalenc
             let Some(&first) = sv.first() else { continue };
             if first >= EQUIVALENT_COS {
                 out.push(Equivalence {
-                    a: na.clone(),
-                    b: nb.clone(),
+                    a: *na,
+                    b: *nb,
                     cosine: first,
                     a_within_b: sv.get(qa.ncols() - 1).copied(),
                 });

@@ -32,15 +32,16 @@ pub enum GapError {
     #[error("noise sigma must be positive and finite, got {0}")]
     BadSigma(f64),
     #[error("candidate `{0}` appears twice")]
-    DuplicateCandidate(String),
+    DuplicateCandidate(crate::gap::Effect),
     #[error("candidate `{0}` has no signature column")]
-    EmptyCandidate(String),
-    #[error("table line {line}: {reason}")]
-    Table { line: usize, reason: String },
-    #[error("column `{0}` not found in the table")]
-    MissingColumn(String),
+    EmptyCandidate(crate::gap::Effect),
     #[error("unknown effect id `{0}` (see shared/spec/effects.md)")]
     UnknownEffect(String),
+    #[error("`{effect}` needs the {axis:?} axis, which this machine does not have")]
+    MissingAxis {
+        effect: crate::gap::Effect,
+        axis: crate::machine::AxisName,
+    },
     #[error("{0}")]
     Invalid(String),
     #[error("model of the part or machine: {0}")]

@@ -8,7 +8,13 @@
 //! `structure_rms > 2.5 σ` (the decision rule of effects.md). With σ estimated from differences,
 //! this is a variance-ratio test of the von Neumann kind (white noise has `Var r = γ(1)`); the
 //! runs / lag-1 / Ljung–Box tests (independent of σ) and `χ² = RSS/σ²` are reported as supporting
-//! evidence.
+//! evidence. The factor `k` (2.5) is [`super::DiagnoseOptions::detect_factor`].
+//!
+//! Each group of points is a typed [`Group`] (curve, region of the S, lean of the wall, axis
+//! reversal with its axis, path position and nearest point), with the flags a page needs to draw
+//! it without re-deciding anything: `concentrated` (more than [`CONCENTRATED`] times its share of
+//! the residual) and, for a reversal, `of_verdict` (its axis is that of a named backlash) and
+//! `marked` (either).
 
 use std::collections::BTreeMap;
 
@@ -19,9 +25,53 @@ use super::lsq::{max_abs, rms};
 use super::noise::{self, NoiseEstimate, Randomness};
 use super::regions::{Lean, Region};
 use super::stats;
+use crate::machine::AxisName;
 
-/// Factor of σ above which an effect (or structure) counts (effects.md).
+/// Factor of σ above which an effect (or structure) counts (effects.md); the default of
+/// [`super::DiagnoseOptions::detect_factor`].
 pub const DETECT_FACTOR: f64 = 2.5;
+
+/// A group holding more than this multiple of its share of the residual sum of squares is where
+/// the residual is concentrated.
+pub const CONCENTRATED: f64 = 1.5;
+
+/// What a group of points is (JSON: `group` = `curve`, `region`, `lean` or `reversal`, with the
+/// group's own fields beside it).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "group", rename_all = "snake_case")]
+pub enum Group {
+    /// The points of one measurement curve (`A_Z11`, …).
+    Curve { curve: String },
+    /// The points of one band of `u` along the S.
+    Region { region: Region },
+    /// The points where the wall leans one way.
+    Lean { lean: Lean },
+    /// The points within ±[`REVERSAL_WINDOW_MM`] of tool path of an axis reversal.
+    Reversal {
+        axis: AxisName,
+        /// Tool-tip path length of the reversal from the start of A (mm).
+        s: f64,
+        /// Id of the point whose generating pose is nearest the reversal along the path.
+        nearest: u32,
+        /// The axis is that of a named backlash (the verdict or its pair).
+        of_verdict: bool,
+        /// `of_verdict` or `concentrated`: the reversals worth marking on a plot.
+        marked: bool,
+    },
+}
+
+impl Group {
+    /// The group's name as the summary and the CSV exports write it (`A_Z11`, `turn_1`,
+    /// `open_angle`, `C@672.3`).
+    pub fn name(&self) -> String {
+        match self {
+            Group::Curve { curve } => curve.clone(),
+            Group::Region { region } => region.name().into(),
+            Group::Lean { lean } => lean.name().into(),
+            Group::Reversal { axis, s, .. } => format!("{axis:?}@{s:.1}"),
+        }
+    }
+}
 
 /// Half-width (mm of tool-tip path) of the window around an axis reversal.
 pub const REVERSAL_WINDOW_MM: f64 = 10.0;
@@ -29,9 +79,9 @@ pub const REVERSAL_WINDOW_MM: f64 = 10.0;
 /// Residual statistics of one group of points.
 #[derive(Debug, Clone, Serialize)]
 pub struct WhereEntry {
-    /// `curve`, `region`, `lean` or `reversal`.
-    pub group: String,
-    /// The group's name (`A_Z11`, `turn_1`, `open_angle`, `C@672.3` …).
+    #[serde(flatten)]
+    pub group: Group,
+    /// The group's name ([`Group::name`]).
     pub name: String,
     pub n: usize,
     /// RMS of the residual in the group (mm).
@@ -40,11 +90,10 @@ pub struct WhereEntry {
     pub mean: f64,
     /// Share of the total residual sum of squares divided by the share of points (1 = average).
     pub concentration: f64,
+    /// `concentration > CONCENTRATED`.
+    pub concentrated: bool,
     /// Ids of the group's points (as in the file), so that a page or report can highlight them.
     pub ids: Vec<u32>,
-    /// For a `reversal` entry: the id of the point whose generating pose is nearest the reversal
-    /// along the tool path (the place to mark it); `None` for the other groups.
-    pub nearest: Option<u32>,
 }
 
 /// A linear trend of the residual against one variable.
@@ -78,8 +127,39 @@ pub struct WhereReport {
     pub structure_rms: f64,
     /// `structure_rms > 2.5 σ`.
     pub structured: bool,
-    /// The curve or region where the residual is most concentrated, if markedly so (> 1.5).
+    /// The curve or region where the residual is most concentrated, if markedly so
+    /// (> [`CONCENTRATED`]).
     pub concentrated_in: Option<String>,
+    /// Its index in `entries`.
+    pub concentrated_entry: Option<usize>,
+    /// The axes of the named backlash effects (their reversals are `of_verdict`).
+    pub verdict_axes: Vec<AxisName>,
+    /// The reversal entries that are `marked`.
+    pub marked_reversals: usize,
+}
+
+impl WhereReport {
+    /// Flags the reversals of `axes` (those of a named backlash) as `of_verdict` and `marked`.
+    pub fn mark_verdict_axes(&mut self, axes: &[AxisName]) {
+        self.verdict_axes = axes.to_vec();
+        for e in &mut self.entries {
+            if let Group::Reversal {
+                axis,
+                of_verdict,
+                marked,
+                ..
+            } = &mut e.group
+            {
+                *of_verdict = axes.contains(axis);
+                *marked = *of_verdict || e.concentrated;
+            }
+        }
+        self.marked_reversals = self
+            .entries
+            .iter()
+            .filter(|e| matches!(e.group, Group::Reversal { marked: true, .. }))
+            .count();
+    }
 }
 
 /// Indices of the points of each curve, in increasing `u`, curves in order of first appearance.
@@ -98,8 +178,7 @@ pub fn curve_sequences(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
 }
 
 fn entry(
-    group: &str,
-    name: String,
+    group: Group,
     idx: &[usize],
     points: &[PointMeta],
     r: &[f64],
@@ -114,8 +193,8 @@ fn entry(
         0.0
     };
     WhereEntry {
-        group: group.into(),
-        name,
+        name: group.name(),
+        group,
         n: idx.len(),
         rms: rms(&vals),
         max_abs: max_abs(&vals),
@@ -125,8 +204,8 @@ fn entry(
             vals.iter().sum::<f64>() / vals.len() as f64
         },
         concentration,
+        concentrated: concentration > CONCENTRATED,
         ids: idx.iter().map(|&i| points[i].id).collect(),
-        nearest: None,
     }
 }
 
@@ -162,7 +241,8 @@ fn trend(against: &str, x: &[f64], r: &[f64]) -> Trend {
     }
 }
 
-/// Locates the residual `r` (mm) of a fit with `rank` parameters on the part.
+/// Locates the residual `r` (mm) of a fit with `rank` parameters on the part; the residual is
+/// structured beyond `detect_factor · σ`.
 pub fn locate(
     r: &[f64],
     points: &[PointMeta],
@@ -170,12 +250,19 @@ pub fn locate(
     given_sigma: Option<f64>,
     smooth_sigma: Option<(f64, f64, f64)>,
     reversals: &[Reversal],
+    detect_factor: f64,
 ) -> WhereReport {
     let total_ss: f64 = r.iter().map(|v| v * v).sum();
     let seqs = curve_sequences(points);
     let mut entries = Vec::new();
     for (c, idx) in &seqs {
-        entries.push(entry("curve", c.clone(), idx, points, r, total_ss));
+        entries.push(entry(
+            Group::Curve { curve: c.clone() },
+            idx,
+            points,
+            r,
+            total_ss,
+        ));
     }
     for reg in Region::ALL {
         let idx: Vec<usize> = (0..r.len())
@@ -183,8 +270,7 @@ pub fn locate(
             .collect();
         if !idx.is_empty() {
             entries.push(entry(
-                "region",
-                reg.name().into(),
+                Group::Region { region: reg },
                 &idx,
                 points,
                 r,
@@ -197,30 +283,38 @@ pub fn locate(
             .filter(|&i| Lean::of_nz(points[i].nz) == lean)
             .collect();
         if !idx.is_empty() {
-            entries.push(entry("lean", lean.name().into(), &idx, points, r, total_ss));
+            entries.push(entry(Group::Lean { lean }, &idx, points, r, total_ss));
         }
     }
     for rev in reversals {
         let idx: Vec<usize> = (0..r.len())
             .filter(|&i| (points[i].s - rev.s).abs() <= REVERSAL_WINDOW_MM)
             .collect();
-        if !idx.is_empty() {
+        let nearest = idx
+            .iter()
+            .min_by(|&&a, &&b| {
+                (points[a].s - rev.s)
+                    .abs()
+                    .total_cmp(&(points[b].s - rev.s).abs())
+            })
+            .map(|&i| points[i].id);
+        if let Some(nearest) = nearest {
             let mut e = entry(
-                "reversal",
-                format!("{}@{:.1}", rev.axis, rev.s),
+                Group::Reversal {
+                    axis: rev.axis,
+                    s: rev.s,
+                    nearest,
+                    of_verdict: false,
+                    marked: false,
+                },
                 &idx,
                 points,
                 r,
                 total_ss,
             );
-            e.nearest = idx
-                .iter()
-                .min_by(|&&a, &&b| {
-                    (points[a].s - rev.s)
-                        .abs()
-                        .total_cmp(&(points[b].s - rev.s).abs())
-                })
-                .map(|&i| points[i].id);
+            if let Group::Reversal { marked, .. } = &mut e.group {
+                *marked = e.concentrated;
+            }
             entries.push(e);
         }
     }
@@ -249,13 +343,22 @@ pub fn locate(
     let dof = r.len().saturating_sub(rank).max(1);
     let chi2 = total_ss / (sigma * sigma);
     let structure_rms = (total_ss / dof as f64 - sigma * sigma).max(0.0).sqrt();
-    let concentrated_in = entries
+    let concentrated_entry = entries
         .iter()
-        .filter(|e| e.group == "curve" || e.group == "region")
-        .filter(|e| e.concentration > 1.5)
-        .max_by(|a, b| a.concentration.total_cmp(&b.concentration))
-        .map(|e| e.name.clone());
+        .enumerate()
+        .filter(|(_, e)| matches!(e.group, Group::Curve { .. } | Group::Region { .. }))
+        .filter(|(_, e)| e.concentrated)
+        .max_by(|(_, a), (_, b)| a.concentration.total_cmp(&b.concentration))
+        .map(|(k, _)| k);
+    let marked_reversals = entries
+        .iter()
+        .filter(|e| matches!(e.group, Group::Reversal { marked: true, .. }))
+        .count();
     WhereReport {
+        concentrated_in: concentrated_entry.map(|k| entries[k].name.clone()),
+        concentrated_entry,
+        verdict_axes: Vec::new(),
+        marked_reversals,
         entries,
         trends,
         noise,
@@ -266,8 +369,7 @@ pub fn locate(
         chi2_dof: dof,
         chi2_p: stats::chi2_sf(chi2, dof as f64),
         structure_rms,
-        structured: structure_rms > DETECT_FACTOR * sigma,
-        concentrated_in,
+        structured: structure_rms > detect_factor * sigma,
     }
 }
 
@@ -309,33 +411,49 @@ mod tests {
             })
             .collect();
         let rev = [Reversal {
-            axis: "C".into(),
+            axis: AxisName::C,
             s: 62.0,
         }];
-        let w = locate(&r, &pts, 0, Some(0.001), None, &rev);
+        let mut w = locate(&r, &pts, 0, Some(0.001), None, &rev, DETECT_FACTOR);
         // Each group's ids are exactly its points (closed form: the rules of regions.rs).
         for e in &w.entries {
             let expect: Vec<u32> = pts
                 .iter()
-                .filter(|p| match e.group.as_str() {
-                    "curve" => p.curve == e.name,
-                    "region" => Region::of_u(p.u).name() == e.name,
-                    "lean" => Lean::of_nz(p.nz).name() == e.name,
-                    _ => (p.s - 62.0).abs() <= REVERSAL_WINDOW_MM,
+                .filter(|p| match &e.group {
+                    Group::Curve { curve } => p.curve == *curve,
+                    Group::Region { region } => Region::of_u(p.u) == *region,
+                    Group::Lean { lean } => Lean::of_nz(p.nz) == *lean,
+                    Group::Reversal { .. } => (p.s - 62.0).abs() <= REVERSAL_WINDOW_MM,
                 })
                 .map(|p| p.id)
                 .collect();
-            assert_eq!(e.ids, expect, "{} {}", e.group, e.name);
+            assert_eq!(e.ids, expect, "{}", e.name);
             assert_eq!(e.n, e.ids.len());
         }
-        let rv = w.entries.iter().find(|e| e.group == "reversal").unwrap();
-        // s = 60 (k = 3) is the nearest to 62 mm; the first curve's point comes first.
-        assert_eq!(rv.nearest, Some(103));
-        assert!(w
+        let rv = w
             .entries
             .iter()
-            .filter(|e| e.group != "reversal")
-            .all(|e| e.nearest.is_none()));
+            .find(|e| matches!(e.group, Group::Reversal { .. }))
+            .unwrap();
+        // s = 60 (k = 3) is the nearest to 62 mm; the first curve's point comes first.
+        let Group::Reversal { nearest, axis, .. } = rv.group else {
+            unreachable!()
+        };
+        assert_eq!((nearest, axis), (103, AxisName::C));
+        assert_eq!(rv.name, "C@62.0");
+        // The window 52..72 mm holds k = 3 (s = 60 mm, u = 0.35, in turn_1) of each curve: 2 of
+        // the 6 non-zero residuals on 2 of 20 points, 3.3 × its share: concentrated, so marked.
+        assert!(rv.concentrated);
+        assert_eq!(w.marked_reversals, 1);
+        w.mark_verdict_axes(&[AxisName::X]);
+        assert_eq!(w.marked_reversals, 1, "still concentrated");
+        let k = w.concentrated_entry.unwrap();
+        assert_eq!(
+            w.entries[k].group,
+            Group::Region {
+                region: Region::Turn1
+            }
+        );
         assert_eq!(w.concentrated_in.as_deref(), Some("turn_1"));
     }
 }

@@ -17,9 +17,9 @@
 //! Units: mm (deviations, residuals, RMS), parameters in their own units. Sign: deviation =
 //! `(measured − nominal)·N`, + = material left, − = overcut.
 
-pub mod catalog;
 pub mod data;
 pub mod diagnose;
+pub mod effect;
 pub mod effects;
 pub mod equivalence;
 pub mod error;
@@ -28,18 +28,15 @@ pub mod location;
 pub mod lsq;
 pub mod noise;
 pub mod pairs;
-pub mod random;
 pub mod regions;
 pub mod report;
 pub mod smooth_noise;
 pub mod stats;
-pub mod table;
-pub mod validate;
-pub mod validate_pairs;
 pub mod verdict;
 pub mod which;
 
 pub use data::{Candidate, GapInput, NamedColumns, PointMeta, Reversal};
 pub use diagnose::{diagnose, diagnose_with, DiagnoseOptions};
+pub use effect::Effect;
 pub use error::GapError;
 pub use report::DiagnosisReport;

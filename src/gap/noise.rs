@@ -345,7 +345,7 @@ mod tests {
 
     /// `curves` sequences of `m` standard normal values from one seeded stream.
     fn white(seed: u64, curves: usize, m: usize) -> Vec<Vec<f64>> {
-        let mut rng = crate::gap::random::Sampler::new(seed);
+        let mut rng = crate::random::Sampler::new(seed);
         (0..curves)
             .map(|_| (0..m).map(|_| rng.normal()).collect())
             .collect()

@@ -34,34 +34,33 @@ use serde::Serialize;
 use super::data::{Candidate, NamedColumns};
 use super::equivalence::{cos_to_span, EQUIVALENT_COS};
 use super::stats;
-use super::verdict::CHI2_1_95;
+use super::stats::CHI2_1_95;
 use super::which::{fit_candidate, CandidateFit, Context};
-
-/// Separator of the pair's id and of its parameter names (`backlash_y+tool_radius`,
-/// `tool_radius.dR`).
-pub const PAIR_JOIN: char = '+';
+use super::Effect;
 
 /// The accepted pair and its evidence.
 #[derive(Debug, Clone, Serialize)]
 pub struct PairFit {
-    /// The best single candidate (the verdict's effect).
-    pub first: String,
-    /// The candidate added to it.
-    pub second: String,
+    /// The member with the larger visible part (the verdict's effect).
+    pub first: Effect,
+    /// The other member.
+    pub second: Effect,
     /// Candidates this part cannot tell apart from `first` (in the pair with `second`).
-    pub first_equivalent: Vec<String>,
+    pub first_equivalent: Vec<Effect>,
     /// Candidates this part cannot tell apart from `second` (in the pair with `first`).
-    pub second_equivalent: Vec<String>,
+    pub second_equivalent: Vec<Effect>,
     /// F-test of `second` on top of `first`, Bonferroni-corrected p-value.
     pub f: f64,
     pub p_bonferroni: f64,
     /// RMS of what `second` adds beyond baseline + `first` (mm).
     pub added_rms: f64,
-    /// The joint fit (parameters named `<effect>.<parameter>`).
+    /// The joint fit (`effect` = `first`, `with` = `second`, parameters named
+    /// `<effect>.<parameter>`).
     pub fit: CandidateFit,
 }
 
-/// The candidate `first + second`: stacked signatures, parameters named `<effect>.<name>`.
+/// The candidate `first + second`: stacked signatures, parameters named `<effect>.<name>`; it
+/// carries `first`'s effect (the fit's `with` names `second`).
 fn stacked(first: &Candidate, second: &Candidate) -> Candidate {
     let (a, b) = (&first.signature, &second.signature);
     let n = a.matrix.nrows();
@@ -72,11 +71,11 @@ fn stacked(first: &Candidate, second: &Candidate) -> Candidate {
     let names = a
         .names
         .iter()
-        .map(|p| format!("{}.{p}", first.id))
-        .chain(b.names.iter().map(|p| format!("{}.{p}", second.id)))
+        .map(|p| format!("{}.{p}", first.effect))
+        .chain(b.names.iter().map(|p| format!("{}.{p}", second.effect)))
         .collect();
     Candidate {
-        id: format!("{}{PAIR_JOIN}{}", first.id, second.id),
+        effect: first.effect,
         signature: NamedColumns { names, matrix: m },
     }
 }
@@ -121,17 +120,17 @@ pub fn best_pair(
     let tries = pairs.len().max(1);
     let pair_ctx = Context { tries, ..*ctx };
     let rss = |f: &CandidateFit| f.rms * f.rms * nf;
-    let mut tried: Vec<(String, String, f64)> = Vec::new();
+    let mut tried: Vec<(Effect, Effect, f64)> = Vec::new();
     let mut accepted: Vec<PairFit> = Vec::new();
     for (a, b) in pairs {
         let (ca, cb) = (
-            candidates.iter().find(|c| c.id == a.effect)?,
-            candidates.iter().find(|c| c.id == b.effect)?,
+            candidates.iter().find(|c| c.effect == a.effect)?,
+            candidates.iter().find(|c| c.effect == b.effect)?,
         );
-        let fit = fit_candidate(&pair_ctx, &stacked(ca, cb));
+        let mut fit = fit_candidate(&pair_ctx, &stacked(ca, cb));
         let q = fit.evidence.added_rank;
         let rss_ab = rss(&fit);
-        tried.push((a.effect.clone(), b.effect.clone(), rss_ab));
+        tried.push((a.effect, b.effect, rss_ab));
         let (dqa, dqb) = (
             q.saturating_sub(b.evidence.added_rank),
             q.saturating_sub(a.evidence.added_rank),
@@ -159,9 +158,11 @@ pub fn best_pair(
             } else {
                 (b, a, fa, pa, va)
             };
+            fit.effect = first.effect;
+            fit.with = Some(second.effect);
             accepted.push(PairFit {
-                first: first.effect.clone(),
-                second: second.effect.clone(),
+                first: first.effect,
+                second: second.effect,
                 first_equivalent: Vec::new(),
                 second_equivalent: Vec::new(),
                 f,
@@ -180,22 +181,22 @@ pub fn best_pair(
         .max(f64::MIN_POSITIVE);
     // Members the part cannot tell apart: another candidate in the place of one member fits
     // not significantly worse than the chosen pair.
-    let swap = |keep: &str, out: &str| -> Vec<String> {
+    let swap = |keep: Effect, out: Effect| -> Vec<Effect> {
         tried
             .iter()
             .filter_map(|(a, b, r)| {
-                let other = if a == keep {
-                    b
-                } else if b == keep {
-                    a
+                let other = if *a == keep {
+                    *b
+                } else if *b == keep {
+                    *a
                 } else {
                     return None;
                 };
-                (other != out && (r - rss_best) / sigma2 < CHI2_1_95).then(|| other.clone())
+                (other != out && (r - rss_best) / sigma2 < CHI2_1_95).then_some(other)
             })
             .collect()
     };
-    best.first_equivalent = swap(&best.second, &best.first);
-    best.second_equivalent = swap(&best.first, &best.second);
+    best.first_equivalent = swap(best.second, best.first);
+    best.second_equivalent = swap(best.first, best.second);
     Some(best)
 }

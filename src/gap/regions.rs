@@ -21,8 +21,10 @@ use serde::{Deserialize, Serialize};
 #[serde(rename_all = "snake_case")]
 pub enum Region {
     EndStart,
+    #[serde(rename = "turn_1")]
     Turn1,
     Vertical,
+    #[serde(rename = "turn_2")]
     Turn2,
     EndFinish,
 }

@@ -5,12 +5,12 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use super::catalog::plain_name;
 use super::equivalence::Equivalence;
 use super::location::{WhereEntry, WhereReport};
 use super::pairs::PairFit;
-use super::verdict::Verdict;
+use super::verdict::{Finding, Verdict};
 use super::which::{CandidateFit, Estimate};
+use super::Effect;
 
 /// The baseline fit (location errors only).
 #[derive(Debug, Clone, Serialize)]
@@ -48,6 +48,15 @@ pub struct DiagnosisReport {
     pub summary: String,
 }
 
+/// Effect ids joined by commas.
+fn ids(effects: &[Effect]) -> String {
+    effects
+        .iter()
+        .map(|e| e.id())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn um(x: f64) -> String {
     format!("{:.1} µm", x * 1e3)
 }
@@ -55,9 +64,10 @@ fn um(x: f64) -> String {
 /// The plain-language summary of a report (first line: the verdict).
 pub fn summary(r: &DiagnosisReport) -> String {
     let v = &r.verdict;
-    let mut s = format!("Verdict: {} (`{}`)", v.plain_name, v.effect);
-    for w in &v.with {
-        s += &format!(" together with {} (`{w}`)", plain_name(w));
+    let f = &v.finding;
+    let mut s = format!("Verdict: {} (`{}`)", v.plain_name(), v.id());
+    if let Some(w) = f.with() {
+        s += &format!(" together with {} (`{}`)", w.effect.plain_name(), w.effect);
     }
     s += "\n";
     s += &format!("Why: {}.\n", v.reason);
@@ -69,10 +79,10 @@ pub fn summary(r: &DiagnosisReport) -> String {
             .collect();
         s += &format!("Fitted: {}.\n", ps.join(", "));
     }
-    if !v.equivalent.is_empty() {
+    if !f.equivalent().is_empty() {
         s += &format!(
             "This part cannot tell it apart from: {}.\n",
-            v.equivalent.join(", ")
+            ids(f.equivalent())
         );
     }
     s += &format!(
@@ -109,20 +119,20 @@ pub fn summary(r: &DiagnosisReport) -> String {
             .map(|c| format!(", concentrated in {c}"))
             .unwrap_or_default()
     );
-    if !v.with_equivalent.is_empty() {
+    if let Some(w) = f.with().filter(|w| !w.equivalent.is_empty()) {
         s += &format!(
             "In the pair, this part cannot tell `{}` apart from: {}.\n",
-            v.with.join(", "),
-            v.with_equivalent.join(", ")
+            w.effect,
+            ids(&w.equivalent)
         );
     }
-    if let Some(p) = &v.partial {
+    if let Finding::Unexplained { partial: Some(p) } = f {
         s += &format!("Partly explained by `{p}`.\n");
     }
     if !v.possible_below_limit.is_empty() {
         s += &format!(
             "Possible, below the detection limit: {}.\n",
-            v.possible_below_limit.join(", ")
+            ids(&v.possible_below_limit)
         );
     }
     for e in &r.equivalences {

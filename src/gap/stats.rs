@@ -5,6 +5,9 @@
 //! its series / continued fraction, `erfc` from `I_x`-free Chebyshev fit (|error| < 1.2e-7).
 //! Sources: Abramowitz & Stegun 26.5.8 (beta continued fraction), 6.5.29/6.5.31 (gamma).
 
+/// χ²₁ quantile at 0.95: fits closer than this (in σ² units) are not told apart.
+pub const CHI2_1_95: f64 = 3.841_459;
+
 /// `ln Γ(x)`, `x > 0`.
 pub fn ln_gamma(x: f64) -> f64 {
     const G: [f64; 9] = [

@@ -29,6 +29,7 @@ use super::folds::FoldFactor;
 use super::location::curve_sequences;
 use super::lsq::{max_abs, rms, Factor};
 use super::stats;
+use super::Effect;
 
 /// A fitted value with its standard deviation (units of the parameter).
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]
@@ -165,7 +166,11 @@ pub struct Evidence {
 /// One candidate, fitted.
 #[derive(Debug, Clone, Serialize)]
 pub struct CandidateFit {
-    pub effect: String,
+    pub effect: Effect,
+    /// The second effect when this is the joint fit of a pair ([`super::pairs`]); its
+    /// parameters are then named `<effect>.<parameter>`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub with: Option<Effect>,
     pub parameters: BTreeMap<String, Estimate>,
     /// In-sample residual RMS after adding the candidate (mm).
     pub rms: f64,
@@ -343,7 +348,8 @@ pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
     let cv0 = ctx.baseline.cv.mse().sqrt();
     let before: Vec<f64> = r0.iter().copied().collect();
     CandidateFit {
-        effect: c.id.clone(),
+        effect: c.effect,
+        with: None,
         parameters,
         rms: rms1,
         max_abs: max_abs(&residual),

@@ -16,6 +16,7 @@ pub mod geometry;
 pub mod identify;
 pub mod machine;
 pub mod pool;
+pub mod settings;
 
 /// Converts a core result to a plain JS object (maps as objects, not `Map`): serialised to JSON
 /// text by serde_json and parsed by the browser's `JSON.parse` (one serialiser for the native

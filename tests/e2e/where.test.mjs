@@ -54,20 +54,27 @@ test('the where report is drawn at the points the core reports, chosen by keyboa
   // The wasm core's analysis, as the page exports it.
   await page.click('#tab-report');
   const exported = JSON.parse(String(await download(page, '#export-json')));
-  const d = exported.analysis.diagnosis.Ok;
+  assert.equal(exported.analysis.diagnosis.status, 'made');
+  const d = exported.analysis.diagnosis.report;
   const entries = d.where;
   const concentrated = d.structure.concentrated_in;
   console.log(`core: concentrated_in ${concentrated}; structured ${d.structure.structured} (structure RMS ${(d.structure.structure_rms * 1000).toFixed(2)} µm, σ ${(d.structure.noise.used * 1000).toFixed(2)} µm); ` +
-    `reversals ${entries.filter((e) => e.group === 'reversal').map((e) => `${e.name} -> point ${e.nearest}`).join(', ')}`);
+    `reversals ${entries.filter((e) => e.group === 'reversal').map((e) => `${e.axis} at ${e.s.toFixed(1)} mm -> point ${e.nearest}`).join(', ')}`);
   const reversals = entries.filter((e) => e.group === 'reversal');
   assert.ok(reversals.length > 0, 'the backlash example\'s tool path has axis reversals');
-  // Marked: the reversals of the verdict's axis, those with the residual concentrated near them
-  // (> 1.5× share) and the chosen one (views.js whereOf).
-  const axis = (/backlash_([xyzbc])/.exec(d.verdict.effect) || [])[1];
-  const marked = (chosen) => [...new Set(sorted(reversals.filter((e) => e === chosen || e.concentration > 1.5 || e.name.split("@")[0].toLowerCase() === axis).map((e) => e.nearest)))];
+  // The core's flags follow its rule (src/gap/location.rs): a reversal is of the verdict when a
+  // named backlash is of its axis, marked when of the verdict or concentrated (> 1.5× share).
+  for (const e of reversals) {
+    assert.equal(e.of_verdict, d.verdict.effect === `backlash_${e.axis.toLowerCase()}`, `${e.name}: of_verdict`);
+    assert.equal(e.concentrated, e.concentration > 1.5, `${e.name}: concentrated`);
+    assert.equal(e.marked, e.of_verdict || e.concentrated, `${e.name}: marked`);
+  }
+  // The page marks the core's marked reversals and the chosen one (views.js whereOf).
+  const marked = (chosen) => [...new Set(sorted(reversals.filter((e) => e === chosen || e.marked).map((e) => e.nearest)))];
   console.log(`verdict ${d.verdict.effect}: marked reversals at points ${marked(null).join(' ')}`);
   assert.ok(marked(null).length > 0);
-  const auto = entries.find((e) => (e.group === 'curve' || e.group === 'region') && e.name === concentrated);
+  const auto = d.structure.concentrated_entry === null ? null : entries[d.structure.concentrated_entry];
+  assert.equal(auto ? auto.name : null, concentrated ?? null);
 
   await page.click('#tab-gap');
   // Default: where the residual is concentrated, on both figures of both views.

@@ -3,7 +3,8 @@
 //! candidates = the groups of `effect_signatures.csv`, metadata from `points.csv`).
 #![allow(dead_code)]
 
-use testpiece::gap::table::Table;
+mod table;
+pub use table::Table;
 use testpiece::gap::{GapInput, NamedColumns, PointMeta};
 use testpiece::part::Surface;
 

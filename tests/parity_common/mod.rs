@@ -29,7 +29,7 @@ pub const STRICT: [&str; 13] = [
     "/refinement/values",
     "/refinement/std",
     "/refinement/covariance",
-    "/diagnosis/Ok/verdict",
+    "/diagnosis/report/verdict",
 ];
 
 /// Tolerance of everything else, relative, with an absolute floor of [`LOOSE_ABS`]:

@@ -1,7 +1,7 @@
 //! `testpiece diagnose FILE [--sigma MM] [--machine M] [--json]`: the sim-to-real gap of a
 //! measured part.
 
-use testpiece::analysis::{diagnose_on_machine, measurement_points, AnalysisOptions};
+use testpiece::analysis::{diagnose_on_machine, measurement_points, AnalysisOptions, Diagnosis};
 use testpiece::cmm::{read_and_match, ReadOptions};
 use testpiece::machine::Branch;
 use testpiece::part::SShape;
@@ -68,8 +68,10 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         noise_sigma: sigma,
         ..AnalysisOptions::default()
     };
-    let report = diagnose_on_machine(&part, &points, &matched.deviations(), &settings)
-        .map_err(|e| format!("{file}: {e}"))?;
+    let report = match diagnose_on_machine(&part, &points, &matched.deviations(), &settings) {
+        Diagnosis::Made { report, .. } => report,
+        Diagnosis::NotMade { reason } => return Err(format!("{file}: {reason}")),
+    };
     if json {
         println!(
             "{}",

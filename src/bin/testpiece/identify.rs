@@ -1,7 +1,7 @@
 //! `testpiece identify FILE`: identify the machine's errors from a measured part.
 
 use crate::args::Args;
-use testpiece::analysis::{analyse, AnalysisOptions, MachineChoice};
+use testpiece::analysis::{analyse_fitted, AnalysisOptions, Fitted, MachineChoice};
 use testpiece::identify::monte_carlo::{monte_carlo, CmmMpe, MonteCarloOptions, Noise};
 use testpiece::identify::{export, ExcludedPoint, IdentifyOptions, Status};
 use testpiece::machine::Branch;
@@ -123,12 +123,13 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     }
     let bytes = std::fs::read(file).map_err(|e| format!("{file}: {e}"))?;
     let name = file_name(file);
-    let analysis = analyse(&bytes, &name, &settings).map_err(|e| format!("{file}: {e}"))?;
+    let (analysis, fitted) =
+        analyse_fitted(&bytes, &name, &settings).map_err(|e| format!("{file}: {e}"))?;
     let lengths = analysis.lengths();
-    let (design, obs) = analysis
-        .fitted
-        .clone()
-        .ok_or("the analysis kept no design")?;
+    let Fitted {
+        design,
+        observations: obs,
+    } = fitted;
     let mut opts = IdentifyOptions::default();
     if let Some(s) = sigma {
         opts = opts.with_sigma(s);

@@ -3,12 +3,13 @@
 
 use nalgebra::DVector;
 use testpiece::gap::effects::builtin::builtin_model;
-use testpiece::gap::validate::{table, validate, validate_with, ValidateOptions, ValidationModel};
-use testpiece::gap::validate_pairs::{pairs_table, validate_pairs};
 use testpiece::gap::GapError;
 use testpiece::identify::refine::ExactModel;
 use testpiece::part::SShape;
 use testpiece::simulate::{builtin_design, ExactDefectModel};
+use testpiece::validate::{
+    pairs_table, table, validate, validate_pairs, validate_with, ValidateOptions, ValidationModel,
+};
 
 use crate::args::Args;
 

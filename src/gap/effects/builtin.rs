@@ -1,10 +1,11 @@
 //! The signatures and point metadata of the built-in S-shape points, from the geometry.
 
 use super::path_length::{surface_path_length, surface_path_lengths, total_path_length};
-use super::{overcut, pivot, rigid, thermal, tool, EffectPoint};
-use crate::gap::catalog::effect_info;
+use super::EffectPoint;
 use crate::gap::data::{Candidate, NamedColumns, PointMeta};
+use crate::gap::effect::{Effect, SignatureModel, BACKLASH_AXES};
 use crate::gap::GapError;
+use crate::machine::{AxisName, Chain};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
 
@@ -61,34 +62,6 @@ pub fn point_meta(points: &[MeasurementPoint], eps: &[EffectPoint]) -> Vec<Point
         .collect()
 }
 
-fn candidate(id: &str, columns: Vec<Vec<f64>>) -> Result<Candidate, GapError> {
-    let info = effect_info(id).ok_or_else(|| GapError::UnknownEffect(id.to_string()))?;
-    let names = info.parameters.iter().map(|(n, _)| n.to_string()).collect();
-    Ok(Candidate {
-        id: id.to_string(),
-        signature: NamedColumns::from_columns(names, &columns)?,
-    })
-}
-
-/// The candidates computed from the geometry: `tool_radius`, `tool_taper`, `overcut` (given the
-/// envelope deviations at the points), `thermal_drift`, `setup_error`, `c_index`, `pivot_length`.
-pub fn geometric_candidates(
-    part: &SShape,
-    eps: &[EffectPoint],
-    envelope: &[f64],
-) -> Result<Vec<Candidate>, GapError> {
-    let s_total = total_path_length(part);
-    Ok(vec![
-        candidate("tool_radius", tool::tool_radius(eps))?,
-        candidate("tool_taper", tool::tool_taper(eps))?,
-        candidate("overcut", overcut::overcut(envelope))?,
-        candidate("thermal_drift", thermal::thermal_drift(eps, s_total))?,
-        candidate("setup_error", rigid::setup_error(eps))?,
-        candidate("c_index", rigid::c_index(eps))?,
-        candidate("pivot_length", pivot::pivot_length(eps))?,
-    ])
-}
-
 /// Everything a diagnosis of measured points of the S-shape needs from the models: point
 /// metadata, the baseline (the 8 location errors, `physical` mode, signed B), all the candidates
 /// of effects.md, and the axis reversals along the path.
@@ -129,24 +102,41 @@ pub fn part_model(part: &SShape, points: &[MeasurementPoint]) -> Result<PartMode
     )
 }
 
+/// The first axis the catalogue of effects.md needs (X, Y, Z, B, C) that `chain` does not
+/// have: paper 001's A-B head has no C axis; `None` for paper 000's and paper 002's machines.
+pub fn missing_catalogue_axis(chain: &Chain) -> Option<AxisName> {
+    BACKLASH_AXES.into_iter().find(|&a| chain.axis(a).is_none())
+}
+
+/// The candidate of `effect` on the signature model: its columns named by its parameters,
+/// exact zeros when invisible ([`invisible_as_zero`]).
+fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapError> {
+    let columns = effect.signature(model).ok_or(GapError::MissingAxis {
+        effect,
+        axis: effect.axis().unwrap_or(AxisName::C),
+    })?;
+    Ok(invisible_as_zero(Candidate {
+        effect,
+        signature: NamedColumns::from_columns(effect.parameter_names(), &columns)?,
+    }))
+}
+
 /// The model of the given measurement points on the machine of `opts` (its chain and B branch;
 /// the baseline is its location errors in `physical` mode whatever `opts.mode` says, as
 /// effects.md defines it). The machine must have the axes the catalogue names (X, Y, Z, B, C):
-/// paper 000's B head / C table and paper 002's B-C tilting table; otherwise an error.
+/// paper 000's B head / C table and paper 002's B-C tilting table; otherwise
+/// [`GapError::MissingAxis`] ([`missing_catalogue_axis`] tells beforehand).
 pub fn part_model_on(
     part: &SShape,
     points: &[MeasurementPoint],
     opts: &crate::sensitivity::SensitivityOptions,
 ) -> Result<PartModel, GapError> {
-    use super::machine::{backlash_columns, reversals, scale_signatures, BACKLASH_AXES};
-    if let Some(missing) = BACKLASH_AXES
-        .iter()
-        .find(|&&a| opts.chain.axis(a).is_none())
-    {
-        return Err(GapError::Model(format!(
-            "the effect catalogue (effects.md) names the axes X, Y, Z, B and C; this machine has \
-             no {missing:?} axis"
-        )));
+    use super::machine::{backlash_columns, reversals, scale_signatures};
+    if let Some(axis) = missing_catalogue_axis(&opts.chain) {
+        return Err(GapError::MissingAxis {
+            effect: Effect::Backlash(axis),
+            axis,
+        });
     }
     let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
     let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)
@@ -158,29 +148,21 @@ pub fn part_model_on(
         .iter()
         .map(|d| d.deviation)
         .collect();
-    let geo = geometric_candidates(part, &eps, &envelope)?;
-    let scales = scale_signatures(part, points, opts)?;
     let passes = crate::sensitivity::reversal::passes(part, opts)
         .map_err(|e| GapError::Model(e.to_string()))?;
-    let backlash = backlash_columns(&passes, part, points, opts)?;
-    let take = |id: &str| geo.iter().find(|c| c.id == id).cloned();
-    let mut candidates = Vec::new();
-    for info in crate::gap::catalog::EFFECTS {
-        let c = match info.id {
-            "backlash_x" => candidate(info.id, vec![backlash[0].clone()])?,
-            "backlash_y" => candidate(info.id, vec![backlash[1].clone()])?,
-            "backlash_z" => candidate(info.id, vec![backlash[2].clone()])?,
-            "backlash_b" => candidate(info.id, vec![backlash[3].clone()])?,
-            "backlash_c" => candidate(info.id, vec![backlash[4].clone()])?,
-            "scale_x" => candidate(info.id, vec![scales[0].clone()])?,
-            "scale_y" => candidate(info.id, vec![scales[1].clone()])?,
-            "scale_z" => candidate(info.id, vec![scales[2].clone()])?,
-            id => take(id).ok_or_else(|| GapError::UnknownEffect(id.to_string()))?,
-        };
-        candidates.push(invisible_as_zero(c));
-    }
+    let model = SignatureModel {
+        s_total: total_path_length(part),
+        envelope,
+        backlash: backlash_columns(&passes, part, points, opts)?,
+        scale: scale_signatures(part, points, opts)?,
+        points: eps,
+    };
+    let candidates = Effect::ALL
+        .into_iter()
+        .map(|e| candidate(e, &model))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(PartModel {
-        points: point_meta(points, &eps),
+        points: point_meta(points, &model.points),
         baseline,
         candidates,
         reversals: reversals(&passes),

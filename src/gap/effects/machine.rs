@@ -9,6 +9,7 @@
 //! [`crate::sensitivity::reversal`] (lag of 2 mm of tool-tip path, settled at each pass start).
 
 use crate::gap::data::Reversal;
+pub use crate::gap::effect::{BACKLASH_AXES, SCALE_AXES};
 use crate::gap::GapError;
 use crate::machine::{AxisName, ErrorParam};
 use crate::part::{MeasurementPoint, SShape};
@@ -20,23 +21,12 @@ fn model_err(e: impl std::fmt::Display) -> GapError {
     GapError::Model(e.to_string())
 }
 
-/// Axes of the scale candidates, in effects.md order.
-pub const SCALE_AXES: [AxisName; 3] = [AxisName::X, AxisName::Y, AxisName::Z];
-/// Axes of the backlash candidates, in effects.md order.
-pub const BACKLASH_AXES: [AxisName; 5] = [
-    AxisName::X,
-    AxisName::Y,
-    AxisName::Z,
-    AxisName::B,
-    AxisName::C,
-];
-
-/// `scale_x.k`, `scale_y.k`, `scale_z.k` columns (mm/mm).
+/// `scale_<axis>.k` columns (mm/mm), axes of [`SCALE_AXES`].
 pub fn scale_signatures(
     part: &SShape,
     points: &[MeasurementPoint],
     opts: &SensitivityOptions,
-) -> Result<Vec<Vec<f64>>, GapError> {
+) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
     let params: Vec<ErrorParam> = SCALE_AXES
         .iter()
         .map(|&a| ErrorParam::Motion {
@@ -46,8 +36,10 @@ pub fn scale_signatures(
         })
         .collect();
     let m = jacobian_rows(part, points, opts, &params).map_err(model_err)?;
-    Ok((0..params.len())
-        .map(|j| m.column(j).iter().copied().collect())
+    Ok(SCALE_AXES
+        .iter()
+        .enumerate()
+        .map(|(j, &a)| (a, m.column(j).iter().copied().collect()))
         .collect())
 }
 
@@ -58,8 +50,10 @@ pub fn backlash_columns(
     part: &SShape,
     points: &[MeasurementPoint],
     opts: &SensitivityOptions,
-) -> Result<Vec<Vec<f64>>, GapError> {
-    backlash_signatures_on(passes, part, points, &BACKLASH_AXES, opts).map_err(model_err)
+) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
+    let cols =
+        backlash_signatures_on(passes, part, points, &BACKLASH_AXES, opts).map_err(model_err)?;
+    Ok(BACKLASH_AXES.into_iter().zip(cols).collect())
 }
 
 /// Where each axis reverses along the passes (A then B): tool-tip path length from the start of
@@ -73,7 +67,7 @@ pub fn reversals(passes: &[Pass; 2]) -> Vec<Reversal> {
             for k in 1..d.len() {
                 if d[k] != d[k - 1] {
                     out.push(Reversal {
-                        axis: format!("{axis:?}"),
+                        axis,
                         s: offset + p.s[k],
                     });
                 }

@@ -1,4 +1,5 @@
-//! Reading tables of named columns from CSV text (no file access: the caller passes the text).
+//! Test support: tables of named columns from CSV text (the reference vectors of
+//! `tests/data/reference/`; no file access: the caller passes the text).
 //!
 //! Used for the signature tables in the format of `effect_signatures.csv`
 //! (`id,curve,s,<effect>.<param>,…`, one candidate = its group of `<effect>.<param>` columns)
@@ -6,8 +7,10 @@
 
 use nalgebra::DMatrix;
 
-use super::data::{Candidate, NamedColumns};
-use super::GapError;
+use testpiece::gap::{Candidate, NamedColumns};
+
+/// Why a table could not be read (test support: the message is what a failing test prints).
+pub type TableError = String;
 
 /// A CSV table: header names and rows of text fields.
 #[derive(Debug, Clone)]
@@ -18,67 +21,66 @@ pub struct Table {
 
 impl Table {
     /// Parses comma-separated text with a header row.
-    pub fn parse(text: &str) -> Result<Self, GapError> {
+    pub fn parse(text: &str) -> Result<Self, TableError> {
         let mut rdr = csv::ReaderBuilder::new()
             .has_headers(true)
             .trim(csv::Trim::All)
             .from_reader(text.as_bytes());
         let header: Vec<String> = rdr
             .headers()
-            .map_err(|e| GapError::Table {
-                line: 1,
-                reason: e.to_string(),
-            })?
+            .map_err(|e| format!("table line 1: {e}"))?
             .iter()
             .map(str::to_string)
             .collect();
         let mut rows = Vec::new();
         for (k, rec) in rdr.records().enumerate() {
-            let rec = rec.map_err(|e| GapError::Table {
-                line: k + 2,
-                reason: e.to_string(),
-            })?;
+            let rec = rec.map_err(|e| format!("table line {}: {e}", k + 2))?;
             if rec.len() != header.len() {
-                return Err(GapError::Table {
-                    line: k + 2,
-                    reason: format!("{} fields, expected {}", rec.len(), header.len()),
-                });
+                return Err(format!(
+                    "table line {}: {} fields, expected {}",
+                    k + 2,
+                    rec.len(),
+                    header.len()
+                ));
             }
             rows.push(rec.iter().map(str::to_string).collect());
         }
         Ok(Self { header, rows })
     }
 
-    fn index(&self, name: &str) -> Result<usize, GapError> {
+    fn index(&self, name: &str) -> Result<usize, TableError> {
         self.header
             .iter()
             .position(|h| h == name)
-            .ok_or_else(|| GapError::MissingColumn(name.to_string()))
+            .ok_or_else(|| format!("column `{name}` not found in the table"))
     }
 
     /// A numeric column.
-    pub fn numbers(&self, name: &str) -> Result<Vec<f64>, GapError> {
+    pub fn numbers(&self, name: &str) -> Result<Vec<f64>, TableError> {
         let j = self.index(name)?;
         self.rows
             .iter()
             .enumerate()
             .map(|(k, r)| {
-                r[j].parse::<f64>().map_err(|_| GapError::Table {
-                    line: k + 2,
-                    reason: format!("`{}` in column `{name}` is not a number", r[j]),
+                r[j].parse::<f64>().map_err(|_| {
+                    format!(
+                        "table line {}: `{}` in column `{name}` is not a number",
+                        k + 2,
+                        r[j]
+                    )
                 })
             })
             .collect()
     }
 
     /// A text column.
-    pub fn text(&self, name: &str) -> Result<Vec<String>, GapError> {
+    pub fn text(&self, name: &str) -> Result<Vec<String>, TableError> {
         let j = self.index(name)?;
         Ok(self.rows.iter().map(|r| r[j].clone()).collect())
     }
 
     /// The named numeric columns as a matrix.
-    pub fn columns(&self, names: &[&str]) -> Result<NamedColumns, GapError> {
+    pub fn columns(&self, names: &[&str]) -> Result<NamedColumns, TableError> {
         let cols: Vec<Vec<f64>> = names
             .iter()
             .map(|n| self.numbers(n))
@@ -86,10 +88,11 @@ impl Table {
         let n = self.rows.len();
         let m = DMatrix::from_fn(n, cols.len(), |i, j| cols[j][i]);
         NamedColumns::try_new(names.iter().map(|s| s.to_string()).collect(), m)
+            .map_err(|e| e.to_string())
     }
 
     /// Candidates from every `<effect>.<param>` column, grouped by effect in header order.
-    pub fn candidates(&self) -> Result<Vec<Candidate>, GapError> {
+    pub fn candidates(&self) -> Result<Vec<Candidate>, TableError> {
         let mut groups: Vec<(String, Vec<String>)> = Vec::new();
         for h in &self.header {
             let Some((effect, param)) = h.split_once('.') else {
@@ -108,7 +111,7 @@ impl Table {
                 let mut cols = self.columns(&refs)?;
                 cols.names = params;
                 Ok(Candidate {
-                    id: effect,
+                    effect: effect.parse().map_err(|e| format!("{e}"))?,
                     signature: cols,
                 })
             })

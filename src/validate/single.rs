@@ -22,7 +22,7 @@
 //! Expected verdict: the effect when `ρ > 1` (detectable), `none` when `ρ ≤ 1` or no effect,
 //! `unexplained` for a detectable out-of-list effect. A verdict counts as correct when it is the
 //! expected id, or when the expected id is listed as equivalent, or when the two are
-//! near-equivalent on this part ([`super::equivalence::EQUIVALENT_COS`]); exact hits are counted
+//! near-equivalent on this part ([`crate::gap::equivalence::EQUIVALENT_COS`]); exact hits are counted
 //! too. Cases are assigned in turn: each effect of the list, `none` twice, waviness, bump.
 
 use std::collections::BTreeMap;
@@ -30,13 +30,15 @@ use std::collections::BTreeMap;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::catalog::{NONE, UNEXPLAINED};
-use super::data::{Candidate, GapInput, NamedColumns, PointMeta};
-use super::diagnose::diagnose;
-use super::equivalence::near_equivalent_pairs;
-use super::lsq::{rms, Factor};
-use super::random::Sampler;
-use super::GapError;
+use crate::gap::data::{Candidate, GapInput, NamedColumns, PointMeta};
+use crate::gap::diagnose::{diagnose_with, DiagnoseOptions};
+use crate::gap::equivalence::near_equivalent_pairs;
+use crate::gap::location::DETECT_FACTOR;
+use crate::gap::lsq::{rms, Factor};
+use crate::gap::verdict::VerdictId;
+use crate::gap::Effect;
+use crate::gap::GapError;
+use crate::random::Sampler;
 
 /// Shortest simulated waviness wavelength (mm of tool path).
 pub const WAVE_MIN_MM: f64 = 150.0;
@@ -55,18 +57,18 @@ impl ValidationModel {
     /// Whether two candidates are near-equivalent on this part (their unabsorbed signatures
     /// span nearly the same directions, [`near_equivalent_pairs`]): the diagnosis may name
     /// either, so a validation counts either as right.
-    pub fn near_equivalence(&self) -> impl Fn(&str, &str) -> bool {
+    pub fn near_equivalence(&self) -> impl Fn(Effect, Effect) -> bool {
         let base = Factor::new(&self.baseline.matrix, None);
-        let spans: Vec<(String, DMatrix<f64>)> = self
+        let spans: Vec<(Effect, DMatrix<f64>)> = self
             .candidates
             .iter()
             .map(|c| {
                 let u = base.unabsorbed(&c.signature.matrix);
-                (c.id.clone(), Factor::new(&u, None).basis)
+                (c.effect, Factor::new(&u, None).basis)
             })
             .collect();
         let pairs = near_equivalent_pairs(&spans);
-        move |x: &str, y: &str| {
+        move |x: Effect, y: Effect| {
             pairs
                 .iter()
                 .any(|e| (e.a == x && e.b == y) || (e.a == y && e.b == x))
@@ -85,11 +87,14 @@ pub struct ValidateOptions {
     pub angle_range: f64,
     /// Range of the length location errors (`EX0B`, ± mm).
     pub length_range: f64,
-    /// Range of `ρ` = unabsorbed RMS / (2.5σ).
+    /// Range of `ρ` = unabsorbed RMS / (k σ).
     pub ratio_min: f64,
     pub ratio_max: f64,
     /// Pass the simulated σ to the diagnosis as the CMM repeatability (default: estimate it).
     pub known_sigma: bool,
+    /// `k` of the `k σ` detection rule, given to the diagnosis and used to size the effects
+    /// (default [`DETECT_FACTOR`]).
+    pub detect_factor: f64,
 }
 
 impl Default for ValidateOptions {
@@ -103,6 +108,7 @@ impl Default for ValidateOptions {
             ratio_min: 0.3,
             ratio_max: 6.0,
             known_sigma: false,
+            detect_factor: DETECT_FACTOR,
         }
     }
 }
@@ -116,9 +122,54 @@ impl ValidateOptions {
         self.seed = s;
         self
     }
+    pub fn with_detect_factor(mut self, k: f64) -> Self {
+        self.detect_factor = k;
+        self
+    }
+    /// The diagnosis options of the cases (default α, this `k`).
+    pub fn diagnose_options(&self) -> DiagnoseOptions {
+        DiagnoseOptions {
+            detect_factor: self.detect_factor,
+            ..DiagnoseOptions::default()
+        }
+    }
     pub fn with_known_sigma(mut self, k: bool) -> Self {
         self.known_sigma = k;
         self
+    }
+}
+
+/// What a simulated case carries (JSON: the effect id, `none`, `waviness` or `bump`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Truth {
+    Effect(Effect),
+    None,
+    /// Out of the list: a waviness along the tool path.
+    Waviness,
+    /// Out of the list: a local bump.
+    Bump,
+}
+
+impl Truth {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Truth::Effect(e) => e.id(),
+            Truth::None => "none",
+            Truth::Waviness => "waviness",
+            Truth::Bump => "bump",
+        }
+    }
+}
+
+impl std::fmt::Display for Truth {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl Serialize for Truth {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
     }
 }
 
@@ -126,15 +177,14 @@ impl ValidateOptions {
 #[derive(Debug, Clone, Serialize)]
 pub struct CaseResult {
     pub case: usize,
-    /// Effect id, `none`, `waviness` or `bump`.
-    pub truth: String,
+    pub truth: Truth,
     pub parameters: BTreeMap<String, f64>,
-    /// `ρ`: RMS of the unabsorbed part over 2.5σ.
+    /// `ρ`: RMS of the unabsorbed part over k σ.
     pub ratio: f64,
     pub detectable: bool,
-    pub expected: String,
-    pub verdict: String,
-    pub equivalent: Vec<String>,
+    pub expected: VerdictId,
+    pub verdict: VerdictId,
+    pub equivalent: Vec<Effect>,
     pub correct: bool,
     pub exact: bool,
     pub rms_before: f64,
@@ -168,10 +218,10 @@ impl Accuracy {
 /// Per-effect figures.
 #[derive(Debug, Clone, Serialize)]
 pub struct EffectRow {
-    pub effect: String,
+    pub effect: Effect,
     pub detectable: Accuracy,
     pub undetectable: Accuracy,
-    /// Parameter magnitude (each parameter alone) whose unabsorbed RMS is 2.5σ.
+    /// Parameter magnitude (each parameter alone) whose unabsorbed RMS is k σ.
     pub detection_limit: BTreeMap<String, f64>,
     /// Mean shrink `1 − rms_after/rms_before` over detectable cases, achieved by the verdict
     /// and achievable by fitting the true effect.
@@ -265,7 +315,7 @@ pub fn validate_with(
 ) -> Result<ValidationReport, GapError> {
     let n = model.points.len();
     let sigma = opts.noise_sigma;
-    let limit = 2.5 * sigma;
+    let limit = opts.detect_factor * sigma;
     let a = &model.baseline.matrix;
     let base = Factor::new(a, None);
     let near = model.near_equivalence();
@@ -279,7 +329,7 @@ pub fn validate_with(
         let xi = machine_errors(&model.baseline.names, opts, &mut rng);
         let ratio = rng.log_uniform(opts.ratio_min, opts.ratio_max);
         let mut parameters = BTreeMap::new();
-        let (truth, effect, design): (String, DVector<f64>, Option<DMatrix<f64>>) =
+        let (truth, effect, design): (Truth, DVector<f64>, Option<DMatrix<f64>>) =
             if kind < model.candidates.len() {
                 let c = &model.candidates[kind];
                 let s = &c.signature.matrix;
@@ -287,9 +337,9 @@ pub fn validate_with(
                 for (j, name) in c.signature.names.iter().enumerate() {
                     parameters.insert(name.clone(), theta[j]);
                 }
-                (c.id.clone(), s * &theta, Some(s.clone()))
+                (Truth::Effect(c.effect), s * &theta, Some(s.clone()))
             } else if kind < model.candidates.len() + 2 {
-                (NONE.to_string(), DVector::zeros(n), None)
+                (Truth::None, DVector::zeros(n), None)
             } else {
                 let wav = kind == model.candidates.len() + 2;
                 let shape = if wav {
@@ -319,20 +369,18 @@ pub fn validate_with(
                     0.0
                 };
                 parameters.insert("amplitude".into(), amp);
-                let truth = if wav { "waviness" } else { "bump" };
-                (truth.to_string(), shape * amp, None)
+                let truth = if wav { Truth::Waviness } else { Truth::Bump };
+                (truth, shape * amp, None)
             };
         let noise = DVector::from_iterator(n, (0..n).map(|_| sigma * rng.normal()));
         let y = machine(&xi)? + &effect + &noise;
         let un_true = base.unabsorbed_vec(&effect).norm() / (n as f64).sqrt();
         let true_ratio = un_true / limit;
-        let detectable = truth != NONE && true_ratio > 1.0;
-        let expected = if !detectable {
-            NONE.to_string()
-        } else if design.is_some() {
-            truth.clone()
-        } else {
-            UNEXPLAINED.to_string()
+        let detectable = truth != Truth::None && true_ratio > 1.0;
+        let expected = match truth {
+            _ if !detectable => VerdictId::Noise,
+            Truth::Effect(e) => VerdictId::Effect(e),
+            _ => VerdictId::Unexplained,
         };
         let input = GapInput {
             deviations: y.iter().copied().collect(),
@@ -342,10 +390,16 @@ pub fn validate_with(
             noise_sigma: opts.known_sigma.then_some(sigma),
             reversals: Vec::new(),
         };
-        let report = diagnose(&input)?;
+        let report = diagnose_with(&input, opts.diagnose_options())?;
         let v = &report.verdict;
-        let exact = v.effect == expected;
-        let correct = exact || v.equivalent.contains(&expected) || near(&v.effect, &expected);
+        let exact = v.id() == expected;
+        let correct = exact
+            || match (v.id(), expected) {
+                (VerdictId::Effect(got), VerdictId::Effect(want)) => {
+                    v.finding.equivalent().contains(&want) || near(got, want)
+                }
+                _ => false,
+            };
         let achievable_rms_after = match &design {
             Some(s) => {
                 let f = Factor::new(&hstack(a, s), None);
@@ -360,8 +414,8 @@ pub fn validate_with(
             ratio: true_ratio,
             detectable,
             expected,
-            verdict: v.effect.clone(),
-            equivalent: v.equivalent.clone(),
+            verdict: v.id(),
+            equivalent: v.finding.equivalent().to_vec(),
             correct,
             exact,
             rms_before: v.rms_before,
@@ -381,23 +435,21 @@ fn summarise(
     results: Vec<CaseResult>,
 ) -> ValidationReport {
     let n = model.points.len() as f64;
-    let limit = 2.5 * opts.noise_sigma;
+    let limit = opts.detect_factor * opts.noise_sigma;
     let mut detectable = Accuracy::default();
     let mut none_or_undetectable = Accuracy::default();
     let mut out_of_list = Accuracy::default();
     let mut confusion: BTreeMap<String, BTreeMap<String, usize>> = BTreeMap::new();
     for r in &results {
         *confusion
-            .entry(r.expected.clone())
+            .entry(r.expected.to_string())
             .or_default()
-            .entry(r.verdict.clone())
+            .entry(r.verdict.to_string())
             .or_default() += 1;
-        if r.expected == NONE {
-            none_or_undetectable.add(r);
-        } else if r.expected == UNEXPLAINED {
-            out_of_list.add(r);
-        } else {
-            detectable.add(r);
+        match r.expected {
+            VerdictId::Noise => none_or_undetectable.add(r),
+            VerdictId::Unexplained => out_of_list.add(r),
+            VerdictId::Effect(_) => detectable.add(r),
         }
     }
     let per_effect = model
@@ -407,7 +459,10 @@ fn summarise(
             let mut det = Accuracy::default();
             let mut und = Accuracy::default();
             let (mut sa, mut sb, mut k) = (0.0, 0.0, 0.0);
-            for r in results.iter().filter(|r| r.truth == c.id) {
+            for r in results
+                .iter()
+                .filter(|r| r.truth == Truth::Effect(c.effect))
+            {
                 if r.detectable {
                     det.add(r);
                     if r.rms_before > 0.0 {
@@ -434,7 +489,7 @@ fn summarise(
                 })
                 .collect();
             EffectRow {
-                effect: c.id.clone(),
+                effect: c.effect,
                 detectable: det,
                 undetectable: und,
                 detection_limit,

@@ -1,22 +1,24 @@
 //! The withheld-effect benchmark for two effects at once (`testpiece validate --pairs`): simulated
 //! parts `y = A ξ + S₁ θ₁ + S₂ θ₂ + ε` for every pair of candidates the part can tell apart (not
-//! near-equivalent on it, [`super::equivalence::EQUIVALENT_COS`]), diagnosed with both withheld
-//! from the baseline. Machine errors and noise as in [`super::validate`]; each effect's magnitude
+//! near-equivalent on it, [`crate::gap::equivalence::EQUIVALENT_COS`]), diagnosed with both withheld
+//! from the baseline. Machine errors and noise as in [`super::single`]; each effect's magnitude
 //! is set so that the RMS of the part the baseline cannot absorb is `ρ · 2.5σ`, `ρ` log-uniform
 //! in [[`RATIO_MIN`], [`RATIO_MAX`]] (each effect detectable on its own).
 //!
 //! A case counts as **both named** when each id is among the verdict's effect, its `with` and
-//! their equivalents, or near-equivalent on this part to one of them (as in [`super::validate`]); **one named** when only one is (a single verdict, or a pair
+//! their equivalents, or near-equivalent on this part to one of them (as in [`super::single`]); **one named** when only one is (a single verdict, or a pair
 //! with a wrong partner); otherwise by the verdict (`unexplained`, `none`).
 
 use serde::Serialize;
 
-use super::data::GapInput;
-use super::diagnose::diagnose;
-use super::lsq::Factor;
-use super::random::Sampler;
-use super::validate::{effect_parameters, machine_errors, ValidateOptions, ValidationModel};
-use super::GapError;
+use super::single::{effect_parameters, machine_errors, ValidateOptions, ValidationModel};
+use crate::gap::data::GapInput;
+use crate::gap::diagnose::diagnose_with;
+use crate::gap::lsq::Factor;
+use crate::gap::verdict::VerdictId;
+use crate::gap::Effect;
+use crate::gap::GapError;
+use crate::random::Sampler;
 
 /// Smallest simulated `ρ` of each effect of a pair.
 pub const RATIO_MIN: f64 = 1.5;
@@ -41,10 +43,11 @@ pub struct PairValidation {
 /// One simulated two-effect part.
 #[derive(Debug, Clone, Serialize)]
 pub struct PairCase {
-    pub effects: [String; 2],
+    pub effects: [Effect; 2],
     pub ratios: [f64; 2],
-    pub verdict: String,
-    pub with: Vec<String>,
+    pub verdict: VerdictId,
+    /// The pair's second effect when the verdict names a pair.
+    pub with: Option<Effect>,
     pub both_named: bool,
 }
 
@@ -59,7 +62,7 @@ pub fn validate_pairs(
     let mut pairs = Vec::new();
     for (i, c1) in model.candidates.iter().enumerate() {
         for c2 in &model.candidates[i + 1..] {
-            if !alike(&c1.id, &c2.id) {
+            if !alike(c1.effect, c2.effect) {
                 pairs.push((c1, c2));
             }
         }
@@ -69,7 +72,7 @@ pub fn validate_pairs(
             "no two candidates can be told apart on this part".into(),
         ));
     }
-    let limit = 2.5 * opts.noise_sigma;
+    let limit = opts.detect_factor * opts.noise_sigma;
     let mut rng = Sampler::new(opts.seed);
     let mut results = Vec::with_capacity(opts.cases);
     for case in 0..opts.cases {
@@ -85,37 +88,41 @@ pub fn validate_pairs(
         for v in y.iter_mut() {
             *v += opts.noise_sigma * rng.normal();
         }
-        let report = diagnose(&GapInput {
-            deviations: y.iter().copied().collect(),
-            points: model.points.clone(),
-            baseline: model.baseline.clone(),
-            candidates: model.candidates.clone(),
-            noise_sigma: opts.known_sigma.then_some(opts.noise_sigma),
-            reversals: Vec::new(),
-        })?;
-        let v = &report.verdict;
-        let named: Vec<&String> = std::iter::once(&v.effect)
-            .chain(&v.equivalent)
-            .chain(&v.with)
-            .chain(&v.with_equivalent)
+        let report = diagnose_with(
+            &GapInput {
+                deviations: y.iter().copied().collect(),
+                points: model.points.clone(),
+                baseline: model.baseline.clone(),
+                candidates: model.candidates.clone(),
+                noise_sigma: opts.known_sigma.then_some(opts.noise_sigma),
+                reversals: Vec::new(),
+            },
+            opts.diagnose_options(),
+        )?;
+        let f = &report.verdict.finding;
+        let named: Vec<Effect> = f
+            .effects()
+            .into_iter()
+            .chain(f.equivalent().iter().copied())
+            .chain(
+                f.with()
+                    .into_iter()
+                    .flat_map(|w| w.equivalent.iter().copied()),
+            )
             .collect();
-        let has = |id: &String| {
-            named
-                .iter()
-                .any(|m| *m == id || alike(m.as_str(), id.as_str()))
-        };
+        let has = |e: Effect| named.iter().any(|&m| m == e || alike(m, e));
         results.push(PairCase {
-            effects: [c1.id.clone(), c2.id.clone()],
+            effects: [c1.effect, c2.effect],
             ratios,
-            verdict: v.effect.clone(),
-            with: v.with.clone(),
-            both_named: has(&c1.id) && has(&c2.id),
+            verdict: f.id(),
+            with: f.with().map(|w| w.effect),
+            both_named: has(c1.effect) && has(c2.effect),
         });
     }
     let count = |f: &dyn Fn(&PairCase) -> bool| results.iter().filter(|r| f(r)).count();
     let both_named = count(&|r| r.both_named);
-    let none = count(&|r| r.verdict == super::catalog::NONE);
-    let unexplained = count(&|r| r.verdict == super::catalog::UNEXPLAINED);
+    let none = count(&|r| r.verdict == VerdictId::Noise);
+    let unexplained = count(&|r| r.verdict == VerdictId::Unexplained);
     Ok(PairValidation {
         cases: results.len(),
         seed: opts.seed,
@@ -155,11 +162,7 @@ pub fn pairs_table(r: &PairValidation) -> String {
             c.effects[1],
             c.ratios[1],
             c.verdict,
-            if c.with.is_empty() {
-                String::new()
-            } else {
-                format!(" with {}", c.with.join(", "))
-            }
+            c.with.map(|w| format!(" with {w}")).unwrap_or_default()
         );
     }
     s
