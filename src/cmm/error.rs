@@ -138,7 +138,8 @@ fn list_rows(rows: &[RowProblem]) -> String {
     list_line_problems(rows, usize::MAX)
 }
 
-fn distinct_lines(rows: &[RowProblem]) -> usize {
+/// How many distinct lines `rows` are on.
+pub(crate) fn distinct_lines(rows: &[RowProblem]) -> usize {
     let mut lines: Vec<usize> = rows.iter().map(|r| r.line).collect();
     lines.sort_unstable();
     lines.dedup();
@@ -252,6 +253,20 @@ impl CmmError {
             lines: distinct_lines(&problems),
             rows,
             problems,
+        }
+    }
+
+    /// `TooFewPoints`: `found` usable points where `needed` are required, after `excluded_rows`
+    /// bad rows left out at the caller's request (0: none, and no note).
+    pub(crate) fn too_few_points(found: usize, needed: usize, excluded_rows: usize) -> Self {
+        Self::TooFewPoints {
+            found,
+            needed,
+            excluded_note: if excluded_rows == 0 {
+                String::new()
+            } else {
+                format!(" after excluding {excluded_rows} bad row(s)")
+            },
         }
     }
 

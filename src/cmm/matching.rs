@@ -208,153 +208,72 @@ pub fn match_points(
     let projector = Projector::new(part);
     let mut points = Vec::with_capacity(file.points.len());
     let mut problems: Vec<RowProblem> = Vec::new();
-    let mut normal_off = Tally::new(
-        "with a file normal more than the allowed angle from the model's outward normal",
-    );
-    let mut inward = Tally::new("with a file normal pointing into the material (the file may use the opposite sign convention: check the sign of its deviations)");
-    let mut disagree = Tally::new("where the file's deviation and the one given by its positions differ by more than the allowed amount; the file's deviation is used (rule 4)");
-    let mut off_surface = Tally::new("whose nominal position lies off the nominal surface by more than 10 µm (the file's deviation is used as given)");
-    let mut wrong_label =
-        Tally::new("whose curve label names the other surface than the one they lie on");
-    let mut at_end =
-        Tally::new("beyond the end of the surface (projected onto its edge u = 0 or 1)");
-
+    let mut remarks = Remarks::new();
     for pt in file.points {
-        let Some(pos) = pt.nominal.or(pt.measured) else {
-            // The reader guarantees a position; keep the promise not to drop rows silently.
-            problems.push(RowProblem {
-                line: pt.line,
-                column: None,
-                kind: RowProblemKind::EmptyValue,
-                found: String::new(),
-                expected: "a nominal or measured position".into(),
-            });
-            continue;
-        };
-        let p = v3(pos);
-        let proj: Projection = project_point(&projector, &p).map_err(|e| CmmError::Projection {
+        match match_point(&projector, pt, opts)? {
+            Ok((point, gap)) => {
+                remarks.note(&point, gap, opts);
+                points.push(point);
+            }
+            Err(problem) => problems.push(problem),
+        }
+    }
+    let mut warnings = file.warnings;
+    let mut excluded = file.excluded;
+    let rows = points.len() + problems.len();
+    exclude_far_rows(problems, rows, opts, &mut warnings, &mut excluded)?;
+    if points.len() < opts.min_points {
+        return Err(CmmError::too_few_points(
+            points.len(),
+            opts.min_points,
+            excluded.len(),
+        ));
+    }
+    warnings.extend(remarks.warnings());
+    Ok(MatchedPart {
+        name: file.name,
+        format: file.format,
+        extra_columns: file.extra_columns,
+        points,
+        excluded,
+        warnings,
+    })
+}
+
+/// Matches one row: closest-point projection of its own coordinates (nominal if given, else
+/// measured), the deviation by the rules of the module docs, and the check that the point is
+/// near the surfaces: `Ok((point, gap))` with the distance `gap` (mm) of the projected
+/// coordinates from the foot, or `Err` with the bad row (no position, or too far from the
+/// surfaces). A failed projection is an error of the whole file (the outer `Err`).
+fn match_point(
+    projector: &Projector<SShape>,
+    pt: CmmPoint,
+    opts: &ReadOptions,
+) -> Result<Result<(MatchedPoint, f64), RowProblem>, CmmError> {
+    let Some(pos) = pt.nominal.or(pt.measured) else {
+        // The reader guarantees a position; keep the promise not to drop rows silently.
+        return Ok(Err(RowProblem {
             line: pt.line,
-            message: e.to_string(),
-        })?;
-        let n = proj.normal;
-        let gap = (p - proj.foot).norm();
-        let (deviation, rule, position_deviation) = match (pt.nominal, pt.measured, pt.deviation) {
-            (Some(nom), Some(meas), d) => {
-                let from_pos = (v3(meas) - v3(nom)).dot(&n);
-                match d {
-                    Some(d) => (d, DeviationRule::FileDeviation, Some(from_pos)),
-                    None => (from_pos, DeviationRule::MeasuredMinusNominal, None),
-                }
-            }
-            (Some(_), None, Some(d)) => (d, DeviationRule::FileDeviation, None),
-            (None, Some(_), Some(d)) => (d, DeviationRule::FileDeviation, Some(proj.distance)),
-            (None, Some(_), None) => (proj.distance, DeviationRule::Projection, None),
-            // Nominal without deviation or measured is read as measured by the reader.
-            (Some(_), None, None) | (None, None, _) => {
-                (proj.distance, DeviationRule::Projection, None)
-            }
-        };
-        let far = gap > opts.max_distance_mm || deviation.abs() > opts.max_distance_mm;
-        if far {
-            let what = if pt.nominal.is_some() {
-                "nominal"
-            } else {
-                "measured"
-            };
-            problems.push(RowProblem {
-                line: pt.line,
-                column: None,
-                kind: RowProblemKind::FarFromSurface,
-                found: format!(
-                    "{what} ({:.4}, {:.4}, {:.4}) mm, {gap:.4} mm from surface {} (u {:.4}, z {:.3}), deviation {deviation:.4} mm",
-                    p.x,
-                    p.y,
-                    p.z,
-                    proj.surface.name(),
-                    proj.u,
-                    proj.foot.z
-                ),
-                expected: format!(
-                    "a point within {} mm of the nominal surfaces; {}",
-                    opts.max_distance_mm,
-                    far_reason(&projector, &p, opts.max_distance_mm)
-                ),
-            });
-            continue;
-        }
-        let normal_angle_deg = pt.normal.map(|fnorm| {
-            let f = v3(fnorm);
-            let c = (f.dot(&n) / f.norm()).clamp(-1.0, 1.0);
-            c.acos().to_degrees()
-        });
-        if let Some(a) = normal_angle_deg {
-            if a > 90.0 {
-                inward.add(pt.line, a, format!("{a:.2}° at line {}", pt.line));
-            } else if a > opts.normal_warn_deg {
-                normal_off.add(
-                    pt.line,
-                    a,
-                    format!(
-                        "{a:.2}° (limit {}°) at line {}",
-                        opts.normal_warn_deg, pt.line
-                    ),
-                );
-            }
-        }
-        if let Some(pd) = position_deviation {
-            let diff = (deviation - pd).abs();
-            if diff > opts.deviation_warn_mm {
-                disagree.add(
-                    pt.line,
-                    diff,
-                    format!(
-                        "file {deviation:.6} mm vs positions {pd:.6} mm at line {} (limit {} mm)",
-                        pt.line, opts.deviation_warn_mm
-                    ),
-                );
-            }
-        }
-        if pt.nominal.is_some()
-            && proj.distance.abs() > 0.01
-            && rule == DeviationRule::FileDeviation
-        {
-            off_surface.add(
-                pt.line,
-                proj.distance.abs(),
-                format!(
-                    "{:.4} mm at line {} (file deviation {deviation:.4} mm{})",
-                    proj.distance,
-                    pt.line,
-                    if (proj.distance - deviation).abs() <= opts.deviation_warn_mm {
-                        "; these look like measured positions, and they agree with the deviation"
-                    } else {
-                        ""
-                    }
-                ),
-            );
-        }
-        if let Some(s) = pt.curve.as_deref().and_then(surface_of_label) {
-            if s != proj.surface {
-                wrong_label.add(
-                    pt.line,
-                    1.0,
-                    format!(
-                        "label '{}' but on surface {} at line {}",
-                        pt.curve.as_deref().unwrap_or(""),
-                        proj.surface.name(),
-                        pt.line
-                    ),
-                );
-            }
-        }
-        if proj.clamped {
-            at_end.add(
-                pt.line,
-                gap,
-                format!("{gap:.4} mm from the edge at line {}", pt.line),
-            );
-        }
-        points.push(MatchedPoint {
+            column: None,
+            kind: RowProblemKind::EmptyValue,
+            found: String::new(),
+            expected: "a nominal or measured position".into(),
+        }));
+    };
+    let p = v3(pos);
+    let proj: Projection = project_point(projector, &p).map_err(|e| CmmError::Projection {
+        line: pt.line,
+        message: e.to_string(),
+    })?;
+    let n = proj.normal;
+    let gap = (p - proj.foot).norm();
+    let (deviation, rule, position_deviation) = deviation_by_rule(&pt, &n, proj.distance);
+    if let Some(problem) = far_from_surface(projector, &pt, &p, &proj, gap, deviation, opts) {
+        return Ok(Err(problem));
+    }
+    let normal_angle_deg = pt.normal.map(|fnorm| normal_angle_deg(fnorm, &n));
+    Ok(Ok((
+        MatchedPoint {
             file: pt,
             surface: proj.surface,
             u: proj.u,
@@ -367,57 +286,229 @@ pub fn match_points(
             clamped: proj.clamped,
             normal_angle_deg,
             position_deviation,
-        });
+        },
+        gap,
+    )))
+}
+
+/// The normal deviation of a point (mm, + = material left) by the rules of the module docs,
+/// the rule that gave it, and the deviation its positions give where the file also writes one
+/// (rule 4). `n`: the model's outward unit normal at the foot; `distance`: the signed distance
+/// (mm) of the projected coordinates from the surface.
+fn deviation_by_rule(
+    pt: &CmmPoint,
+    n: &Vector3<f64>,
+    distance: f64,
+) -> (f64, DeviationRule, Option<f64>) {
+    match (pt.nominal, pt.measured, pt.deviation) {
+        (Some(nom), Some(meas), d) => {
+            let from_pos = (v3(meas) - v3(nom)).dot(n);
+            match d {
+                Some(d) => (d, DeviationRule::FileDeviation, Some(from_pos)),
+                None => (from_pos, DeviationRule::MeasuredMinusNominal, None),
+            }
+        }
+        (Some(_), None, Some(d)) => (d, DeviationRule::FileDeviation, None),
+        (None, Some(_), Some(d)) => (d, DeviationRule::FileDeviation, Some(distance)),
+        (None, Some(_), None) => (distance, DeviationRule::Projection, None),
+        // Nominal without deviation or measured is read as measured by the reader.
+        (Some(_), None, None) | (None, None, _) => (distance, DeviationRule::Projection, None),
+    }
+}
+
+/// The bad row of a point whose projected coordinates `p` lie further than
+/// [`ReadOptions::max_distance_mm`] from the surfaces (`gap`, mm) or whose deviation (mm) is
+/// larger, saying whether another unit would bring it onto the part; `None` for a near point.
+fn far_from_surface(
+    projector: &Projector<SShape>,
+    pt: &CmmPoint,
+    p: &Vector3<f64>,
+    proj: &Projection,
+    gap: f64,
+    deviation: f64,
+    opts: &ReadOptions,
+) -> Option<RowProblem> {
+    let far = gap > opts.max_distance_mm || deviation.abs() > opts.max_distance_mm;
+    if !far {
+        return None;
+    }
+    let what = if pt.nominal.is_some() {
+        "nominal"
+    } else {
+        "measured"
+    };
+    Some(RowProblem {
+        line: pt.line,
+        column: None,
+        kind: RowProblemKind::FarFromSurface,
+        found: format!(
+            "{what} ({:.4}, {:.4}, {:.4}) mm, {gap:.4} mm from surface {} (u {:.4}, z {:.3}), deviation {deviation:.4} mm",
+            p.x,
+            p.y,
+            p.z,
+            proj.surface.name(),
+            proj.u,
+            proj.foot.z
+        ),
+        expected: format!(
+            "a point within {} mm of the nominal surfaces; {}",
+            opts.max_distance_mm,
+            far_reason(projector, p, opts.max_distance_mm)
+        ),
+    })
+}
+
+/// Angle (degrees, 0..180) between the file's normal `file_normal` (any length, non-zero) and
+/// the model's outward unit normal `n`.
+fn normal_angle_deg(file_normal: [f64; 3], n: &Vector3<f64>) -> f64 {
+    let f = v3(file_normal);
+    let c = (f.dot(n) / f.norm()).clamp(-1.0, 1.0);
+    c.acos().to_degrees()
+}
+
+/// The remarks matching makes on single points, each kind collected over all points into one
+/// warning.
+struct Remarks {
+    normal_off: Tally,
+    inward: Tally,
+    disagree: Tally,
+    off_surface: Tally,
+    wrong_label: Tally,
+    at_end: Tally,
+}
+
+impl Remarks {
+    fn new() -> Self {
+        Self {
+            normal_off: Tally::new(
+                "with a file normal more than the allowed angle from the model's outward normal",
+            ),
+            inward: Tally::new("with a file normal pointing into the material (the file may use the opposite sign convention: check the sign of its deviations)"),
+            disagree: Tally::new("where the file's deviation and the one given by its positions differ by more than the allowed amount; the file's deviation is used (rule 4)"),
+            off_surface: Tally::new("whose nominal position lies off the nominal surface by more than 10 µm (the file's deviation is used as given)"),
+            wrong_label: Tally::new(
+                "whose curve label names the other surface than the one they lie on",
+            ),
+            at_end: Tally::new(
+                "beyond the end of the surface (projected onto its edge u = 0 or 1)",
+            ),
+        }
     }
 
-    let mut warnings = file.warnings;
-    let mut excluded = file.excluded;
-    if !problems.is_empty() {
-        if !opts.exclude_bad_rows {
-            let rows = points.len() + problems.len();
-            return Err(CmmError::bad_rows(problems, rows));
+    /// Notes what is remarkable about the matched point `m`: a file normal off the model's
+    /// (degrees) or pointing inward, a file deviation that its positions contradict (mm), a
+    /// nominal position off the surface by more than 10 µm, a curve label naming the other
+    /// surface, a foot on the end of the surface (`gap`: distance from it, mm).
+    fn note(&mut self, m: &MatchedPoint, gap: f64, opts: &ReadOptions) {
+        let line = m.file.line;
+        let deviation = m.deviation;
+        if let Some(a) = m.normal_angle_deg {
+            if a > 90.0 {
+                self.inward.add(line, a, format!("{a:.2}° at line {line}"));
+            } else if a > opts.normal_warn_deg {
+                self.normal_off.add(
+                    line,
+                    a,
+                    format!("{a:.2}° (limit {}°) at line {line}", opts.normal_warn_deg),
+                );
+            }
         }
-        warnings.push(CmmWarning::file(format!(
-            "{} point(s) too far from the nominal surfaces excluded at your request (lines {})",
-            problems.len(),
-            problems
-                .iter()
-                .map(|p| p.line.to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        )));
-        excluded.extend(problems);
-        excluded.sort_by_key(|p| p.line);
+        if let Some(pd) = m.position_deviation {
+            let diff = (deviation - pd).abs();
+            if diff > opts.deviation_warn_mm {
+                self.disagree.add(
+                    line,
+                    diff,
+                    format!(
+                        "file {deviation:.6} mm vs positions {pd:.6} mm at line {line} (limit {} mm)",
+                        opts.deviation_warn_mm
+                    ),
+                );
+            }
+        }
+        if m.file.nominal.is_some()
+            && m.distance.abs() > 0.01
+            && m.rule == DeviationRule::FileDeviation
+        {
+            self.off_surface.add(
+                line,
+                m.distance.abs(),
+                format!(
+                    "{:.4} mm at line {line} (file deviation {deviation:.4} mm{})",
+                    m.distance,
+                    if (m.distance - deviation).abs() <= opts.deviation_warn_mm {
+                        "; these look like measured positions, and they agree with the deviation"
+                    } else {
+                        ""
+                    }
+                ),
+            );
+        }
+        if let Some(s) = m.file.curve.as_deref().and_then(surface_of_label) {
+            if s != m.surface {
+                self.wrong_label.add(
+                    line,
+                    1.0,
+                    format!(
+                        "label '{}' but on surface {} at line {line}",
+                        m.file.curve.as_deref().unwrap_or(""),
+                        m.surface.name(),
+                    ),
+                );
+            }
+        }
+        if m.clamped {
+            self.at_end.add(
+                line,
+                gap,
+                format!("{gap:.4} mm from the edge at line {line}"),
+            );
+        }
     }
-    if points.len() < opts.min_points {
-        return Err(CmmError::TooFewPoints {
-            found: points.len(),
-            needed: opts.min_points,
-            excluded_note: if excluded.is_empty() {
-                String::new()
-            } else {
-                format!(" after excluding {} bad row(s)", excluded.len())
-            },
-        });
+
+    /// One warning per kind of remark that some point earned, in a fixed order.
+    fn warnings(self) -> impl Iterator<Item = CmmWarning> {
+        [
+            self.normal_off,
+            self.inward,
+            self.disagree,
+            self.off_surface,
+            self.wrong_label,
+            self.at_end,
+        ]
+        .into_iter()
+        .filter_map(Tally::warning)
     }
-    for t in [
-        normal_off,
-        inward,
-        disagree,
-        off_surface,
-        wrong_label,
-        at_end,
-    ] {
-        warnings.extend(t.warning());
+}
+
+/// The points too far from the surfaces (`problems`, among `rows` rows matched): they reject
+/// the file unless `opts.exclude_bad_rows`; then they join `excluded` (sorted by line) with a
+/// warning listing their lines.
+fn exclude_far_rows(
+    problems: Vec<RowProblem>,
+    rows: usize,
+    opts: &ReadOptions,
+    warnings: &mut Vec<CmmWarning>,
+    excluded: &mut Vec<RowProblem>,
+) -> Result<(), CmmError> {
+    if problems.is_empty() {
+        return Ok(());
     }
-    Ok(MatchedPart {
-        name: file.name,
-        format: file.format,
-        extra_columns: file.extra_columns,
-        points,
-        excluded,
-        warnings,
-    })
+    if !opts.exclude_bad_rows {
+        return Err(CmmError::bad_rows(problems, rows));
+    }
+    warnings.push(CmmWarning::file(format!(
+        "{} point(s) too far from the nominal surfaces excluded at your request (lines {})",
+        problems.len(),
+        problems
+            .iter()
+            .map(|p| p.line.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    )));
+    excluded.extend(problems);
+    excluded.sort_by_key(|p| p.line);
+    Ok(())
 }
 
 /// Reads `bytes` ([`super::read_cmm_with`]) and matches the points to the ISO S-shape.
@@ -428,4 +519,57 @@ pub fn read_and_match(
 ) -> Result<MatchedPart, CmmError> {
     let file = super::read_cmm_with(bytes, name, opts)?;
     match_points(&SShape::iso(), file, opts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assert_near;
+
+    fn point(
+        nominal: Option<[f64; 3]>,
+        measured: Option<[f64; 3]>,
+        deviation: Option<f64>,
+    ) -> CmmPoint {
+        CmmPoint {
+            line: 2,
+            id: "1".into(),
+            curve: None,
+            nominal,
+            normal: None,
+            measured,
+            deviation,
+            extra: Vec::new(),
+        }
+    }
+
+    /// Rule 2, `(measured − nominal)·N` with `measured − nominal = (0.01, 0.02, 0)` mm and
+    /// `N = (0.6, 0.8, 0)`: 0.006 + 0.016 = 0.022 mm (closed form, to rounding 1e-12 mm); rule 4
+    /// keeps the file's deviation and reports the positions' one; rule 3 is the distance.
+    #[test]
+    fn deviation_follows_the_rules_of_cmm_csv() {
+        let n = Vector3::new(0.6, 0.8, 0.0);
+        let (nom, meas) = ([10.0, 0.0, 5.0], [10.01, 0.02, 5.0]);
+        let (d, rule, from_pos) = deviation_by_rule(&point(Some(nom), Some(meas), None), &n, 0.5);
+        assert_eq!(
+            (rule, from_pos),
+            (DeviationRule::MeasuredMinusNominal, None)
+        );
+        assert_near!(d, 0.022, 1e-12);
+        let (d, rule, from_pos) =
+            deviation_by_rule(&point(Some(nom), Some(meas), Some(0.03)), &n, 0.5);
+        assert_eq!((d, rule), (0.03, DeviationRule::FileDeviation));
+        assert_near!(from_pos.unwrap(), 0.022, 1e-12);
+        let projected = deviation_by_rule(&point(None, Some(meas), None), &n, -0.004);
+        assert_eq!(projected, (-0.004, DeviationRule::Projection, None));
+    }
+
+    /// A file normal `(2, 2, 0)` against `N = (1, 0, 0)`: `acos(1/√2)` = 45° (closed form, to
+    /// rounding 1e-12°); the opposite normal is 180° (pointing into the material).
+    #[test]
+    fn normal_angle_is_independent_of_the_file_normal_length() {
+        let n = Vector3::new(1.0, 0.0, 0.0);
+        assert_near!(normal_angle_deg([2.0, 2.0, 0.0], &n), 45.0, 1e-12);
+        assert_near!(normal_angle_deg([-3.0, 0.0, 0.0], &n), 180.0, 1e-12);
+    }
 }

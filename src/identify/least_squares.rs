@@ -33,7 +33,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::groups::{not_separable_groups, weak_groups, GroupKind};
+use super::groups::{not_separable_groups, weak_groups, Group, GroupKind};
 use super::report::{
     ColumnCorrelation, CurveStats, ExcludedPoint, Identification, ParameterEstimate, ParameterMap,
     PointFit, Status,
@@ -328,26 +328,90 @@ impl Factored {
 ///
 /// Never panics on user data; rank-deficient designs (fewer points than parameters, collinear
 /// or zero columns) give the minimum-norm solution with the unresolved directions named.
+///
+/// The steps, each a function of this file: factor ([`Factored::new`]), solve in the scaled
+/// space, σ of unit weight from the residual, the covariance, the groups, the parameter
+/// estimates with their status, the correlations, the residual statistics and the notes.
 pub fn identify(
     design: &Design,
     obs: &Observations,
     opts: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
     let f = Factored::new(design, obs, opts)?;
-    let names = design.names();
     let p = design.cols();
-    let y_used = DVector::from_iterator(f.used.len(), f.used.iter().map(|&i| obs.deviation[i]));
-    let x: Vec<f64> = (f.estimator() * &y_used).iter().copied().collect();
+    let x = solve_scaled(&f, obs);
     let fitted = design.predict(&x);
+    let wss = weighted_residual_sum(&f.used, &f.sqrt_w, &obs.deviation, &fitted);
+    let noise = noise_sigma(wss, f.used.len(), f.kept, opts.sigma);
+    let cov = noise.sigma.map(|s| f.unit_covariance() * (s * s));
+    let groups = parameter_groups(design, &f, &x, cov.as_ref(), opts);
+    let params = parameter_estimates(design, &x, cov.as_ref(), &groups, opts.weak_limit);
+    let (correlation, covariance) = correlations(cov.as_ref(), &params);
+    let notes = notes(&f, p, opts, &noise);
+    let svd = &f.svd;
+    Ok(Identification {
+        parameters: ParameterMap(params),
+        groups,
+        rank: svd.rank,
+        rank_used: f.kept,
+        condition: svd.condition(),
+        condition_used: condition_of(&f.s_red),
+        condition_index_limit: opts.condition_index_limit,
+        singular_values: svd.singular.clone(),
+        residual: residual_statistics(obs, &f.used, &fitted, opts.mape_floor),
+        per_curve: per_curve_statistics(obs, &f.used, &fitted, opts.mape_floor),
+        points_used: f.used.len(),
+        points_excluded: excluded_points(obs),
+        sigma: noise.sigma,
+        sigma_source: noise.source,
+        dof: noise.dof,
+        correlation,
+        covariance,
+        column_correlations: column_correlations(
+            design,
+            &f.used,
+            &f.sqrt_w,
+            opts.correlation_report,
+        ),
+        points: point_fits(obs, &fitted),
+        notes,
+    })
+}
 
-    // Residual and σ.
+/// The least-squares solution `x = M y_used` ([`Factored::estimator`]: `D⁻¹ N V' S'⁻¹ U'ᵀ W^½`,
+/// solved in the column-scaled space), in the parameters' units (mm, rad).
+fn solve_scaled(f: &Factored, obs: &Observations) -> Vec<f64> {
+    let y_used = DVector::from_iterator(f.used.len(), f.used.iter().map(|&i| obs.deviation[i]));
+    (f.estimator() * &y_used).iter().copied().collect()
+}
+
+/// The weighted residual sum of squares `Σ w_i (y_i − (A x)_i)²` over the `used` points (mm²),
+/// `sqrt_w[r]` being `√w` of the `r`-th used point.
+fn weighted_residual_sum(used: &[usize], sqrt_w: &[f64], measured: &[f64], fitted: &[f64]) -> f64 {
     let mut wss = 0.0;
-    for (r, &i) in f.used.iter().enumerate() {
-        let e = obs.deviation[i] - fitted[i];
-        wss += f.sqrt_w[r].powi(2) * e * e;
+    for (r, &i) in used.iter().enumerate() {
+        let e = measured[i] - fitted[i];
+        wss += sqrt_w[r].powi(2) * e * e;
     }
-    let dof = f.used.len().saturating_sub(f.kept);
-    let (sigma, sigma_source) = match opts.sigma {
+    wss
+}
+
+/// σ of unit weight (mm), where it comes from, and the residual degrees of freedom.
+#[derive(Debug, Clone, PartialEq)]
+struct NoiseSigma {
+    /// σ (mm); `None` without residual degree of freedom and without an a priori σ.
+    sigma: Option<f64>,
+    /// `a_priori`, `a_posteriori` or why there is none.
+    source: String,
+    /// `n − r`: used points minus solved directions.
+    dof: usize,
+}
+
+/// σ of unit weight: the a priori σ (mm) if given, else `σ = √(Σ w_i r_i² / (n − r))` (mm) from
+/// the weighted residual sum `wss` (mm²), `n` used points and `r` solved directions.
+fn noise_sigma(wss: f64, used: usize, kept: usize, a_priori: Option<f64>) -> NoiseSigma {
+    let dof = used.saturating_sub(kept);
+    let (sigma, source) = match a_priori {
         Some(s) => (Some(s), "a_priori".to_string()),
         None if dof > 0 => (Some((wss / dof as f64).sqrt()), "a_posteriori".to_string()),
         None => (
@@ -355,11 +419,22 @@ pub fn identify(
             "none: no residual degree of freedom and no a priori sigma".to_string(),
         ),
     };
-    let cov = sigma.map(|s| f.unit_covariance() * (s * s));
+    NoiseSigma { sigma, source, dof }
+}
 
-    // Groups.
+/// The not-separable groups (the unresolved directions `v_k`, `k ≥ first_unresolved`, of the
+/// scaled SVD with their condition indices) and, where there is a covariance (units² of the
+/// parameters), the weak groups (std above `weak_limit` typical magnitudes).
+fn parameter_groups(
+    design: &Design,
+    f: &Factored,
+    x: &[f64],
+    cov: Option<&DMatrix<f64>>,
+    opts: &IdentifyOptions,
+) -> Vec<Group> {
+    let names = design.names();
     let svd = &f.svd;
-    let dirs: Vec<(Vec<f64>, f64)> = (f.first_unresolved..p)
+    let dirs: Vec<(Vec<f64>, f64)> = (f.first_unresolved..design.cols())
         .map(|k| {
             (
                 svd.v.column(k).iter().copied().collect(),
@@ -367,44 +442,58 @@ pub fn identify(
             )
         })
         .collect();
-    let mut groups = not_separable_groups(
-        &names,
-        &svd.scale,
-        &dirs,
-        &x,
-        cov.as_ref(),
-        opts.naming_share,
-    );
+    let mut groups = not_separable_groups(&names, &svd.scale, &dirs, x, cov, opts.naming_share);
     let typical: Vec<f64> = design.parameters().iter().map(|q| q.typical).collect();
-    if let Some(c) = &cov {
+    if let Some(c) = cov {
         groups.extend(weak_groups(
             &names,
             &typical,
-            &x,
+            x,
             c,
             opts.weak_limit,
             opts.naming_share,
         ));
     }
+    groups
+}
 
-    // Parameters.
-    let in_kind = |name: &str, kind: GroupKind| {
+/// The status of a parameter: not separable if a not-separable group names it, else weak if a
+/// weak group names it or its std `sd` exceeds `weak_limit · typical` (both in the
+/// parameter's unit, mm or rad), else identified.
+fn status_of(
+    name: &str,
+    sd: Option<f64>,
+    typical: f64,
+    groups: &[Group],
+    weak_limit: f64,
+) -> Status {
+    let in_kind = |kind: GroupKind| {
         groups
             .iter()
             .any(|g| g.kind == kind && g.parameters.iter().any(|n| n == name))
     };
-    let mut params = Vec::with_capacity(p);
+    if in_kind(GroupKind::NotSeparable) {
+        Status::NotSeparable
+    } else if in_kind(GroupKind::Weak) || sd.is_some_and(|s| s > weak_limit * typical) {
+        Status::Weak
+    } else {
+        Status::Identified
+    }
+}
+
+/// Value, std (`√Cov_jj`, none for a not-separable parameter), unit, status and `t = |x|/std`
+/// of each parameter, in design order.
+fn parameter_estimates(
+    design: &Design,
+    x: &[f64],
+    cov: Option<&DMatrix<f64>>,
+    groups: &[Group],
+    weak_limit: f64,
+) -> Vec<ParameterEstimate> {
+    let mut params = Vec::with_capacity(design.cols());
     for (j, q) in design.parameters().iter().enumerate() {
-        let sd = cov.as_ref().map(|c| c[(j, j)].max(0.0).sqrt());
-        let status = if in_kind(&q.name, GroupKind::NotSeparable) {
-            Status::NotSeparable
-        } else if in_kind(&q.name, GroupKind::Weak)
-            || sd.is_some_and(|s| s > opts.weak_limit * q.typical)
-        {
-            Status::Weak
-        } else {
-            Status::Identified
-        };
+        let sd = cov.map(|c| c[(j, j)].max(0.0).sqrt());
+        let status = status_of(&q.name, sd, q.typical, groups, weak_limit);
         let std = if status == Status::NotSeparable {
             None
         } else {
@@ -419,11 +508,19 @@ pub fn identify(
             t: std.filter(|s| *s > 0.0).map(|s| x[j].abs() / s),
         });
     }
+    params
+}
 
-    // Correlations.
+/// The correlation matrix `Cov_ij / (σ_i σ_j)` (none where a parameter is not separable or has
+/// no variance) and the covariance as rows (units² of the parameters; zeros without one).
+fn correlations(
+    cov: Option<&DMatrix<f64>>,
+    params: &[ParameterEstimate],
+) -> (Vec<Vec<Option<f64>>>, Vec<Vec<f64>>) {
+    let p = params.len();
     let mut correlation = vec![vec![None; p]; p];
     let mut covariance = vec![vec![0.0; p]; p];
-    if let Some(c) = &cov {
+    if let Some(c) = cov {
         for i in 0..p {
             for j in 0..p {
                 covariance[i][j] = c[(i, j)];
@@ -436,20 +533,34 @@ pub fn identify(
             }
         }
     }
+    (correlation, covariance)
+}
+
+/// The pairs of design columns whose weighted cosine over the used points,
+/// `Σ w a_i a_j / √(Σ w a_i² · Σ w a_j²)` (unitless), is at least `limit` in magnitude, in
+/// column order; `sqrt_w[r]` is `√w` of the `r`-th used point.
+fn column_correlations(
+    design: &Design,
+    used: &[usize],
+    sqrt_w: &[f64],
+    limit: f64,
+) -> Vec<ColumnCorrelation> {
+    let names = design.names();
     let a = design.matrix();
+    let p = design.cols();
     let mut column_correlations = Vec::new();
     for i in 0..p {
         for j in (i + 1)..p {
             let (mut dot, mut ni, mut nj) = (0.0, 0.0, 0.0);
-            for (r, &k) in f.used.iter().enumerate() {
-                let w = f.sqrt_w[r].powi(2);
+            for (r, &k) in used.iter().enumerate() {
+                let w = sqrt_w[r].powi(2);
                 dot += w * a[(k, i)] * a[(k, j)];
                 ni += w * a[(k, i)].powi(2);
                 nj += w * a[(k, j)].powi(2);
             }
             if ni > 0.0 && nj > 0.0 {
                 let c = dot / (ni * nj).sqrt();
-                if c.abs() >= opts.correlation_report {
+                if c.abs() >= limit {
                     column_correlations.push(ColumnCorrelation {
                         a: names[i].clone(),
                         b: names[j].clone(),
@@ -459,22 +570,39 @@ pub fn identify(
             }
         }
     }
+    column_correlations
+}
 
-    // Residual statistics, overall and per curve.
-    let meas: Vec<f64> = f.used.iter().map(|&i| obs.deviation[i]).collect();
-    let fit: Vec<f64> = f.used.iter().map(|&i| fitted[i]).collect();
-    let residual = ResidualStats::of(&meas, &fit, opts.mape_floor);
+/// Residual statistics (paper 001 eq. 15-17; mm, MAPE in %) over the used points.
+fn residual_statistics(
+    obs: &Observations,
+    used: &[usize],
+    fitted: &[f64],
+    mape_floor: f64,
+) -> ResidualStats {
+    let meas: Vec<f64> = used.iter().map(|&i| obs.deviation[i]).collect();
+    let fit: Vec<f64> = used.iter().map(|&i| fitted[i]).collect();
+    ResidualStats::of(&meas, &fit, mape_floor)
+}
+
+/// Residual statistics per curve label over the used points, curves in order of first
+/// appearance.
+fn per_curve_statistics(
+    obs: &Observations,
+    used: &[usize],
+    fitted: &[f64],
+    mape_floor: f64,
+) -> Vec<CurveStats> {
     let mut curves: Vec<String> = Vec::new();
-    for &i in &f.used {
+    for &i in used {
         if !curves.contains(&obs.curves[i]) {
             curves.push(obs.curves[i].clone());
         }
     }
-    let per_curve = curves
+    curves
         .into_iter()
         .map(|c| {
-            let idx: Vec<usize> = f
-                .used
+            let idx: Vec<usize> = used
                 .iter()
                 .copied()
                 .filter(|&i| obs.curves[i] == c)
@@ -483,11 +611,15 @@ pub fn identify(
             let ft: Vec<f64> = idx.iter().map(|&i| fitted[i]).collect();
             CurveStats {
                 curve: c,
-                stats: ResidualStats::of(&m, &ft, opts.mape_floor),
+                stats: ResidualStats::of(&m, &ft, mape_floor),
             }
         })
-        .collect();
-    let points: Vec<PointFit> = (0..obs.len())
+        .collect()
+}
+
+/// Measured, fitted and residual deviation (mm) of every point, used or not.
+fn point_fits(obs: &Observations, fitted: &[f64]) -> Vec<PointFit> {
+    (0..obs.len())
         .map(|i| PointFit {
             id: obs.ids[i].clone(),
             curve: obs.curves[i].clone(),
@@ -496,16 +628,24 @@ pub fn identify(
             residual: obs.deviation[i] - fitted[i],
             used: obs.weight(i) > 0.0,
         })
-        .collect();
-    let points_excluded = (0..obs.len())
+        .collect()
+}
+
+/// The points left out of the fit (weight 0), with the reason.
+fn excluded_points(obs: &Observations) -> Vec<ExcludedPoint> {
+    (0..obs.len())
         .filter(|&i| obs.weight(i) <= 0.0)
         .map(|i| ExcludedPoint {
             id: obs.ids[i].clone(),
             reason: "weight 0".to_string(),
         })
-        .collect();
+        .collect()
+}
 
-    // Notes: what was fixed and why.
+/// Notes: what was fixed and why (rank and condition of the scaled design, the unresolved
+/// directions, too few points, the σ the covariance is scaled with, in mm).
+fn notes(f: &Factored, p: usize, opts: &IdentifyOptions, noise: &NoiseSigma) -> Vec<String> {
+    let svd = &f.svd;
     let mut notes = vec![format!(
         "columns scaled to unit length (weighted); numerical rank {} of {} with threshold max(n,p)*eps*s1 = {:.3e}; \
          condition number of the scaled design {:.4}",
@@ -532,33 +672,66 @@ pub fn identify(
             f.used.len()
         ));
     }
-    notes.push(match sigma {
+    let (sigma_source, dof) = (&noise.source, noise.dof);
+    notes.push(match noise.sigma {
         Some(s) => format!("covariance scaled with sigma = {s:.4e} mm ({sigma_source}, {dof} dof)"),
         None => {
             "no covariance: as many kept directions as points and no a priori sigma".to_string()
         }
     });
+    notes
+}
 
-    Ok(Identification {
-        parameters: ParameterMap(params),
-        groups,
-        rank: svd.rank,
-        rank_used: f.kept,
-        condition: svd.condition(),
-        condition_used: condition_of(&f.s_red),
-        condition_index_limit: opts.condition_index_limit,
-        singular_values: svd.singular.clone(),
-        residual,
-        per_curve,
-        points_used: f.used.len(),
-        points_excluded,
-        sigma,
-        sigma_source,
-        dof,
-        correlation,
-        covariance,
-        column_correlations,
-        points,
-        notes,
-    })
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assert_near;
+
+    /// `σ = √(wss / (n − r))`: wss = 8 mm², 6 points, 2 solved directions → dof 4, σ = √2 mm
+    /// (closed form, to rounding 1e-15 mm).
+    #[test]
+    fn noise_sigma_is_the_root_of_the_residual_per_degree_of_freedom() {
+        let s = noise_sigma(8.0, 6, 2, None);
+        assert_eq!((s.dof, s.source.as_str()), (4, "a_posteriori"));
+        assert_near!(s.sigma.unwrap(), 2f64.sqrt(), 1e-15);
+        let given = noise_sigma(8.0, 6, 2, Some(0.003));
+        assert_eq!(
+            (given.sigma, given.source.as_str()),
+            (Some(0.003), "a_priori")
+        );
+        let none = noise_sigma(8.0, 2, 2, None);
+        assert_eq!((none.sigma, none.dof), (None, 0));
+    }
+
+    /// Columns `a = (1, 1, 0)`, `b = (1, 0, 0)` with weights `(4, 1, 1)`: `Σ w a b = 4`,
+    /// `Σ w a² = 5`, `Σ w b² = 4`, cosine `4/√20 = 2/√5` (closed form, 1e-15); the weighted
+    /// residual sum of `y − ŷ = (0.5, −1, 2)` over the same weights is `4·0.25 + 1 + 4 = 6` mm².
+    #[test]
+    fn column_cosine_and_residual_sum_are_weighted() {
+        let design =
+            Design::from_column_major(&["A", "B"], 3, &[1.0, 1.0, 0.0, 1.0, 0.0, 0.0]).unwrap();
+        let used = [0, 1, 2];
+        let sqrt_w = [2.0, 1.0, 1.0];
+        let c = column_correlations(&design, &used, &sqrt_w, 0.7);
+        assert_eq!(c.len(), 1);
+        assert_eq!((c[0].a.as_str(), c[0].b.as_str()), ("A", "B"));
+        assert_near!(c[0].cosine, 2.0 / 5f64.sqrt(), 1e-15);
+        assert!(column_correlations(&design, &used, &sqrt_w, 0.95).is_empty());
+        let wss = weighted_residual_sum(&used, &sqrt_w, &[0.5, 0.0, 2.0], &[0.0, 1.0, 0.0]);
+        assert_near!(wss, 6.0, 1e-15);
+    }
+
+    /// A std above `weak_limit · typical` makes a parameter weak; a group naming it wins.
+    #[test]
+    fn status_follows_the_std_and_the_groups() {
+        assert_eq!(
+            status_of("EX0B", Some(0.002), 0.01, &[], 0.25),
+            Status::Identified
+        );
+        assert_eq!(
+            status_of("EX0B", Some(0.003), 0.01, &[], 0.25),
+            Status::Weak
+        );
+        assert_eq!(status_of("EX0B", None, 0.01, &[], 0.25), Status::Identified);
+    }
 }
