@@ -14,9 +14,12 @@
 //! outward normal; **positive = material left, negative = overcut**.
 
 pub mod analysis;
+#[cfg(feature = "bench")]
+pub mod bench;
 pub mod budget;
 pub mod cmm;
 pub mod compare;
+pub mod examples;
 pub mod gap;
 pub mod geometry;
 pub mod identify;
