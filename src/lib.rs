@@ -7,7 +7,7 @@
 //! and envelope ([`toolpath`]) → machine kinematics and error models ([`machine`]) → machined
 //! defect per error ([`sensitivity`]) → CMM files ([`cmm`]) → least-squares identification
 //! ([`identify`]) → sim-to-real gap diagnosis ([`gap`]). Every stage is a plain function from data
-//! to data; [`wasm`] is the only module that knows about the browser.
+//! to data; `wasm` (compiled for `wasm32` only) is the only module that knows about the browser.
 //!
 //! Units: mm and rad everywhere (degrees only where a file says so). Sign convention
 //! (`shared/spec/s-shape.md`): a deviation is `(machined or measured − nominal) · N` with `N` the
@@ -31,6 +31,7 @@ pub mod simulate;
 pub mod summary;
 pub mod tolerance;
 pub mod toolpath;
+#[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
 /// The crate version, printed by the CLI and on the page's report.
