@@ -1,14 +1,14 @@
 //! Benchmarks of each pipeline stage (`cargo bench --bench stages [-- FILTER]`): median wall time
 //! of repeated calls, printed as `stage<TAB>median_us` and written to
 //! `target/bench-native.json` (`{stage: median_us}`). A plain harness (no external crate) so it
-//! runs on stable. The stages and their inputs are `testpiece::wasm::bench` (one definition for
+//! runs on stable. The stages and their inputs are `testpiece::bench` (one definition for
 //! this harness and for `scripts/bench-wasm.mjs`, which times the same calls in the release wasm
 //! under Node and prints the native | wasm | ratio table).
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use testpiece::wasm::bench::{Stage, STAGES};
+use testpiece::bench::{Stage, STAGES};
 
 /// Runs `f` repeatedly for about `budget` (at least 5 times), returns the median of one call.
 /// A zero budget times one call (for `valgrind --tool=callgrind`: instruction counts).

@@ -1,4 +1,4 @@
-// Times the stages of benches/stages.rs (defined once in src/wasm/bench.rs: same calls, same
+// Times the stages of benches/stages.rs (defined once in src/bench.rs: same calls, same
 // inputs) through the release wasm (www/pkg) under Node, and prints the table
 // `stage | native median | wasm median | wasm / native`, the native medians read from
 // target/bench-native.json (written by `cargo bench --features bench --bench stages`).

@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
-# Both builds carry the `bench` feature (the stage list and its inputs, src/wasm/bench.rs).
+# Both builds carry the `bench` feature (the stage list and its inputs, src/bench.rs).
 TESTPIECE_WASM_FEATURES=bench bash scripts/build-wasm.sh
 cargo bench --quiet --features bench --bench stages -- "$@"
 node scripts/bench-wasm.mjs "$@"

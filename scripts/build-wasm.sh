@@ -11,7 +11,7 @@ if [ "${1:-}" = "--dev" ]; then profile=debug; flag=; fi
 features=${TESTPIECE_WASM_FEATURES:+--features $TESTPIECE_WASM_FEATURES}
 cargo build --lib --target wasm32-unknown-unknown $flag $features
 wasm-bindgen --target web --no-typescript --out-dir www/pkg \
-  "target/wasm32-unknown-unknown/$profile/testpiece.wasm"
+  "${CARGO_TARGET_DIR:-target}/wasm32-unknown-unknown/$profile/testpiece.wasm"
 # Size step (release only): wasm-opt -Oz from the npm package binaryen (a devDependency, runs
 # offline under Node); skipped with a note when `npm install` has not been run. Idempotent: it
 # always starts from wasm-bindgen's fresh output.

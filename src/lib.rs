@@ -7,16 +7,19 @@
 //! and envelope ([`toolpath`]) → machine kinematics and error models ([`machine`]) → machined
 //! defect per error ([`sensitivity`]) → CMM files ([`cmm`]) → least-squares identification
 //! ([`identify`]) → sim-to-real gap diagnosis ([`gap`]). Every stage is a plain function from data
-//! to data; [`wasm`] is the only module that knows about the browser.
+//! to data; `wasm` (compiled for `wasm32` only) is the only module that knows about the browser.
 //!
 //! Units: mm and rad everywhere (degrees only where a file says so). Sign convention
 //! (`shared/spec/s-shape.md`): a deviation is `(machined or measured − nominal) · N` with `N` the
 //! outward normal; **positive = material left, negative = overcut**.
 
 pub mod analysis;
+#[cfg(feature = "bench")]
+pub mod bench;
 pub mod budget;
 pub mod cmm;
 pub mod compare;
+pub mod examples;
 pub mod gap;
 pub mod geometry;
 pub mod identify;
@@ -30,6 +33,7 @@ pub mod summary;
 pub mod tolerance;
 pub mod toolpath;
 pub mod validate;
+#[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
 /// The crate version, printed by the CLI and on the page's report.

@@ -1,8 +1,8 @@
-//! The page's built-in examples (src/wasm/examples.rs: one file embedded whole, two as their
+//! The page's built-in examples (src/examples.rs: one file embedded whole, two as their
 //! deviation column) are the reference files of tests/data/reference/examples/, byte for byte.
 #![cfg(not(target_arch = "wasm32"))]
 
-use testpiece::wasm::examples::{example_text, EXAMPLES};
+use testpiece::examples::{example_text, EXAMPLES};
 
 #[test]
 fn built_in_examples_are_the_reference_files() {

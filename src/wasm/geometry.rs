@@ -13,22 +13,6 @@ pub fn builtin_points_js() -> Result<JsValue, JsError> {
     to_js(&builtin_points(&SShape::iso()))
 }
 
-/// Deviation left by the flank path (paper 000 eq. 2, exact tool envelope) at the 100 built-in
-/// points for a tool of radius `10 + d_r` mm: an array of `{id, curve, deviation}` (mm; + = material
-/// left, - = overcut).
-#[wasm_bindgen(js_name = envelopeDeviation)]
-pub fn envelope_deviation_js(d_r: f64) -> Result<JsValue, JsError> {
-    if !d_r.is_finite() {
-        return Err(JsError::new(&format!(
-            "tool radius error {d_r} mm is not a finite number"
-        )));
-    }
-    let part = SShape::iso();
-    let dev = crate::toolpath::points_deviation(&part, &builtin_points(&part), d_r)
-        .map_err(|e| JsError::new(&e.to_string()))?;
-    to_js(&dev)
-}
-
 /// Largest overcut of the flank path over each whole surface (Z 0..30) and where:
 /// `[{surface, max_overcut, u, z}]` (mm; `max_overcut` > 0).
 #[wasm_bindgen(js_name = surfaceMaxOvercut)]
@@ -83,31 +67,4 @@ pub fn multilayer_deviation_js(
     let part = SShape::iso();
     let res = multilayer_deviation(&part, &builtin_points(&part), &profile, &plan).map_err(err)?;
     to_js(&res)
-}
-
-/// The built-in points of a cone-frustum test piece (paper 002 Table 3): `kind` is `"M3_15"` or
-/// `"M3_45"`, `offsets` places it with the paper's centre and height offsets (62.5 and 30 mm).
-/// Returns `{cone: {name, bottom_diameter, thickness, inclination, half_apex, center_offset,
-/// height_offset}, points: [{id, level, u, v, x, y, z, nx, ny, nz, h}]}` (mm, rad).
-#[wasm_bindgen(js_name = conePoints)]
-pub fn cone_points_js(kind: &str, offsets: bool) -> Result<JsValue, JsError> {
-    use crate::part::ConeFrustum;
-    let cone = match kind.trim().to_ascii_uppercase().as_str() {
-        "M3_15" => ConeFrustum::m3_15(offsets),
-        "M3_45" => ConeFrustum::m3_45(offsets),
-        other => {
-            return Err(JsError::new(&format!(
-                "unknown cone frustum `{other}` (expected M3_15 or M3_45)"
-            )))
-        }
-    };
-    #[derive(serde::Serialize)]
-    struct Out<'a> {
-        cone: &'a ConeFrustum,
-        points: Vec<crate::part::ConePoint>,
-    }
-    to_js(&Out {
-        cone: &cone,
-        points: cone.builtin_points(),
-    })
 }

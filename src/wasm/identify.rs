@@ -1,27 +1,8 @@
 //! wasm exports of the `identify` stage.
 
-use serde::Deserialize;
 use wasm_bindgen::prelude::*;
 
 use crate::identify::{self, Design, IdentifyOptions, Observations};
-
-/// Options of [`identify_design`] (all optional; defaults of `IdentifyOptions`).
-#[derive(Debug, Default, Deserialize)]
-#[serde(default, rename_all = "camelCase")]
-struct JsIdentifyOptions {
-    /// Condition index from which a direction is not separated (30).
-    condition_index_limit: Option<f64>,
-    /// Std in typical magnitudes above which a direction is weak (0.25).
-    weak_limit: Option<f64>,
-    /// A priori σ of unit weight (mm).
-    sigma: Option<f64>,
-    /// Adds the tool-radius column `dR` (-1 at every point).
-    tool_radius: bool,
-    /// Point ids (default 1..n).
-    ids: Option<Vec<String>>,
-    /// Curve label per point (default `all`).
-    curves: Option<Vec<String>>,
-}
 
 /// Guards of the array arguments: at least one point, one deviation per point, weights empty or
 /// one per point (the core checks the values: finite, weights >= 0).
@@ -44,7 +25,7 @@ fn check_rows(n: usize, deviation: &[f64], weights: &[f64]) -> Result<(), JsErro
     Ok(())
 }
 
-/// Identifies the parameters of a design from measured deviations.
+/// The compensation table of an identification as CSV text (`name,iso_230_1,value,unit,std,status`).
 ///
 /// - `design`: the n x p design matrix, **column-major** (`design[j*n + i]` = point i, column j),
 ///   in mm per unit of each parameter (mm/rad for angles, mm/mm for lengths);
@@ -53,58 +34,7 @@ fn check_rows(n: usize, deviation: &[f64], weights: &[f64]) -> Result<(), JsErro
 ///   `E[ABC]..`, mm otherwise);
 /// - `deviation`: n measured deviations (mm, + = material left);
 /// - `weights`: n relative weights (1/σ²; 0 excludes a point), or an empty array for all 1;
-/// - `options`: `{conditionIndexLimit, weakLimit, sigma, toolRadius, ids, curves}`, all optional.
-///
-/// Returns the `Identification` object (same fields as `testpiece identify --json`).
-#[wasm_bindgen(js_name = identifyDesign)]
-pub fn identify_design(
-    design: &[f64],
-    n: usize,
-    names: Vec<String>,
-    deviation: &[f64],
-    weights: &[f64],
-    options: JsValue,
-) -> Result<JsValue, JsError> {
-    let o: JsIdentifyOptions = if options.is_undefined() || options.is_null() {
-        JsIdentifyOptions::default()
-    } else {
-        super::from_js(options).map_err(|e| JsError::new(&format!("identify options: {e}")))?
-    };
-    check_rows(n, deviation, weights)?;
-    let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
-    let mut d = Design::from_column_major(&name_refs, n, design)
-        .map_err(|e| JsError::new(&e.to_string()))?;
-    if o.tool_radius {
-        d = d
-            .with_tool_radius()
-            .map_err(|e| JsError::new(&e.to_string()))?;
-    }
-    let mut obs = Observations::plain(deviation.to_vec());
-    if let Some(ids) = o.ids {
-        obs.ids = ids;
-    }
-    if let Some(c) = o.curves {
-        obs.curves = c;
-    }
-    if !weights.is_empty() {
-        obs = obs.with_weights(weights.to_vec());
-    }
-    let mut opts = IdentifyOptions::default();
-    if let Some(v) = o.condition_index_limit {
-        opts = opts.with_condition_index_limit(v);
-    }
-    if let Some(v) = o.weak_limit {
-        opts = opts.with_weak_limit(v);
-    }
-    if let Some(v) = o.sigma {
-        opts = opts.with_sigma(v);
-    }
-    let id = identify::identify(&d, &obs, &opts).map_err(|e| JsError::new(&e.to_string()))?;
-    super::to_js(&id)
-}
-
-/// The compensation table of an identification as CSV text (`name,iso_230_1,value,unit,std,status`);
-/// same arguments as [`identify_design`].
+/// - `tool_radius`: adds the tool-radius column `dR` (-1 at every point).
 #[wasm_bindgen(js_name = compensationCsv)]
 pub fn compensation_csv(
     design: &[f64],

@@ -91,7 +91,7 @@ fn built_in_examples_are_the_reference_files_under_wasm() {
             include_str!("../data/reference/examples/example_clean.csv"),
         ),
     ] {
-        let text = testpiece::wasm::examples::example_text(name);
+        let text = testpiece::examples::example_text(name);
         assert!(text.as_deref() == Some(disk), "{name} differs under wasm");
     }
 }

@@ -1,0 +1,214 @@
+//! The benchmark stages of issue 8, defined once so that `cargo bench --bench stages` (native)
+//! and `scripts/bench-wasm.mjs` (the release wasm under Node, through the exports `benchPrepare`
+//! and `benchRun` of `wasm::bench`) time the same core calls on the same inputs. Preparation
+//! (building the part, the points, a CMM file's text, a design) is outside the timed call; one
+//! timed call returns a number derived from the result so that nothing is optimised away.
+//!
+//! Stages (inputs: the ISO S-shape and its 100 built-in points):
+//! `bspline_eval_1000` (1000 evaluations of `C0` of surface A with two derivatives),
+//! `builtin_points`, `projection_100` (the points offset 0.01 mm along `N`, projected onto the
+//! part by one `Projector`, as the reader does), `envelope_100`, `surface_max_overcut` (surface A), `inverse_kinematics_path` (the
+//! flank path of both surfaces at the points), `figure19_matrix`, `read_cmm_100` and
+//! `read_cmm_100000` (canonical CSV, the built-in points repeated), `identify_100` and
+//! `identify_100000` (the Figure-19 design with `dR`, the rows repeated, synthetic deviations),
+//! `analyse_100` (read, match, identify, refine and the full gap diagnosis of a 100-row file),
+//! `diagnose_100` (the gap diagnosis alone: part model with all candidates, cross-validation).
+
+use nalgebra::{DMatrix, Vector3};
+
+use crate::analysis::{analyse, AnalysisOptions};
+use crate::cmm::write::{canonical_csv, Precision};
+use crate::identify::{identify, Design, IdentifyOptions, Observations};
+use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
+use crate::sensitivity::{machine_path, sensitivity_matrix, SensitivityOptions};
+
+/// The stage names, in table order.
+pub const STAGES: [&str; 13] = [
+    "bspline_eval_1000",
+    "builtin_points",
+    "projection_100",
+    "envelope_100",
+    "surface_max_overcut",
+    "inverse_kinematics_path",
+    "figure19_matrix",
+    "read_cmm_100",
+    "read_cmm_100000",
+    "identify_100",
+    "identify_100000",
+    "analyse_100",
+    "diagnose_100",
+];
+
+/// A canonical CMM file of `rows` rows: the 100 built-in points repeated with unique ids and a
+/// small deterministic deviation.
+pub fn cmm_text(rows: usize) -> String {
+    let part = SShape::iso();
+    let pts = builtin_points(&part);
+    let repeated: Vec<MeasurementPoint> = (0..rows)
+        .map(|i| MeasurementPoint {
+            id: i + 1,
+            ..pts[i % pts.len()]
+        })
+        .collect();
+    canonical_csv(
+        repeated
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p, 0.001 * ((i % 17) as f64 - 8.0))),
+        Precision::Shortest,
+        None,
+    )
+}
+
+/// The Figure-19 design with the tool-radius column, its rows repeated to `rows`, and
+/// deviations from known errors plus a deterministic ±2 µm pattern.
+pub fn identify_input(rows: usize) -> Result<(Design, Observations), String> {
+    let part = SShape::iso();
+    let pts = builtin_points(&part);
+    let m = sensitivity_matrix(&part, &pts, &SensitivityOptions::default())
+        .map_err(|e| e.to_string())?;
+    let tiled = DMatrix::from_fn(rows, m.values.ncols(), |i, j| m.values[(i % pts.len(), j)]);
+    let names: Vec<&str> = m.params.iter().map(String::as_str).collect();
+    let design = Design::from_column_major(&names, rows, tiled.as_slice())
+        .and_then(Design::with_tool_radius)
+        .map_err(|e| e.to_string())?;
+    let truth: Vec<f64> = (0..design.cols())
+        .map(|j| 1e-5 * (j as f64 - 3.5))
+        .collect();
+    let mut y = design.predict(&truth);
+    for (i, v) in y.iter_mut().enumerate() {
+        *v += 0.002 * (((i * 7919) % 1000) as f64 / 500.0 - 1.0);
+    }
+    Ok((design, Observations::plain(y)))
+}
+
+/// Prepared input of one stage.
+pub enum Stage {
+    Eval(SShape),
+    Points(SShape),
+    Project(SShape, Vec<Vector3<f64>>),
+    Envelope(SShape, Vec<MeasurementPoint>),
+    SurfaceMax(SShape),
+    Path(SShape, Vec<MeasurementPoint>),
+    Matrix(SShape, Vec<MeasurementPoint>),
+    Read(String),
+    Identify(Design, Observations),
+    Analyse(String),
+    Diagnose(SShape, Vec<MeasurementPoint>, Vec<f64>),
+}
+
+impl Stage {
+    /// Builds the input of stage `name` (one of [`STAGES`]).
+    pub fn prepare(name: &str) -> Result<Stage, String> {
+        let part = SShape::iso();
+        let pts = builtin_points(&part);
+        Ok(match name {
+            "bspline_eval_1000" => Stage::Eval(part),
+            "builtin_points" => Stage::Points(part),
+            "projection_100" => {
+                let ps = pts.iter().map(|p| p.point + p.normal * 0.01).collect();
+                Stage::Project(part, ps)
+            }
+            "envelope_100" => Stage::Envelope(part, pts),
+            "surface_max_overcut" => Stage::SurfaceMax(part),
+            "inverse_kinematics_path" => Stage::Path(part, pts),
+            "figure19_matrix" => Stage::Matrix(part, pts),
+            "read_cmm_100" => Stage::Read(cmm_text(100)),
+            "read_cmm_100000" => Stage::Read(cmm_text(100_000)),
+            "identify_100" => {
+                let (d, o) = identify_input(100)?;
+                Stage::Identify(d, o)
+            }
+            "identify_100000" => {
+                let (d, o) = identify_input(100_000)?;
+                Stage::Identify(d, o)
+            }
+            "analyse_100" => Stage::Analyse(cmm_text(100)),
+            "diagnose_100" => {
+                let devs = crate::cmm::read_cmm(cmm_text(100).as_bytes(), "bench.csv")
+                    .map_err(|x| x.to_string())?
+                    .points
+                    .iter()
+                    .map(|p| p.deviation.unwrap_or(0.0))
+                    .collect();
+                Stage::Diagnose(part, pts, devs)
+            }
+            _ => {
+                return Err(format!(
+                    "unknown stage `{name}` (expected one of {STAGES:?})"
+                ))
+            }
+        })
+    }
+
+    /// Runs the stage once; returns a number taken from the result.
+    pub fn run(&self) -> Result<f64, String> {
+        let e = |e: &dyn std::fmt::Display| e.to_string();
+        Ok(match self {
+            Stage::Eval(part) => {
+                let c = &part.a[0];
+                (0..1000).map(|i| c.derivs_at(i as f64 / 999.0).d2.x).sum()
+            }
+            Stage::Points(part) => builtin_points(part)[99].u,
+            Stage::Project(part, ps) => {
+                // As the reader does: the start rulings once per file, then each point.
+                let projector = crate::geometry::projection::Projector::new(part);
+                let mut s = 0.0;
+                for p in ps {
+                    s += projector.project(p).map_err(|x| e(&x))?.distance;
+                }
+                s
+            }
+            Stage::Envelope(part, pts) => {
+                crate::toolpath::envelope::points_deviation(part, pts, 0.0)
+                    .map_err(|x| e(&x))?
+                    .len() as f64
+            }
+            Stage::SurfaceMax(part) => {
+                crate::toolpath::envelope::surface_max_overcut(part, Surface::A)
+                    .map_err(|x| e(&x))?
+                    .max_overcut
+            }
+            Stage::Path(part, pts) => {
+                let o = SensitivityOptions::default();
+                let mut s = 0.0;
+                for surf in Surface::BOTH {
+                    let us: Vec<f64> = pts
+                        .iter()
+                        .filter(|p| p.surface == surf)
+                        .map(|p| p.u)
+                        .collect();
+                    let path =
+                        machine_path(part, &o.chain, surf, o.branch, &us).map_err(|x| e(&x))?;
+                    s += path.len() as f64;
+                }
+                s
+            }
+            Stage::Matrix(part, pts) => {
+                sensitivity_matrix(part, pts, &SensitivityOptions::default())
+                    .map_err(|x| e(&x))?
+                    .values[(0, 0)]
+            }
+            Stage::Read(text) => crate::cmm::read_cmm(text.as_bytes(), "bench.csv")
+                .map_err(|x| e(&x))?
+                .points
+                .len() as f64,
+            Stage::Identify(d, o) => {
+                identify(d, o, &IdentifyOptions::default())
+                    .map_err(|x| e(&x))?
+                    .rank as f64
+            }
+            Stage::Analyse(text) => {
+                analyse(text.as_bytes(), "bench.csv", &AnalysisOptions::default())
+                    .map_err(|x| e(&x))?;
+                1.0
+            }
+            Stage::Diagnose(part, pts, devs) => {
+                crate::analysis::diagnose_points(part, pts, devs, None)
+                    .map_err(|x| e(&x))?
+                    .baseline
+                    .rms
+            }
+        })
+    }
+}
