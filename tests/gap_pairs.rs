@@ -233,7 +233,7 @@ fn a_measured_file_with_two_effects_gets_both() {
 #[test]
 fn validate_pairs_floor() {
     use testpiece::gap::effects::builtin::builtin_model;
-    use testpiece::validate::{validate_pairs, ValidateOptions, ValidationModel};
+    use testpiece::validate::{pairs_table, validate_pairs, ValidateOptions, ValidationModel};
     let m = builtin_model(&testpiece::part::SShape::iso()).unwrap();
     let model = ValidationModel {
         points: m.points,
@@ -241,15 +241,7 @@ fn validate_pairs_floor() {
         candidates: m.candidates,
     };
     let r = validate_pairs(&model, &ValidateOptions::default().with_cases(202)).unwrap();
-    println!(
-        "pairs: both named {}/{} = {:.1} %, one {}, unexplained {}, none {}",
-        r.both_named,
-        r.cases,
-        100.0 * r.rate,
-        r.one_named,
-        r.unexplained,
-        r.none
-    );
+    print!("{}", pairs_table(&r));
     assert!(r.rate >= 0.65, "{}", r.rate);
     assert!(r.none as f64 <= 0.08 * r.cases as f64, "{}", r.none);
 }

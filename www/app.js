@@ -180,7 +180,7 @@ function summaryText() {
   if (!a) { box.textContent = 'Computing…'; return; }
   const id = a.identification;
   const weak = id.groups.map((g) => g.parameters.join('/')).join('; ');
-  const strong = Object.entries(id.parameters).filter(([, p]) => p.status === 'identified' && p.t !== null && p.t >= 3)
+  const strong = Object.entries(id.parameters).filter(([, p]) => p.nonzero)
     .map(([n, p]) => `${n} = ${p.unit === 'rad' ? p.value.toExponential(2) : p.value.toFixed(4)} ${p.unit}`);
   const d = diagnosisOf(a);
   box.append(

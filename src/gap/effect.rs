@@ -216,7 +216,7 @@ fn rotation_z(p: &EffectPoint) -> f64 {
 
 impl fmt::Display for Effect {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.id())
+        f.pad(self.id())
     }
 }
 

@@ -36,7 +36,7 @@ use nalgebra::{DMatrix, DVector};
 use super::groups::{not_separable_groups, weak_groups, Group, GroupKind};
 use super::report::{
     ColumnCorrelation, CurveStats, ExcludedPoint, Identification, ParameterEstimate, ParameterMap,
-    PointFit, Status,
+    PointFit, Status, NONZERO_T,
 };
 use super::scaled_svd::{condition_of, ScaledSvd};
 use super::stats::ResidualStats;
@@ -499,13 +499,15 @@ fn parameter_estimates(
         } else {
             sd
         };
+        let t = std.filter(|s| *s > 0.0).map(|s| x[j].abs() / s);
         params.push(ParameterEstimate {
             name: q.name.clone(),
             value: x[j],
             std,
             unit: q.unit.clone(),
             status,
-            t: std.filter(|s| *s > 0.0).map(|s| x[j].abs() / s),
+            t,
+            nonzero: status == Status::Identified && t.is_some_and(|t| t >= NONZERO_T),
         });
     }
     params

@@ -33,7 +33,13 @@ pub struct ParameterEstimate {
     pub status: Status,
     /// `|value| / std`: below 2 the value is not distinguishable from 0 at 95 %.
     pub t: Option<f64>,
+    /// Identified and clearly non-zero: `t ≥` [`NONZERO_T`] (the page's summary lists these).
+    #[serde(default)]
+    pub nonzero: bool,
 }
+
+/// `t` at or above which an identified value is reported as clearly non-zero.
+pub const NONZERO_T: f64 = 3.0;
 
 /// Parameters in design order, serialised as a JSON object `{name: {...}}` in that order.
 #[derive(Debug, Clone, PartialEq, Default)]

@@ -30,6 +30,12 @@ at the matched points.
              branch of the inverse kinematics (signed, default, or positive).
 --exclude-bad-rows  leave out the rows the reader rejects instead of refusing the file.
 --json       the report as JSON (shared/spec/cli.md); default: the plain-language summary.
+             verdict.kind is noise, unexplained or named; verdict.effect the id (none,
+             unexplained or an effect of effects.md), verdict.with the pair's second effect.
+             Each `where` entry names its group (curve, region, lean, reversal) with the
+             group's own fields (a reversal: axis, s in mm of tool path, nearest point id,
+             of_verdict, marked) and whether the residual is concentrated there (> 1.5x its
+             share).
 ";
 
 pub fn run(rest: &[String]) -> Result<(), String> {
