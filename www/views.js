@@ -193,7 +193,7 @@ function describeReversal(e) {
 /** Why the marked reversals are marked, in words (from the core's flags). */
 function markedWhy(w) {
   const axes = w.verdictAxes.length ? `those of the named backlash's ${w.verdictAxes.join(', ')} axis and ` : '';
-  return `${axes}those where the residual is concentrated (the core's \`concentrated\`), and the one chosen above`;
+  return `${axes}those where the residual is concentrated near the reversal, and the one chosen above`;
 }
 
 /** The marked reversals as a compact table inside a collapsible block. */
@@ -203,7 +203,7 @@ function reversalList(w) {
     h('td', { class: 'num' }, String(e.n)), h('td', { class: 'num' }, (e.rms * 1000).toFixed(1)), h('td', { class: 'num' }, e.concentration.toFixed(2)),
     h('td', {}, e.of_verdict ? 'named backlash axis' : e.concentrated ? 'residual concentrated' : 'chosen')));
   return h('details', { class: 'reversal-list' },
-    h('summary', {}, `▼ ${w.marked.length} of ${w.reversals.length} axis reversals marked (${[...new Set(w.marked.map((e) => e.axis))].join(', ')}): ${markedWhy(w)}`),
+    h('summary', {}, `${w.marked.length} of ${w.reversals.length} axis reversals marked (${[...new Set(w.marked.map((e) => e.axis))].join(', ')}): ${markedWhy(w)}`),
     h('table', {}, h('thead', {}, h('tr', {}, ...['axis', 'at (mm of tool path)', 'nearest point', 'points in ±10 mm', 'RMS (µm)', 'share ×', 'why marked'].map((t) => h('th', { scope: 'col' }, t)))),
       h('tbody', {}, ...rows)));
 }
@@ -213,7 +213,7 @@ function reversalList(w) {
 function whereNote(w) {
   if (!w) return '';
   const s = w.d.structure;
-  const what = s.structured ? `structure (RMS ${um1(s.structure_rms)} above noise σ ${um1(s.noise.used)})` : `noise (σ ${um1(s.noise.used)}; no structure above 2.5σ)`;
+  const what = s.structured ? `structure (RMS ${um1(s.structure_rms)} above noise σ ${um1(s.noise.used)})` : `noise (σ ${um1(s.noise.used)}; no structure above the detection limit ${um1(w.d.verdict.detection_limit)})`;
   const shade = w.chosen ? `Shaded: ${GROUP_WORDS[w.chosen.group]} ${w.chosen.name} (RMS ${um1(w.chosen.rms)}, ${Number(w.chosen.concentration.toFixed(2))}× its share).` : 'Nothing shaded.';
   const axes = [...new Set(w.marked.map((e) => e.axis))].join(', ');
   const rev = w.marked.length ? `▼ ${w.marked.length} of ${w.reversals.length} axis reversals (${axes}) at the nearest point; ` : `▼ none of ${w.reversals.length} axis reversals marked; `;
