@@ -162,3 +162,66 @@ fn the_cli_diagnoses_on_the_chosen_machine() {
         "{err}"
     );
 }
+
+/// `simulate --effect` adds `value × signature` of effects.md (the columns `part_model` gives the
+/// diagnosis) to the simulated deviation, to rounding (the CSV holds the shortest round-trip
+/// decimal of each value: 1e-15 mm), and `diagnose` names a simulated backlash of C.
+#[test]
+fn simulate_adds_an_effects_signature_that_diagnose_names() {
+    let deviations = |csv: &str| -> Vec<f64> {
+        csv.lines()
+            .skip(1)
+            .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+            .collect()
+    };
+    let base = ["simulate", "--errors", "EX0B=0.01,EA0B=1e-4", "--seed", "3"];
+    let plain = deviations(&testpiece_ok(&base));
+    let with: Vec<&str> = base
+        .iter()
+        .copied()
+        .chain(["--effect", "backlash_c=6e-4,tool_taper.g=2e-4"])
+        .collect();
+    let both = deviations(&testpiece_ok(&with));
+    let m = part_model(&SShape::iso(), &builtin()).unwrap();
+    let sig = |e: Effect, j: usize| -> Vec<f64> {
+        let c = m.candidates.iter().find(|c| c.effect == e).unwrap();
+        c.signature.matrix.column(j).iter().copied().collect()
+    };
+    let (c, g) = (
+        sig(Effect::Backlash(AxisName::C), 0),
+        sig(Effect::ToolTaper, 1),
+    );
+    for i in 0..100 {
+        let want = 6e-4 * c[i] + 2e-4 * g[i];
+        assert!(
+            (both[i] - plain[i] - want).abs() < 1e-15,
+            "point {}: {} vs {want}",
+            i + 1,
+            both[i] - plain[i]
+        );
+    }
+    let noisy: Vec<&str> = with[..5]
+        .iter()
+        .copied()
+        .chain(["--effect", "backlash_c=6e-4", "--noise", "0.0015"])
+        .collect();
+    let path = std::env::temp_dir().join(format!("tp-sim-effect-{}.csv", std::process::id()));
+    std::fs::write(&path, testpiece_ok(&noisy)).unwrap();
+    let verdict = testpiece_ok(&["diagnose", path.to_str().unwrap()]);
+    std::fs::remove_file(&path).ok();
+    assert!(
+        verdict.starts_with("Verdict: backlash of the C axis (`backlash_c`)"),
+        "{verdict}"
+    );
+    let (ok, _, err) = testpiece(&[
+        "simulate",
+        "--errors",
+        "EX0B=0.01",
+        "--effect",
+        "setup_error=1e-4",
+    ]);
+    assert!(
+        !ok && err.contains("write `setup_error.<parameter>`"),
+        "{err}"
+    );
+}

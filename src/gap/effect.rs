@@ -173,6 +173,42 @@ impl Effect {
         }
     }
 
+    /// The effect and the index of its parameter written `key`: `<id>` for a one-parameter
+    /// effect (`backlash_c`), `<id>.<parameter>` for any (`tool_taper.g`).
+    pub fn parse_parameter(key: &str) -> Result<(Effect, usize), GapError> {
+        let (id, name) = match key.split_once('.') {
+            Some((id, name)) => (id, Some(name)),
+            None => (key, None),
+        };
+        let effect: Effect = id.parse()?;
+        let params = effect.parameters();
+        let known = || {
+            params
+                .iter()
+                .map(|(n, u)| format!("{n} ({u})"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        match name {
+            None if params.len() == 1 => Ok((effect, 0)),
+            None => Err(GapError::ParameterNeeded {
+                key: key.to_string(),
+                effect,
+                known: known(),
+            }),
+            Some(name) => params
+                .iter()
+                .position(|(n, _)| *n == name)
+                .map(|j| (effect, j))
+                .ok_or_else(|| GapError::UnknownParameter {
+                    key: key.to_string(),
+                    effect,
+                    name: name.to_string(),
+                    known: known(),
+                }),
+        }
+    }
+
     /// The machine axis the effect belongs to (backlash and scale), if any.
     pub fn axis(self) -> Option<AxisName> {
         match self {
@@ -305,6 +341,26 @@ mod tests {
             );
         }
         assert!("reversal_x".parse::<Effect>().is_err());
+    }
+
+    #[test]
+    fn parameters_are_named_by_id_or_id_dot_name() {
+        assert_eq!(
+            Effect::parse_parameter("backlash_c").unwrap(),
+            (Effect::Backlash(AxisName::C), 0)
+        );
+        assert_eq!(
+            Effect::parse_parameter("tool_taper.g").unwrap(),
+            (Effect::ToolTaper, 1)
+        );
+        assert_eq!(
+            Effect::parse_parameter("setup_error").unwrap_err().to_string(),
+            "`setup_error`: `setup_error` has the parameters thetaz (rad), tx (mm), ty (mm); write `setup_error.<parameter>`"
+        );
+        assert_eq!(
+            Effect::parse_parameter("tool_taper.h").unwrap_err().to_string(),
+            "`tool_taper.h`: `tool_taper` has no parameter `h` (its parameters: dR0 (mm), g (mm/mm))"
+        );
     }
 
     #[test]

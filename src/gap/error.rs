@@ -37,6 +37,19 @@ pub enum GapError {
     EmptyCandidate(crate::gap::Effect),
     #[error("unknown effect id `{0}` (see shared/spec/effects.md)")]
     UnknownEffect(String),
+    #[error("`{key}`: `{effect}` has the parameters {known}; write `{effect}.<parameter>`")]
+    ParameterNeeded {
+        key: String,
+        effect: crate::gap::Effect,
+        known: String,
+    },
+    #[error("`{key}`: `{effect}` has no parameter `{name}` (its parameters: {known})")]
+    UnknownParameter {
+        key: String,
+        effect: crate::gap::Effect,
+        name: String,
+        known: String,
+    },
     #[error("`{effect}` needs the {axis:?} axis, which this machine does not have")]
     MissingAxis {
         effect: crate::gap::Effect,

@@ -2,13 +2,18 @@
 
 use crate::args::Args;
 use testpiece::cmm::write::{canonical_csv, Precision};
+use testpiece::gap::effects::builtin::part_model_on;
+use testpiece::gap::Effect;
 use testpiece::identify::{Design, ISO_LOCATION_ERRORS};
+use testpiece::machine::Branch;
 use testpiece::part::{builtin_points, SShape};
+use testpiece::sensitivity::SensitivityOptions;
 use testpiece::simulate::{parse_errors, simulate_deviation, simulate_exact};
 
 const HELP: &str = "\
-testpiece simulate --errors EX0B=0.03,EA0B=3e-4 [--noise 0.0015] [--seed 7]
-                   [--mode physical|paper] [--branch signed|positive] [--linear]
+testpiece simulate --errors EX0B=0.03,EA0B=3e-4 [--effect backlash_c=1e-4,tool_taper.g=2e-4]
+                   [--noise 0.0015] [--seed 7] [--mode physical|paper]
+                   [--branch signed|positive] [--linear]
 
 Prints a synthetic measured part at the 100 built-in points in the canonical format
 `id,curve,x,y,z,nx,ny,nz,deviation` (mm; deviation = (machined - nominal)·N, + = material left).
@@ -17,11 +22,31 @@ eq. 14; they differ by < 0.3 µm at 3e-4 rad) for the given errors
 (EC0Y EA0Z EB0Z EA0C EB0C EA0B EC0B in rad, EX0B in mm; others 0), plus dR (mm, a tool larger by
 dR overcuts by dR) if given in --errors, plus Gaussian noise of σ = --noise mm (default 0) drawn
 from a ChaCha8 stream seeded by --seed (default 7): the same seed gives the same part.
+
+--effect adds unmodelled effects of shared/spec/effects.md, each as ID=VALUE for a one-parameter
+effect (backlash_c=1e-4: rad for B and C, mm for X, Y, Z) or ID.PARAMETER=VALUE (tool_taper.g=2e-4,
+setup_error.thetaz=1e-4), in the parameter's unit: the deviation gains VALUE times the effect's
+signature at the points (paper 000's machine, physical mode, the --branch given), the signature
+`testpiece diagnose` fits. Ids: tool_radius, tool_taper, overcut, backlash_x|y|z|b|c,
+thermal_drift, setup_error, scale_x|y|z, c_index, pivot_length.
 ";
 
 /// The design of the 100 built-in points for a mode and branch, with the dR column if asked.
 pub fn design_for(mode: &str, branch: &str, tool_radius: bool) -> Result<Design, String> {
     testpiece::simulate::builtin_design(mode, branch, tool_radius).map_err(|e| e.to_string())
+}
+
+/// `--effect ID=VALUE,ID.PARAMETER=VALUE`: each effect parameter and its value.
+fn parse_effects(text: &str) -> Result<Vec<(Effect, usize, f64)>, String> {
+    parse_errors(text)
+        .map_err(|e| format!("--effect: {e}"))?
+        .into_iter()
+        .map(|(key, value)| {
+            let (effect, j) =
+                Effect::parse_parameter(&key).map_err(|e| format!("--effect: {e}"))?;
+            Ok((effect, j, value))
+        })
+        .collect()
 }
 
 /// `--mode` and `--branch` values, checked.
@@ -62,11 +87,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     };
     let (mode, branch) = mode_and_branch(&args)?;
     let linear = args.flag("linear");
-    if let Some(e) = args.value("effect") {
-        return Err(format!(
-            "--effect {e}: effects are simulated by the gap-diagnosis stage, not available in this version yet"
-        ));
-    }
+    let effects = args.value("effect").map(parse_effects).transpose()?;
     args.reject_unknown("simulate")?;
     if !args.positional.is_empty() {
         return Err(format!(
@@ -91,7 +112,20 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         simulate_exact(&mode, &branch, &errs, noise, seed)
     }
     .map_err(|e| e.to_string())?;
-    let pts = builtin_points(&SShape::iso());
+    let part = SShape::iso();
+    let pts = builtin_points(&part);
+    let dev: Vec<f64> = match effects {
+        Some(values) => {
+            let branch = Branch::parse(&branch).ok_or("--branch: expected signed or positive")?;
+            let opts = SensitivityOptions::default().with_branch(branch);
+            let model = part_model_on(&part, &pts, &opts).map_err(|e| e.to_string())?;
+            let e = model
+                .effect_deviation(&values)
+                .map_err(|e| format!("--effect: {e}"))?;
+            dev.iter().zip(e).map(|(d, e)| d + e).collect()
+        }
+        None => dev.iter().copied().collect(),
+    };
     if pts.len() != dev.len() {
         return Err(format!(
             "internal: {} built-in points but {} design rows",

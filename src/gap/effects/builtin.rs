@@ -73,6 +73,27 @@ pub struct PartModel {
     pub reversals: Vec<crate::gap::data::Reversal>,
 }
 
+impl PartModel {
+    /// The deviation (mm, one value per point) that the effects' parameters `values` (an
+    /// effect, the index of its parameter, the value in the parameter's unit) leave on this
+    /// part: `Σ value · signature column` (effects.md: signatures are per unit of each parameter).
+    pub fn effect_deviation(&self, values: &[(Effect, usize, f64)]) -> Result<Vec<f64>, GapError> {
+        let mut out = vec![0.0; self.points.len()];
+        for &(effect, j, value) in values {
+            let c = self.candidates.iter().find(|c| c.effect == effect).ok_or(
+                GapError::MissingAxis {
+                    effect,
+                    axis: effect.axis().unwrap_or(AxisName::C),
+                },
+            )?;
+            for (o, s) in out.iter_mut().zip(c.signature.matrix.column(j).iter()) {
+                *o += value * s;
+            }
+        }
+        Ok(out)
+    }
+}
+
 /// Below this largest |signature| (mm of deviation per unit of every parameter of the effect,
 /// mm or rad) an effect cannot show on this machine at any plausible size: e.g. the backlash and
 /// the scale error of Z on paper 002's tilting table, whose Z moves along the tool axis, which
