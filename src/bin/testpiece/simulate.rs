@@ -124,7 +124,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
                 .map_err(|e| format!("--effect: {e}"))?;
             dev.iter().zip(e).map(|(d, e)| d + e).collect()
         }
-        None => dev.iter().copied().collect(),
+        None => dev.to_vec(),
     };
     if pts.len() != dev.len() {
         return Err(format!(
