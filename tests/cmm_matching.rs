@@ -241,3 +241,54 @@ fn far_point_rejected_then_excluded_on_request() {
     .unwrap();
     assert_eq!(m.points.len(), 20);
 }
+
+/// A file of nominal positions alone (x, y, z and normals of the 100 built-in points, no
+/// deviation and no measured column) is no measurement (issue 18): it is refused with the
+/// columns found, where it used to be identified as a machine with every error zero. One point
+/// 0.2 µm off the surface along its normal (above the 0.1 µm limit) makes it a measurement.
+#[test]
+fn nominal_positions_alone_are_refused_naming_the_columns() {
+    use std::fmt::Write;
+    let pts = testpiece::part::builtin_points(&SShape::iso());
+    let file = |shift: f64| {
+        let mut text = String::from("id,curve,x,y,z,nx,ny,nz\n");
+        for (k, p) in pts.iter().enumerate() {
+            let q = if k == 40 {
+                p.point + p.normal * shift
+            } else {
+                p.point
+            };
+            let n = p.normal;
+            writeln!(
+                text,
+                "{},{},{},{},{},{},{},{}",
+                p.id,
+                p.curve.name(),
+                q.x,
+                q.y,
+                q.z,
+                n.x,
+                n.y,
+                n.z
+            )
+            .unwrap();
+        }
+        text
+    };
+    let e = read_and_match(file(0.0).as_bytes(), "nominal.csv", &ReadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("no measurement:")
+            && e.contains("columns found: id, curve, x, y, z, nx, ny, nz")
+            && e.contains("every one of its 100 points"),
+        "{e}"
+    );
+    let m = read_and_match(
+        file(2e-4).as_bytes(),
+        "measured.csv",
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_near!(m.points[40].deviation, 2e-4, 1e-9);
+}

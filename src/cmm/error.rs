@@ -234,6 +234,13 @@ pub enum CmmError {
         excluded_note: String,
     },
 
+    #[error("no measurement: the file has positions but neither a deviation nor measured columns (columns found: {columns}), and every one of its {points} points lies on the nominal surface to 0.1 µm (largest distance {largest_um:.4} µm): these are nominal positions. Give the measured positions (measured x, y, z columns) or the normal deviation")]
+    NoMeasurement {
+        points: usize,
+        largest_um: f64,
+        columns: String,
+    },
+
     #[error("reading option {name} = {value}: expected {expected}")]
     BadOption {
         name: &'static str,

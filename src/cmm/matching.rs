@@ -229,6 +229,7 @@ pub fn match_points(
             excluded.len(),
         ));
     }
+    refuse_nominal_positions(&points, &file.format)?;
     warnings.extend(remarks.warnings());
     Ok(MatchedPart {
         name: file.name,
@@ -237,6 +238,35 @@ pub fn match_points(
         points,
         excluded,
         warnings,
+    })
+}
+
+/// A file of positions alone (no measured column, no deviation) whose every point lies within
+/// this distance of the nominal surface (mm, 0.1 µm: far below any CMM's repeatability) holds
+/// nominal positions, not a measurement.
+pub const NOMINAL_ONLY_MM: f64 = 1e-4;
+
+/// Refuses a file of nominal positions read as measured ([`NOMINAL_ONLY_MM`]), naming the
+/// columns found: otherwise it would be identified as a machine with every error zero.
+fn refuse_nominal_positions(points: &[MatchedPoint], format: &FormatInfo) -> Result<(), CmmError> {
+    use super::header::Role;
+    let measurement_column = format
+        .columns
+        .iter()
+        .any(|c| matches!(c.role, Some(Role::Measured(_)) | Some(Role::Deviation)));
+    let largest = points.iter().map(|p| p.deviation.abs()).fold(0.0, f64::max);
+    if measurement_column || points.is_empty() || largest > NOMINAL_ONLY_MM {
+        return Ok(());
+    }
+    Err(CmmError::NoMeasurement {
+        points: points.len(),
+        largest_um: largest * 1e3,
+        columns: format
+            .columns
+            .iter()
+            .map(|c| c.header.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
     })
 }
 
