@@ -361,10 +361,10 @@ pub fn diagnose_on_machine(
             diagnose_points(part, points, deviations, opts.noise_sigma).map(|mut report| {
                 report.summary = format!(
                     "{}\nMachine: the diagnosis used paper 000's B head / C table, not the {} \
-                     chosen for the identification: the effect catalogue (effects.md) names the \
-                     axes X, Y, Z, B and C; this machine has no {missing_axis:?} axis.\n",
+                     chosen for the identification: {}.\n",
                     report.summary.trim_end(),
-                    opts.machine.describe()
+                    opts.machine.describe(),
+                    GapError::MissingAxis(missing_axis)
                 );
                 let instead = Substitute {
                     machine: opts.machine,

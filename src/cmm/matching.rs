@@ -249,13 +249,8 @@ pub const NOMINAL_ONLY_MM: f64 = 1e-4;
 /// Refuses a file of nominal positions read as measured ([`NOMINAL_ONLY_MM`]), naming the
 /// columns found: otherwise it would be identified as a machine with every error zero.
 fn refuse_nominal_positions(points: &[MatchedPoint], format: &FormatInfo) -> Result<(), CmmError> {
-    use super::header::Role;
-    let measurement_column = format
-        .columns
-        .iter()
-        .any(|c| matches!(c.role, Some(Role::Measured(_)) | Some(Role::Deviation)));
     let largest = points.iter().map(|p| p.deviation.abs()).fold(0.0, f64::max);
-    if measurement_column || points.is_empty() || largest > NOMINAL_ONLY_MM {
+    if !format.positions_read_as_measured || points.is_empty() || largest > NOMINAL_ONLY_MM {
         return Ok(());
     }
     Err(CmmError::NoMeasurement {

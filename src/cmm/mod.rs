@@ -221,6 +221,7 @@ pub fn read_cmm_with(bytes: &[u8], name: &str, opts: &ReadOptions) -> Result<Cmm
             decimal_comma: table.decimal_comma,
             header_line: table.header_line,
             columns: table.layout.columns.clone(),
+            positions_read_as_measured: table.layout.positions_read_as_measured,
         },
         extra_columns,
         points,

@@ -98,6 +98,10 @@ pub struct FormatInfo {
     pub header_line: Option<usize>,
     /// The columns with their meaning and unit.
     pub columns: Vec<Column>,
+    /// Positions x, y, z with neither a deviation nor measured columns: read as measured
+    /// positions and projected (cmm-csv.md rule 3).
+    #[serde(default)]
+    pub positions_read_as_measured: bool,
 }
 
 /// A CMM file read: points in file order, format, warnings, excluded rows.

@@ -50,11 +50,12 @@ pub enum GapError {
         name: String,
         known: String,
     },
-    #[error("`{effect}` needs the {axis:?} axis, which this machine does not have")]
-    MissingAxis {
-        effect: crate::gap::Effect,
-        axis: crate::machine::AxisName,
-    },
+    #[error("the effect catalogue (effects.md) names the axes X, Y, Z, B and C; this machine has no {0:?} axis")]
+    MissingAxis(crate::machine::AxisName),
+    #[error(
+        "`{0}` has no signature in this part model (its axis is not modelled on this machine)"
+    )]
+    NotModelled(crate::gap::Effect),
     #[error("{0}")]
     Invalid(String),
     #[error("model of the part or machine: {0}")]

@@ -134,8 +134,6 @@ pub struct WhereReport {
     pub concentrated_entry: Option<usize>,
     /// The axes of the named backlash effects (their reversals are `of_verdict`).
     pub verdict_axes: Vec<AxisName>,
-    /// The reversal entries that are `marked`.
-    pub marked_reversals: usize,
 }
 
 impl WhereReport {
@@ -154,11 +152,6 @@ impl WhereReport {
                 *marked = *of_verdict || e.concentrated;
             }
         }
-        self.marked_reversals = self
-            .entries
-            .iter()
-            .filter(|e| matches!(e.group, Group::Reversal { marked: true, .. }))
-            .count();
     }
 }
 
@@ -299,7 +292,7 @@ pub fn locate(
             })
             .map(|&i| points[i].id);
         if let Some(nearest) = nearest {
-            let mut e = entry(
+            entries.push(entry(
                 Group::Reversal {
                     axis: rev.axis,
                     s: rev.s,
@@ -311,11 +304,7 @@ pub fn locate(
                 points,
                 r,
                 total_ss,
-            );
-            if let Group::Reversal { marked, .. } = &mut e.group {
-                *marked = e.concentrated;
-            }
-            entries.push(e);
+            ));
         }
     }
     let h: Vec<f64> = points.iter().map(|p| p.h).collect();
@@ -350,15 +339,10 @@ pub fn locate(
         .filter(|(_, e)| e.concentrated)
         .max_by(|(_, a), (_, b)| a.concentration.total_cmp(&b.concentration))
         .map(|(k, _)| k);
-    let marked_reversals = entries
-        .iter()
-        .filter(|e| matches!(e.group, Group::Reversal { marked: true, .. }))
-        .count();
-    WhereReport {
+    let mut report = WhereReport {
         concentrated_in: concentrated_entry.map(|k| entries[k].name.clone()),
         concentrated_entry,
         verdict_axes: Vec::new(),
-        marked_reversals,
         entries,
         trends,
         noise,
@@ -370,7 +354,10 @@ pub fn locate(
         chi2_p: stats::chi2_sf(chi2, dof as f64),
         structure_rms,
         structured: structure_rms > detect_factor * sigma,
-    }
+    };
+    // No verdict yet: a reversal is marked when the residual is concentrated near it.
+    report.mark_verdict_axes(&[]);
+    report
 }
 
 #[cfg(test)]
@@ -444,9 +431,15 @@ mod tests {
         // The window 52..72 mm holds k = 3 (s = 60 mm, u = 0.35, in turn_1) of each curve: 2 of
         // the 6 non-zero residuals on 2 of 20 points, 3.3 × its share: concentrated, so marked.
         assert!(rv.concentrated);
-        assert_eq!(w.marked_reversals, 1);
+        let marked = |w: &WhereReport| {
+            w.entries
+                .iter()
+                .filter(|e| matches!(e.group, Group::Reversal { marked: true, .. }))
+                .count()
+        };
+        assert_eq!(marked(&w), 1);
         w.mark_verdict_axes(&[AxisName::X]);
-        assert_eq!(w.marked_reversals, 1, "still concentrated");
+        assert_eq!(marked(&w), 1, "still concentrated");
         let k = w.concentrated_entry.unwrap();
         assert_eq!(
             w.entries[k].group,

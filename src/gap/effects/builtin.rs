@@ -80,12 +80,11 @@ impl PartModel {
     pub fn effect_deviation(&self, values: &[(Effect, usize, f64)]) -> Result<Vec<f64>, GapError> {
         let mut out = vec![0.0; self.points.len()];
         for &(effect, j, value) in values {
-            let c = self.candidates.iter().find(|c| c.effect == effect).ok_or(
-                GapError::MissingAxis {
-                    effect,
-                    axis: effect.axis().unwrap_or(AxisName::C),
-                },
-            )?;
+            let c = self
+                .candidates
+                .iter()
+                .find(|c| c.effect == effect)
+                .ok_or(GapError::NotModelled(effect))?;
             for (o, s) in out.iter_mut().zip(c.signature.matrix.column(j).iter()) {
                 *o += value * s;
             }
@@ -132,10 +131,9 @@ pub fn missing_catalogue_axis(chain: &Chain) -> Option<AxisName> {
 /// The candidate of `effect` on the signature model: its columns named by its parameters,
 /// exact zeros when invisible ([`invisible_as_zero`]).
 fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapError> {
-    let columns = effect.signature(model).ok_or(GapError::MissingAxis {
-        effect,
-        axis: effect.axis().unwrap_or(AxisName::C),
-    })?;
+    let columns = effect
+        .signature(model)
+        .ok_or(GapError::NotModelled(effect))?;
     Ok(invisible_as_zero(Candidate {
         effect,
         signature: NamedColumns::from_columns(effect.parameter_names(), &columns)?,
@@ -154,10 +152,7 @@ pub fn part_model_on(
 ) -> Result<PartModel, GapError> {
     use super::machine::{backlash_columns, reversals, scale_signatures};
     if let Some(axis) = missing_catalogue_axis(&opts.chain) {
-        return Err(GapError::MissingAxis {
-            effect: Effect::Backlash(axis),
-            axis,
-        });
+        return Err(GapError::MissingAxis(axis));
     }
     let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
     let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)
