@@ -33,8 +33,12 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::cmm::{read_and_match, CmmError, MatchedPart, ReadOptions};
-use crate::gap::effects::builtin::{missing_catalogue_axis, part_model, part_model_on};
-use crate::gap::{diagnose, DiagnosisReport, GapError, GapInput};
+use crate::gap::correct::{
+    correct, shifts, summary, Basis, Correction, CorrectionInput, EffectsChoice, Final,
+};
+use crate::gap::effects::builtin::{missing_catalogue_axis, part_model, part_model_on, PartModel};
+use crate::gap::{diagnose, DiagnosisReport, Effect, GapError, GapInput};
+use crate::identify::correlated::Whitened;
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
@@ -131,6 +135,9 @@ pub struct AnalysisOptions {
     /// identification and the gap diagnosis, so it is not blamed on the machine.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub known: Option<KnownDeviation>,
+    /// Effects fitted with the location errors in the final answer: `auto` (default, what the
+    /// diagnosis names), `none` (the baseline), or ids (`--effects`).
+    pub effects: EffectsChoice,
 }
 
 /// A deviation the process explains, per matched point (mm, + = material left).
@@ -154,6 +161,7 @@ impl Default for AnalysisOptions {
             noise_sigma: None,
             refine: true,
             known: None,
+            effects: EffectsChoice::Auto,
         }
     }
 }
@@ -175,6 +183,8 @@ pub enum AnalysisError {
     Exact(#[from] SimulateError),
     #[error("exact-model refinement: {0}")]
     Refine(String),
+    #[error("{0}")]
+    Correction(GapError),
     #[error(
         "known deviation ({what}): {values} values for {points} matched points, or not finite"
     )]
@@ -205,16 +215,32 @@ pub struct Analysis {
     pub file: MatchedPart,
     /// The measurement points at the matched positions (same order as `file.points`).
     pub points: Vec<MeasurementPoint>,
+    /// The design of the final answer: the location errors, then the effect columns fitted
+    /// with them (`<id>.<parameter>`), when any.
     pub design: DesignColumns,
+    /// The final answer (what every report and export uses): the location errors fitted with
+    /// what the diagnosis found ([`crate::gap::correct`]).
     pub identification: Identification,
-    /// What the exact-model refinement did (absent when switched off).
+    /// What the exact-model refinement of the final answer did (absent when switched off).
     pub refinement: Option<RefineReport>,
     /// The sim-to-real gap diagnosis, or why it could not be made.
     pub diagnosis: Diagnosis,
+    /// How the final answer was obtained: basis, effects included, shift from the baseline.
+    pub correction: Correction,
+    /// The baseline identification (the location errors alone), as before the diagnosis.
+    pub baseline: BaselineFit,
+}
+
+/// The baseline identification of an analysis: the location errors alone (`--effects none`).
+#[derive(Debug, Clone, Serialize)]
+pub struct BaselineFit {
+    pub design: DesignColumns,
+    pub identification: Identification,
+    pub refinement: Option<RefineReport>,
 }
 
 /// What an analysis fitted, for further work on the same part (Monte Carlo): the design and
-/// the observations of the identification.
+/// the observations of the final identification.
 #[derive(Debug, Clone)]
 pub struct Fitted {
     pub design: Design,
@@ -278,16 +304,22 @@ pub fn design_at(
         params.push(Parameter::named(crate::identify::TOOL_RADIUS));
         matrix = matrix.insert_column(params.len() - 1, -1.0);
     }
-    let columns = DesignColumns {
-        params: params.iter().map(|p| p.name.clone()).collect(),
-        units: params.iter().map(|p| p.unit.clone()).collect(),
-        columns: (0..matrix.ncols())
-            .map(|k| matrix.column(k).iter().copied().collect())
-            .collect(),
-    };
     debug_assert_eq!(matrix.nrows(), n);
     let design = Design::try_new(params, DMatrix::from(matrix))?;
+    let columns = columns_of(&design);
     Ok((design, columns))
+}
+
+/// The named columns of a design, as the reports carry them.
+pub fn columns_of(design: &Design) -> DesignColumns {
+    let m = design.matrix();
+    DesignColumns {
+        params: design.names(),
+        units: design.parameters().iter().map(|p| p.unit.clone()).collect(),
+        columns: (0..m.ncols())
+            .map(|k| m.column(k).iter().copied().collect())
+            .collect(),
+    }
 }
 
 /// The gap diagnosis (effects.md) of deviations at `points`, on paper 000's machine.
@@ -297,7 +329,7 @@ pub fn diagnose_points(
     deviations: &[f64],
     noise_sigma: Option<f64>,
 ) -> Result<DiagnosisReport, GapError> {
-    diagnose_model(part_model(part, points)?, deviations, noise_sigma)
+    diagnose_model(&part_model(part, points)?, deviations, noise_sigma)
 }
 
 /// The gap diagnosis of an analysis, or why it could not be made (JSON: `status` = `made` or
@@ -353,12 +385,33 @@ pub fn diagnose_on_machine(
     deviations: &[f64],
     opts: &AnalysisOptions,
 ) -> Diagnosis {
+    diagnose_modelled(part, points, deviations, opts).diagnosis
+}
+
+/// A diagnosis with the part model it used, for the final identification.
+struct Modelled {
+    diagnosis: Diagnosis,
+    /// The part model (points, candidates' signatures), when it could be built.
+    model: Option<PartModel>,
+    /// Effects whose signature on the diagnosis's machine does not belong to the
+    /// identification's machine, and why.
+    unavailable: Vec<(Effect, String)>,
+}
+
+fn diagnose_modelled(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    deviations: &[f64],
+    opts: &AnalysisOptions,
+) -> Modelled {
+    let mut unavailable = Vec::new();
     let made = match missing_catalogue_axis(&opts.machine.chain(opts.l0)) {
-        None => part_model_on(part, points, &sensitivity_options(opts))
-            .and_then(|m| diagnose_model(m, deviations, opts.noise_sigma))
-            .map(|report| (opts.machine, None, report)),
-        Some(missing_axis) => {
-            diagnose_points(part, points, deviations, opts.noise_sigma).map(|mut report| {
+        None => part_model_on(part, points, &sensitivity_options(opts)).and_then(|m| {
+            diagnose_model(&m, deviations, opts.noise_sigma)
+                .map(|report| (opts.machine, None, report, m))
+        }),
+        Some(missing_axis) => part_model(part, points).and_then(|m| {
+            diagnose_model(&m, deviations, opts.noise_sigma).map(|mut report| {
                 report.summary = format!(
                     "{}\nMachine: the diagnosis used paper 000's B head / C table, not the {} \
                      chosen for the identification: {}.\n",
@@ -370,34 +423,60 @@ pub fn diagnose_on_machine(
                     machine: opts.machine,
                     missing_axis,
                 };
-                (MachineChoice::Paper000, Some(instead), report)
+                (MachineChoice::Paper000, Some(instead), report, m)
             })
-        }
+        }),
     };
     match made {
-        Ok((machine, instead_of, report)) => Diagnosis::Made {
-            machine,
-            instead_of,
-            report: Box::new(report),
-        },
-        Err(e) => Diagnosis::NotMade {
-            reason: e.to_string(),
+        Ok((machine, instead_of, report, model)) => {
+            if let Some(sub) = &instead_of {
+                // Effects of an axis (or of the C axis's zero) were modelled on paper 000's
+                // machine: their columns are not those of the identification's chain.
+                for c in &model.candidates {
+                    if c.effect.axis().is_some() || c.effect == Effect::CIndex {
+                        unavailable.push((
+                            c.effect,
+                            format!(
+                                "its signature was modelled on paper 000's machine, not on the {} ({})",
+                                sub.machine.describe(),
+                                GapError::MissingAxis(sub.missing_axis)
+                            ),
+                        ));
+                    }
+                }
+            }
+            Modelled {
+                diagnosis: Diagnosis::Made {
+                    machine,
+                    instead_of,
+                    report: Box::new(report),
+                },
+                model: Some(model),
+                unavailable,
+            }
+        }
+        Err(e) => Modelled {
+            diagnosis: Diagnosis::NotMade {
+                reason: e.to_string(),
+            },
+            model: None,
+            unavailable,
         },
     }
 }
 
 fn diagnose_model(
-    m: crate::gap::effects::builtin::PartModel,
+    m: &PartModel,
     deviations: &[f64],
     noise_sigma: Option<f64>,
 ) -> Result<DiagnosisReport, GapError> {
     diagnose(&GapInput {
         deviations: deviations.to_vec(),
-        points: m.points,
-        baseline: m.baseline,
-        candidates: m.candidates,
+        points: m.points.clone(),
+        baseline: m.baseline.clone(),
+        candidates: m.candidates.clone(),
         noise_sigma,
-        reversals: m.reversals,
+        reversals: m.reversals.clone(),
     })
 }
 
@@ -468,26 +547,32 @@ pub fn analyse_fitted(
     }
     let mut identification = identify(&design, &obs, &iopts)?;
     let refinement = if opts.refine {
-        let model =
-            ExactDefectModel::at_points(&design, points.clone(), sensitivity_options(opts))?;
-        let r = refine(
-            &design,
-            &obs,
-            &identification,
-            model,
-            &RefineOptions::default(),
-            &iopts,
-        )
-        .map_err(|e| AnalysisError::Refine(e.to_string()))?;
+        let r = refine_with(&design, &obs, &identification, &points, opts, &iopts, None)?;
         apply_refinement(&mut identification, &r, "");
         Some(r)
     } else {
         None
     };
-    let mut diagnosis = diagnose_on_machine(&part, &points, &deviations, opts);
+    let modelled = diagnose_modelled(&part, &points, &deviations, opts);
+    let mut diagnosis = modelled.diagnosis;
+    let (final_design, mut final_id, final_refinement, correction) = final_answer(
+        FinalInput {
+            design: &design,
+            observations: &obs,
+            baseline: &identification,
+            baseline_refinement: refinement.as_ref(),
+            points: &points,
+            model: modelled.model.as_ref(),
+            verdict: diagnosis.report().map(|r| &r.verdict),
+            unavailable: &modelled.unavailable,
+        },
+        opts,
+        &iopts,
+    )?;
     if let Some(k) = &opts.known {
         let note = known_note(k);
         identification.notes.push(note.clone());
+        final_id.notes.push(note.clone());
         if let Diagnosis::Made { report, .. } = &mut diagnosis {
             report.summary = format!("{}\n{note}", report.summary.trim_end());
         }
@@ -498,17 +583,119 @@ pub fn analyse_fitted(
         settings: opts.clone(),
         file: matched,
         points,
-        design: columns,
-        identification,
-        refinement,
+        design: columns_of(&final_design),
+        identification: final_id,
+        refinement: final_refinement,
+        correction,
+        baseline: BaselineFit {
+            design: columns,
+            identification,
+            refinement,
+        },
     };
     Ok((
         analysis,
         Fitted {
-            design,
+            design: final_design,
             observations: obs,
         },
     ))
+}
+
+/// The exact-model refinement of a fit of `design` (plain, or whitened by `whitener`).
+fn refine_with(
+    design: &Design,
+    obs: &Observations,
+    linear: &Identification,
+    points: &[MeasurementPoint],
+    opts: &AnalysisOptions,
+    iopts: &IdentifyOptions,
+    whitener: Option<&DMatrix<f64>>,
+) -> Result<RefineReport, AnalysisError> {
+    let model = ExactDefectModel::at_points(design, points.to_vec(), sensitivity_options(opts))?;
+    let r = match whitener {
+        None => refine(design, obs, linear, model, &RefineOptions::default(), iopts),
+        Some(w) => {
+            let wd = Design::try_new(design.parameters().to_vec(), w * design.matrix())?;
+            let wy = w * nalgebra::DVector::from_column_slice(&obs.deviation);
+            let wobs = Observations::new(
+                obs.ids.clone(),
+                obs.curves.clone(),
+                wy.iter().copied().collect(),
+            );
+            let model = Whitened { model, whitener: w };
+            refine(
+                &wd,
+                &wobs,
+                linear,
+                model,
+                &RefineOptions::default(),
+                &iopts.clone().with_sigma(1.0),
+            )
+        }
+    };
+    r.map_err(|e| AnalysisError::Refine(e.to_string()))
+}
+
+/// What the final identification starts from.
+struct FinalInput<'a> {
+    design: &'a Design,
+    observations: &'a Observations,
+    baseline: &'a Identification,
+    baseline_refinement: Option<&'a RefineReport>,
+    points: &'a [MeasurementPoint],
+    model: Option<&'a PartModel>,
+    verdict: Option<&'a crate::gap::verdict::Verdict>,
+    unavailable: &'a [(Effect, String)],
+}
+
+/// The final answer ([`crate::gap::correct`]), refined with the exact model like the baseline.
+fn final_answer(
+    f: FinalInput,
+    opts: &AnalysisOptions,
+    iopts: &IdentifyOptions,
+) -> Result<(Design, Identification, Option<RefineReport>, Correction), AnalysisError> {
+    let no_candidates: Vec<crate::gap::Candidate> = Vec::new();
+    let no_points: Vec<crate::gap::PointMeta> = Vec::new();
+    let input = CorrectionInput {
+        design: f.design,
+        observations: f.observations,
+        baseline: f.baseline,
+        points: f.model.map_or(&no_points, |m| &m.points),
+        candidates: f.model.map_or(&no_candidates, |m| &m.candidates),
+        verdict: f.verdict,
+        unavailable: f.unavailable,
+        options: iopts,
+    };
+    let fin = correct(&input, &opts.effects).map_err(AnalysisError::Correction)?;
+    let Final {
+        design,
+        mut identification,
+        whitener,
+        mut correction,
+    } = fin;
+    let refinement = match correction.basis {
+        Basis::Baseline => f.baseline_refinement.cloned(),
+        _ if opts.refine => {
+            let r = refine_with(
+                &design,
+                f.observations,
+                &identification,
+                f.points,
+                opts,
+                iopts,
+                whitener.as_ref(),
+            )?;
+            apply_refinement(&mut identification, &r, "");
+            if r.performed && r.success {
+                correction.shift = shifts(f.baseline, &identification);
+                correction.summary = summary(&correction, f.baseline, &identification);
+            }
+            Some(r)
+        }
+        _ => None,
+    };
+    Ok((design, identification, refinement, correction))
 }
 
 #[cfg(test)]

@@ -76,15 +76,25 @@ pub fn builtin_design(
 }
 
 /// The exact machined defect (eq. 12) at a set of measurement points for a design's parameters
-/// (location errors, plus `dR` contributing `-dR`): the model for
-/// [`crate::identify::refine::refine`]. The Jacobian is a central finite difference of the exact
-/// defect (steps 1e-7 rad, 1e-5 mm; eq. 12 is smooth and nearly linear at these magnitudes).
+/// (location errors; `dR` contributing `-dR`; an effect parameter `<id>.<name>` of effects.md
+/// contributing its signature column times its value, linear by the definition of every
+/// signature): the model for [`crate::identify::refine::refine`]. The Jacobian of the location
+/// errors is a central finite difference of the exact defect (steps 1e-7 rad, 1e-5 mm; eq. 12 is
+/// smooth and nearly linear at these magnitudes); that of a linear column is the column.
 pub struct ExactDefectModel {
     part: SShape,
     points: Vec<crate::part::MeasurementPoint>,
     opts: SensitivityOptions,
-    params: Vec<Option<ErrorParam>>,
+    params: Vec<ExactColumn>,
     steps: Vec<f64>,
+}
+
+/// How one design column enters the exact model.
+enum ExactColumn {
+    /// A location error, through eq. 12.
+    Location(ErrorParam),
+    /// A term linear in its parameter: the deviation per unit (mm), one value per point.
+    Linear(Vec<f64>),
 }
 
 impl ExactDefectModel {
@@ -103,11 +113,12 @@ impl ExactDefectModel {
         opts: SensitivityOptions,
     ) -> Result<Self, SimulateError> {
         let mut params = Vec::new();
-        for p in design.parameters() {
-            if p.name == TOOL_RADIUS {
-                params.push(None);
+        for (j, p) in design.parameters().iter().enumerate() {
+            let column = || design.matrix().column(j).iter().copied().collect();
+            if p.name == TOOL_RADIUS || crate::gap::Effect::parse_parameter(&p.name).is_ok() {
+                params.push(ExactColumn::Linear(column()));
             } else {
-                params.push(Some(
+                params.push(ExactColumn::Location(
                     ErrorParam::parse(&p.name).map_err(SensitivityError::from)?,
                 ));
             }
@@ -130,20 +141,30 @@ impl ExactDefectModel {
 impl crate::identify::refine::ExactModel for ExactDefectModel {
     fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
         let mut e = MachineErrors::none();
-        let mut dr = 0.0;
+        let mut linear = vec![0.0; self.points.len()];
         for (p, v) in self.params.iter().zip(x) {
             match p {
-                Some(p) => e = e.with(*p, *v),
-                None => dr += v,
+                ExactColumn::Location(p) => e = e.with(*p, *v),
+                ExactColumn::Linear(c) => {
+                    for (l, ci) in linear.iter_mut().zip(c) {
+                        *l += v * ci;
+                    }
+                }
             }
         }
         let d = defect(&self.part, &self.points, &e, &self.opts).map_err(|e| e.to_string())?;
-        Ok(d.into_iter().map(|v| v - dr).collect())
+        Ok(d.into_iter().zip(linear).map(|(v, l)| v + l).collect())
     }
 
     fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String> {
         let mut j = DMatrix::zeros(self.points.len(), x.len());
         for c in 0..x.len() {
+            if let ExactColumn::Linear(col) = &self.params[c] {
+                for (i, v) in col.iter().enumerate() {
+                    j[(i, c)] = *v;
+                }
+                continue;
+            }
             let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
             xp[c] += self.steps[c];
             xm[c] -= self.steps[c];

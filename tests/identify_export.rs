@@ -27,9 +27,9 @@ fn compensation_table_csv_and_json() {
         &IdentifyOptions::default(),
     )
     .unwrap();
-    let csv = compensation_csv(&id);
+    let csv = compensation_csv(&id, "none");
     let lines: Vec<&str> = csv.lines().collect();
-    assert_eq!(lines[0], "name,iso_230_1,value,unit,std,status");
+    assert_eq!(lines[0], "name,iso_230_1,value,unit,std,status,fitted_with");
     assert_eq!(lines.len(), 10);
     let ex = lines.iter().find(|l| l.starts_with("EX0B,")).unwrap();
     let f: Vec<&str> = ex.split(',').collect();
@@ -38,13 +38,14 @@ fn compensation_table_csv_and_json() {
     assert_eq!(f[3], "mm");
     assert_eq!(f[5], "identified");
     let ea = lines.iter().find(|l| l.starts_with("EA0Z,")).unwrap();
-    assert!(ea.ends_with(",rad,,not_separable"), "{ea}");
-    let json: serde_json::Value = serde_json::from_str(&compensation_json(&id)).unwrap();
+    assert!(ea.ends_with(",rad,,not_separable,none"), "{ea}");
+    let json: serde_json::Value = serde_json::from_str(&compensation_json(&id, "none")).unwrap();
     let arr = json.as_array().unwrap();
     assert_eq!(arr.len(), 9);
     assert_eq!(arr[8]["name"], "dR");
     assert_near!(arr[8]["value"].as_f64().unwrap(), -0.02, 1e-12);
     assert_eq!(arr[8]["unit"], "mm");
+    assert_eq!(arr[8]["fitted_with"], "none");
 }
 
 /// The CLI JSON fields of cli.md are present, in design order.

@@ -58,6 +58,8 @@ pub enum GapError {
     NotModelled(crate::gap::Effect),
     #[error("{0}")]
     Invalid(String),
+    #[error("final identification: {0}")]
+    Identify(#[from] crate::identify::IdentifyError),
     #[error("model of the part or machine: {0}")]
     Model(String),
 }

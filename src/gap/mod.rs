@@ -22,6 +22,10 @@
 //!    HOW FAR per curve;
 //! 5. a serialisable [`DiagnosisReport`] with a plain-language summary ([`report`]).
 //!
+//! After the diagnosis, [`correct`] makes the final identification: the location errors fitted
+//! with the named effect, or with the unexplained structure as a correlated error
+//! ([`structure`]), or the baseline when the residual is noise.
+//!
 //! One option, [`DiagnoseOptions::detect_factor`] (`k` of the `k σ` rule, 2.5), reaches every
 //! step that compares with the noise. The benchmark that simulates parts and diagnoses them
 //! (`testpiece validate`) is [`crate::validate`], beside the pipeline.
@@ -29,6 +33,7 @@
 //! Units: mm (deviations, residuals, RMS), parameters in their own units. Sign: deviation =
 //! `(measured − nominal)·N`, + = material left, − = overcut.
 
+pub mod correct;
 pub mod data;
 pub mod diagnose;
 pub mod effect;
@@ -44,6 +49,7 @@ pub mod regions;
 pub mod report;
 pub mod smooth_noise;
 pub mod stats;
+pub mod structure;
 pub mod verdict;
 pub mod which;
 

@@ -7,6 +7,12 @@
 //! controller's kinematic-compensation table holds; its sign is not flipped. Parameters that the
 //! part could not separate carry their minimum-norm value with status `not_separable`: such a value
 //! reproduces the measured part, but not necessarily the machine elsewhere.
+//!
+//! `fitted_with` says what the values were fitted with (the final identification of
+//! [`crate::gap::correct`]): the effect ids joined by `+` (`backlash_y`), `structure` (the
+//! unexplained structure as a correlated error), or `none` (the location errors alone). The
+//! effect's own parameters (`backlash_y.b`) are rows of the table too: they are not machine
+//! location errors, and the compensation of the location errors must not include them twice.
 
 use serde::{Deserialize, Serialize};
 
@@ -27,6 +33,8 @@ pub struct CompensationEntry {
     pub std: Option<f64>,
     /// `identified`, `weak` or `not_separable`.
     pub status: Status,
+    /// What the values were fitted with: effect ids joined by `+`, `structure` or `none`.
+    pub fitted_with: String,
 }
 
 /// ISO 230-1 subscripted form of a location-error name: `EX0B` → `E_X0B`.
@@ -39,8 +47,8 @@ pub fn iso_230_1_name(name: &str) -> String {
     }
 }
 
-/// The table, in design order.
-pub fn compensation_table(id: &Identification) -> Vec<CompensationEntry> {
+/// The table, in design order; `fitted_with` as in the module doc.
+pub fn compensation_table(id: &Identification, fitted_with: &str) -> Vec<CompensationEntry> {
     id.parameters
         .0
         .iter()
@@ -51,15 +59,16 @@ pub fn compensation_table(id: &Identification) -> Vec<CompensationEntry> {
             unit: p.unit.clone(),
             std: p.std,
             status: p.status,
+            fitted_with: fitted_with.to_string(),
         })
         .collect()
 }
 
-/// CSV with header `name,iso_230_1,value,unit,std,status` (shortest round-trip numbers; empty std
-/// when not separable).
-pub fn compensation_csv(id: &Identification) -> String {
-    let mut s = String::from("name,iso_230_1,value,unit,std,status\n");
-    for e in compensation_table(id) {
+/// CSV with header `name,iso_230_1,value,unit,std,status,fitted_with` (shortest round-trip
+/// numbers; empty std when not separable).
+pub fn compensation_csv(id: &Identification, fitted_with: &str) -> String {
+    let mut s = String::from("name,iso_230_1,value,unit,std,status,fitted_with\n");
+    for e in compensation_table(id, fitted_with) {
         let status = match e.status {
             Status::Identified => "identified",
             Status::Weak => "weak",
@@ -67,14 +76,15 @@ pub fn compensation_csv(id: &Identification) -> String {
         };
         let std = e.std.map(|v| format!("{v:e}")).unwrap_or_default();
         s.push_str(&format!(
-            "{},{},{:e},{},{},{}\n",
-            e.name, e.iso_230_1, e.value, e.unit, std, status
+            "{},{},{:e},{},{},{},{}\n",
+            e.name, e.iso_230_1, e.value, e.unit, std, status, e.fitted_with
         ));
     }
     s
 }
 
-/// JSON array `[{"name","iso_230_1","value","unit","std","status"}, ...]`.
-pub fn compensation_json(id: &Identification) -> String {
-    serde_json::to_string_pretty(&compensation_table(id)).unwrap_or_else(|_| "[]".to_string())
+/// JSON array `[{"name","iso_230_1","value","unit","std","status","fitted_with"}, ...]`.
+pub fn compensation_json(id: &Identification, fitted_with: &str) -> String {
+    serde_json::to_string_pretty(&compensation_table(id, fitted_with))
+        .unwrap_or_else(|_| "[]".to_string())
 }

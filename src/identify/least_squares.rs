@@ -575,6 +575,21 @@ fn column_correlations(
     column_correlations
 }
 
+/// Restates the residual side of an identification (per-point fits, residual statistics, per
+/// curve) for the deviations of `obs` and the `fitted` values (mm): used when the fit itself was
+/// made on transformed (whitened) data ([`super::correlated`]).
+pub(crate) fn restate_residuals(
+    id: &mut Identification,
+    obs: &Observations,
+    fitted: &[f64],
+    mape_floor: f64,
+) {
+    let used: Vec<usize> = (0..obs.len()).filter(|&i| obs.weight(i) > 0.0).collect();
+    id.residual = residual_statistics(obs, &used, fitted, mape_floor);
+    id.per_curve = per_curve_statistics(obs, &used, fitted, mape_floor);
+    id.points = point_fits(obs, fitted);
+}
+
 /// Residual statistics (paper 001 eq. 15-17; mm, MAPE in %) over the used points.
 fn residual_statistics(
     obs: &Observations,

@@ -14,10 +14,12 @@
 //!   the squareness errors barely show above the CMM noise).
 //! - [`monte_carlo`]: repeated fits with seeded noise from a CMM's maximum permissible error.
 //! - [`refine`]: Levenberg-Marquardt on an exact model, where the linearisation error matters.
+//! - [`correlated`]: generalised least squares with a full noise covariance (correlated errors).
 //! - [`export`]: the identified values as a compensation table (CSV, JSON).
 //!
 //! Units: mm and rad. Sign convention: `deviation = (machined - nominal)·N`.
 
+pub mod correlated;
 mod design;
 mod error;
 pub mod export;

@@ -59,5 +59,5 @@ pub fn compensation_csv(
     }
     let id = identify::identify(&d, &obs, &IdentifyOptions::default())
         .map_err(|e| JsError::new(&e.to_string()))?;
-    Ok(identify::export::compensation_csv(&id))
+    Ok(identify::export::compensation_csv(&id, "none"))
 }

@@ -2,6 +2,7 @@
 
 use crate::args::Args;
 use testpiece::analysis::{analyse_fitted, AnalysisOptions, Fitted, MachineChoice};
+use testpiece::gap::correct::{Basis, EffectsChoice};
 use testpiece::identify::monte_carlo::{monte_carlo, CmmMpe, MonteCarloOptions, Noise};
 use testpiece::identify::{export, ExcludedPoint, IdentifyOptions, Status};
 use testpiece::machine::Branch;
@@ -10,6 +11,7 @@ use testpiece::sensitivity::Mode;
 
 const HELP: &str = "\
 testpiece identify FILE [--mode physical|paper] [--branch signed|positive] [--tool-radius]
+                        [--effects auto|none|ID[,ID]]
                         [--json | --export csv|json] [--sigma MM] [--no-refine]
                         [--exclude-bad-rows] [--monte-carlo RUNS] [--seed S]
                         [--machine paper000|paper001|paper002] [--l0 MM]
@@ -26,8 +28,25 @@ design: rank, condition number, and the groups of parameters the part cannot sep
 coordinates; the design is the sensitivity at the matched points. A file with a bad row is
 refused with every bad row listed (line, column, text found, what was expected).
 
---json            {parameters, groups, rank, condition, residual, points_used, points_excluded, ...}
---export csv|json the compensation table: name, iso_230_1, value, unit, std, status
+One answer per part: after this baseline identification the sim-to-real gap is diagnosed (as
+`testpiece diagnose`), and the reported errors are the final identification:
+- an effect named (e.g. backlash_y, or a pair): the location errors are fitted together with the
+  effect's signature columns (parameters <id>.<parameter>, e.g. backlash_y.b in mm), refined with
+  the exact model like the baseline; `shift` gives each error's move from the baseline in std;
+  equivalent effects are tried in its place and the report says whether the errors depend on it;
+- `unexplained`: no effect is fitted; the structure is modelled as a correlated error along the
+  tool path (squared-exponential covariance, amplitude and length by REML) and the errors are
+  fitted by generalised least squares: their std include the structure;
+- `none`: the baseline stands.
+
+--effects X       auto (default): what the diagnosis names; none: the baseline alone (the
+                  answer before the diagnosis); ID[,ID]: fit these effects of effects.md whatever
+                  the diagnosis says (e.g. --effects backlash_c,setup_error)
+--json            {parameters (the final answer), baseline_parameters, effects_included, shift,
+                  verdict, correction, groups, rank, condition, residual, points_used,
+                  points_excluded, ...}
+--export csv|json the compensation table of the final answer: name, iso_230_1, value, unit, std,
+                  status, fitted_with (effect ids joined by +, structure, or none)
 --sigma MM        a priori σ of the deviations instead of the residual's
 --exclude-bad-rows  leave out the rows the reader rejects (listed under points_excluded)
 --no-refine       skips the exact-model check: by default the exact eq. 12 is evaluated at the
@@ -43,7 +62,9 @@ of the same machine and settings. The location errors are shared; with --tool-ra
 gets its own dR[k] (another or a reground tool per part); --setup-per-part adds each part's CMM
 datum alignment Rz[k] (rad), Tx[k], Ty[k] (mm). Point ids become k:id. The JSON has the fields
 of one file plus `pooled: true`, `parts` (name, points, residual_rms, residual_mean per part),
-`shared` and `per_part` (parameter names). No exact-model refinement on the pool.
+`shared` and `per_part` (parameter names). No exact-model refinement on the pool, and no gap
+diagnosis: the pool is NOT corrected for any effect (`corrected: false`); identify the parts
+one by one for their diagnosis and corrected errors.
 ";
 
 pub fn run(rest: &[String]) -> Result<(), String> {
@@ -61,6 +82,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             "seed",
             "machine",
             "l0",
+            "effects",
         ],
     )?;
     let (mode, branch) = crate::simulate::mode_and_branch(&args)?;
@@ -91,6 +113,11 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     };
     let (machine, l0) = machine_and_l0(&args)?;
     let setup_per_part = args.flag("setup-per-part");
+    let effects: EffectsChoice = args
+        .value("effects")
+        .unwrap_or("auto")
+        .parse()
+        .map_err(|e| format!("--effects: {e}"))?;
     args.reject_unknown("identify")?;
     let settings = AnalysisOptions {
         machine,
@@ -103,10 +130,18 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         noise_sigma: sigma,
         refine: !no_refine,
         known: None,
+        effects,
     };
     if args.positional.len() >= 2 {
         if export_fmt.is_some() || runs.is_some() {
             return Err("--export and --monte-carlo take one FILE, not a pool".to_string());
+        }
+        if args.value("effects").is_some_and(|e| e != "none") {
+            return Err(
+                "--effects: a pool is not diagnosed, so it cannot be corrected for an effect; \
+                 identify the parts one by one"
+                    .to_string(),
+            );
         }
         return pooled(&args.positional, settings, setup_per_part, json);
     }
@@ -142,11 +177,12 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         });
     }
     let refinement = analysis.refinement.clone();
+    let fitted_with = analysis.correction.fitted_with();
     if let Some(f) = export_fmt {
         if f == "csv" {
-            print!("{}", export::compensation_csv(&id));
+            print!("{}", export::compensation_csv(&id, &fitted_with));
         } else {
-            println!("{}", export::compensation_json(&id));
+            println!("{}", export::compensation_json(&id, &fitted_with));
         }
         return Ok(());
     }
@@ -168,6 +204,15 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         if let Some(r) = &refinement {
             v["refinement"] = serde_json::to_value(r).map_err(|e| e.to_string())?;
         }
+        let c = &analysis.correction;
+        v["baseline_parameters"] =
+            serde_json::to_value(&analysis.baseline.identification.parameters)
+                .map_err(|e| e.to_string())?;
+        v["effects_included"] =
+            serde_json::to_value(&c.effects_included).map_err(|e| e.to_string())?;
+        v["shift"] = serde_json::to_value(&c.shift).map_err(|e| e.to_string())?;
+        v["verdict"] = serde_json::to_value(c.verdict).map_err(|e| e.to_string())?;
+        v["correction"] = serde_json::to_value(c).map_err(|e| e.to_string())?;
         if let Some(mc) = mc {
             v["monte_carlo"] = serde_json::to_value(mc).map_err(|e| e.to_string())?;
         }
@@ -226,6 +271,17 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     if let Some(r) = &refinement {
         println!("exact model: {}", r.reason);
     }
+    println!("final answer: {}", analysis.correction.summary);
+    let shifts: Vec<String> = analysis
+        .correction
+        .shift
+        .0
+        .iter()
+        .filter_map(|s| s.std.map(|v| format!("{} {v:+.1}", s.parameter)))
+        .collect();
+    if analysis.correction.basis != Basis::Baseline && !shifts.is_empty() {
+        println!("shift from the baseline (std): {}", shifts.join(", "));
+    }
     for x in &id.points_excluded {
         println!("excluded {}: {}", x.id, x.reason);
     }
@@ -277,6 +333,8 @@ fn pooled(
     if json {
         let mut v = serde_json::to_value(id).map_err(|e| e.to_string())?;
         v["pooled"] = serde_json::json!(true);
+        v["corrected"] = serde_json::json!(false);
+        v["correction_note"] = serde_json::json!(POOL_NOT_CORRECTED);
         v["parts"] = serde_json::to_value(&r.parts).map_err(|e| e.to_string())?;
         v["shared"] = serde_json::json!(r.shared);
         v["per_part"] = serde_json::json!(r.per_part);
@@ -312,8 +370,14 @@ fn pooled(
         "residual: rms {:.6} mm, max |r| {:.6} mm",
         id.residual.rms, id.residual.max_abs
     );
+    println!("{POOL_NOT_CORRECTED}");
     Ok(())
 }
+
+/// What a pooled identification says about the correction of issue 17.
+const POOL_NOT_CORRECTED: &str = "The pool is not diagnosed and NOT corrected for any unmodelled \
+    effect: these are baseline values. Identify the parts one by one for their diagnosis and \
+    corrected errors.";
 
 /// `--machine paper000|paper001|paper002` and `--l0 MM` (default paper 000's 499.889 mm).
 pub fn machine_and_l0(args: &Args) -> Result<(MachineChoice, f64), String> {

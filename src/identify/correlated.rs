@@ -1,0 +1,184 @@
+//! Identification when the deviations' errors are correlated: generalised least squares with a
+//! full noise covariance `Σ` (n × n, mm²).
+//!
+//! `x̂ = (AᵀΣ⁻¹A)⁻¹ AᵀΣ⁻¹ y` and `Cov(x̂) = (AᵀΣ⁻¹A)⁻¹` (Aitken's estimator; the covariance
+//! needs no σ of unit weight, `Σ` carries the scale). It is computed as ordinary least squares on
+//! the whitened problem `W A x ≈ W y` with the symmetric `W = Σ^{-½}` (from the eigen-
+//! decomposition of `Σ`) and an a priori σ of 1, so the same rank, groups and weak-direction
+//! rules of [`super::identify`] apply to the directions the correlated errors leave
+//! determined. The residuals, fitted values and their statistics are then restated in mm on the
+//! measured (not whitened) deviations, and the σ reported is the white part given by the caller.
+//!
+//! Used by the final identification of the gap stage ([`crate::gap::correct`]) when a part
+//! carries structure that no candidate effect explains: the structure is modelled as a
+//! correlated error ([`crate::gap::structure`]) and its influence on the location errors then
+//! shows in their std.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::least_squares::restate_residuals;
+use super::refine::ExactModel;
+use super::{identify, Design, Identification, IdentifyError, IdentifyOptions, Observations};
+
+/// `Σ^{-½}` of a symmetric positive definite matrix, by its eigen-decomposition; the offending
+/// eigenvalue in the error when `Σ` is not positive definite.
+pub fn inverse_square_root(sigma: &DMatrix<f64>) -> Result<DMatrix<f64>, IdentifyError> {
+    let n = sigma.nrows();
+    if sigma.ncols() != n {
+        return Err(IdentifyError::LengthMismatch {
+            what: "noise covariance columns",
+            found: sigma.ncols(),
+            expected: n,
+        });
+    }
+    let eig = nalgebra::SymmetricEigen::new(sigma.clone());
+    let largest = eig.eigenvalues.iter().copied().fold(0.0, f64::max);
+    let mut w = DMatrix::zeros(n, n);
+    for (k, &l) in eig.eigenvalues.iter().enumerate() {
+        if !(l > largest * 1e-14 && l.is_finite()) {
+            return Err(IdentifyError::BadOption {
+                name: "noise covariance eigenvalue",
+                value: l,
+                expected: "> 0: the covariance must be positive definite",
+            });
+        }
+        let q = eig.eigenvectors.column(k);
+        w += (q * q.transpose()) / l.sqrt();
+    }
+    Ok(w)
+}
+
+/// The whitened problem and the identification on it, restated in mm.
+#[derive(Debug, Clone)]
+pub struct Correlated {
+    /// The identification: values, std from `(AᵀΣ⁻¹A)⁻¹`, groups of the whitened design;
+    /// residuals and their statistics on the measured deviations (mm).
+    pub identification: Identification,
+    /// `W = Σ^{-½}` (n × n, 1/mm).
+    pub whitener: DMatrix<f64>,
+    /// The whitened design `W A`.
+    pub design: Design,
+    /// The whitened observations `W y` (same ids and curves).
+    pub observations: Observations,
+}
+
+/// Generalised least squares of `design` on `obs` with the noise covariance `sigma` (mm²);
+/// `white` is the σ of the uncorrelated part (mm), reported as the identification's σ.
+pub fn identify_correlated(
+    design: &Design,
+    obs: &Observations,
+    sigma: &DMatrix<f64>,
+    white: f64,
+    opts: &IdentifyOptions,
+) -> Result<Correlated, IdentifyError> {
+    obs.validate(design.rows())?;
+    if obs.weights.is_some() {
+        return Err(IdentifyError::BadOption {
+            name: "weights with a noise covariance",
+            value: f64::NAN,
+            expected: "none: the covariance carries every point's variance",
+        });
+    }
+    if sigma.nrows() != design.rows() {
+        return Err(IdentifyError::LengthMismatch {
+            what: "noise covariance rows",
+            found: sigma.nrows(),
+            expected: design.rows(),
+        });
+    }
+    let w = inverse_square_root(sigma)?;
+    let wd = Design::try_new(design.parameters().to_vec(), &w * design.matrix())?;
+    let wy = &w * DVector::from_column_slice(&obs.deviation);
+    let wobs = Observations::new(
+        obs.ids.clone(),
+        obs.curves.clone(),
+        wy.iter().copied().collect(),
+    );
+    let mut id = identify(&wd, &wobs, &opts.clone().with_sigma(1.0))?;
+    let fitted = design.predict(&id.values());
+    restate_residuals(&mut id, obs, &fitted, opts.mape_floor);
+    id.sigma = Some(white);
+    id.sigma_source = "correlated: white σ plus the structure's covariance".to_string();
+    id.notes
+        .retain(|n| !n.starts_with("covariance scaled with sigma"));
+    id.notes.push(format!(
+        "generalised least squares with a full noise covariance (white σ = {white:.4e} mm plus a \
+         correlated part): the std are those of (AᵀΣ⁻¹A)⁻¹"
+    ));
+    Ok(Correlated {
+        identification: id,
+        whitener: w,
+        design: wd,
+        observations: wobs,
+    })
+}
+
+/// An exact model seen through a whitener: deviations `W f(x)`, Jacobian `W ∂f/∂x`, so the
+/// refinement of [`super::refine`] works on the whitened problem unchanged.
+pub struct Whitened<'a, M: ExactModel> {
+    pub model: M,
+    pub whitener: &'a DMatrix<f64>,
+}
+
+impl<M: ExactModel> ExactModel for Whitened<'_, M> {
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
+        let f = DVector::from_vec(self.model.deviation(x)?);
+        if f.len() != self.whitener.ncols() {
+            return Err(format!(
+                "{} deviations for a {}-point whitener",
+                f.len(),
+                self.whitener.ncols()
+            ));
+        }
+        Ok((self.whitener * f).iter().copied().collect())
+    }
+    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String> {
+        Ok(self.whitener * self.model.jacobian(x)?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assert_near;
+
+    /// Closed form: with `Σ = diag(1, 4, 4) + 0` and one column of ones, GLS is the weighted
+    /// mean `Σ (y_i/σ_i²) / Σ (1/σ_i²) = (3 + 2/4 + 6/4) / 1.5 = 10/3` and its variance
+    /// `1 / 1.5 = 2/3` (to 1e-12).
+    #[test]
+    fn diagonal_covariance_gives_the_weighted_mean() {
+        let d = Design::from_column_major(&["EX0B"], 3, &[1.0, 1.0, 1.0]).unwrap();
+        let obs = Observations::plain(vec![3.0, 2.0, 6.0]);
+        let s = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 4.0, 4.0]));
+        let c = identify_correlated(&d, &obs, &s, 1.0, &IdentifyOptions::default()).unwrap();
+        let p = &c.identification.parameters.0[0];
+        assert_near!(p.value, 10.0 / 3.0, 1e-12);
+        assert_near!(p.std.unwrap(), (2.0f64 / 3.0).sqrt(), 1e-12);
+        // residuals in mm on the measured deviations, not whitened
+        assert_near!(c.identification.points[0].residual, 3.0 - 10.0 / 3.0, 1e-12);
+    }
+
+    /// Two perfectly correlated points carry the information of one: with
+    /// `Σ = [[1+ρ, ρ],[ρ, 1+ρ]]`-type structure (`τ² = 9` shared, white 1) and a third independent
+    /// point, the mean's variance is `1 / (2/(1+2·9) + 1) = 19/21` (closed form, to 1e-12).
+    #[test]
+    fn a_shared_error_counts_once() {
+        let d = Design::from_column_major(&["EX0B"], 3, &[1.0, 1.0, 1.0]).unwrap();
+        let obs = Observations::plain(vec![1.0, 1.0, 0.0]);
+        let s = DMatrix::from_row_slice(3, 3, &[10.0, 9.0, 0.0, 9.0, 10.0, 0.0, 0.0, 0.0, 1.0]);
+        let c = identify_correlated(&d, &obs, &s, 1.0, &IdentifyOptions::default()).unwrap();
+        // 1ᵀΣ⁻¹1: the pair block [[10,9],[9,10]] has 1ᵀB⁻¹1 = 2/19; plus 1.
+        assert_near!(
+            c.identification.parameters.0[0].std.unwrap(),
+            (19.0f64 / 21.0).sqrt(),
+            1e-12
+        );
+    }
+
+    #[test]
+    fn a_covariance_that_is_not_positive_definite_is_refused_with_its_eigenvalue() {
+        let s = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
+        let e = inverse_square_root(&s).unwrap_err().to_string();
+        assert!(e.contains("-1"), "{e}");
+    }
+}
