@@ -176,8 +176,9 @@ fn an_offset_path_shifts_the_budget_by_its_offset() {
         assert_eq!(p0.design, p1.design);
         worst = worst.max((p1.cam - p0.cam - x).abs());
         cosine = cosine.max((p1.cam - p0.cam - delta).abs());
-        // same measurement, shifted path: the shift goes into machine + residual
-        let moved = (p1.machine + p1.residual) - (p0.machine + p0.residual);
+        // same measurement, shifted path: the shift goes into machine + tool + residual (the
+        // final identification may fit it as a tool-radius effect, which is the tool's term)
+        let moved = (p1.machine + p1.tool + p1.residual) - (p0.machine + p0.tool + p0.residual);
         assert!((moved + (p1.cam - p0.cam)).abs() < 1e-12);
         // shifted measurement too: nothing but the CAM term moves
         assert!((p2.machine - p0.machine).abs() < 1e-9 && (p2.residual - p0.residual).abs() < 1e-9);

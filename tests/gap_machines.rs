@@ -151,9 +151,20 @@ fn the_cli_diagnoses_on_the_chosen_machine() {
         let out = testpiece_ok(&["diagnose", &file, "--machine", m]);
         let text = std::fs::read(&file).unwrap();
         let a = analyse(&text, "b.csv", &options(choice)).unwrap();
-        let d = a.diagnosis.into_report().unwrap();
+        let d = a.diagnosis.clone().into_report().unwrap();
         assert_eq!(out.lines().next(), d.summary.lines().next(), "{m}");
-        assert_eq!(out.lines().last(), d.summary.lines().last(), "{m}");
+        let lines: Vec<&str> = out.lines().collect();
+        // the summary, then one line on the corrected identification (issue 17)
+        assert_eq!(
+            lines[lines.len() - 2],
+            d.summary.lines().last().unwrap(),
+            "{m}"
+        );
+        assert_eq!(
+            lines[lines.len() - 1],
+            format!("Corrected: {}", a.correction.summary),
+            "{m}"
+        );
     }
     let (ok, _, err) = testpiece(&["diagnose", &file, "--machine", "paper9"]);
     assert!(!ok);

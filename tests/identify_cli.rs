@@ -6,7 +6,7 @@ mod identify_common;
 use identify_common::*;
 mod cli_common;
 
-use cli_common::testpiece;
+use cli_common::{testpiece, testpiece_ok};
 
 fn example(name: &str) -> String {
     format!(
@@ -117,4 +117,102 @@ fn cli_errors() {
     assert!(!ok && err.contains("--mode `fancy`"), "{err}");
     let (ok, _, err) = testpiece(&["identify", &example("example_clean.csv"), "--export", "xml"]);
     assert!(!ok && err.contains("--export `xml`"), "{err}");
+}
+
+/// Issue 17: `identify --json` is the final answer. On example_backlash_c.csv (key: backlash_c,
+/// b = 6e-4 rad, seed 9) the diagnosis names `backlash_c`, the location errors are fitted with
+/// it, and every one lies within 2 std of the key's `xi_true` (the baseline's EA0C is 8.6 std
+/// off: the bias the correction removes); `backlash_c.b` is within 2 std of 6e-4 rad.
+#[test]
+fn identify_json_is_the_corrected_answer() {
+    let file = example("example_backlash_c.csv");
+    let v: serde_json::Value =
+        serde_json::from_str(&testpiece_ok(&["identify", &file, "--json"])).unwrap();
+    assert_eq!(v["verdict"], "backlash_c");
+    assert_eq!(v["effects_included"], serde_json::json!(["backlash_c"]));
+    assert_eq!(v["correction"]["basis"], "effects");
+    let key = key_truth("example_backlash_c");
+    let z = |p: &serde_json::Value, truth: f64| {
+        (p["value"].as_f64().unwrap() - truth) / p["std"].as_f64().unwrap()
+    };
+    for name in [
+        "EC0Y", "EA0Z", "EB0Z", "EA0C", "EB0C", "EX0B", "EA0B", "EC0B",
+    ] {
+        let zf = z(&v["parameters"][name], key[name]);
+        assert!(zf.abs() <= 2.0, "final {name}: z = {zf}");
+        assert!(v["shift"][name].as_f64().unwrap().is_finite(), "{name}");
+    }
+    let zb = z(&v["baseline_parameters"]["EA0C"], key["EA0C"]);
+    assert!(zb.abs() > 5.0, "baseline EA0C z = {zb}");
+    let zb = z(&v["parameters"]["backlash_c.b"], key["b"]);
+    assert!(zb.abs() <= 2.0, "backlash_c.b z = {zb}");
+    assert_eq!(v["parameters"]["backlash_c.b"]["unit"], "rad");
+    // --effects none: the baseline, bit for bit.
+    let none: serde_json::Value = serde_json::from_str(&testpiece_ok(&[
+        "identify",
+        &file,
+        "--effects",
+        "none",
+        "--json",
+    ]))
+    .unwrap();
+    assert_eq!(none["parameters"], v["baseline_parameters"]);
+    assert_eq!(none["effects_included"], serde_json::json!([]));
+    assert_eq!(none["correction"]["basis"], "baseline");
+    // explicit ids force the effects, whatever the verdict.
+    let forced: serde_json::Value = serde_json::from_str(&testpiece_ok(&[
+        "identify",
+        &file,
+        "--effects",
+        "backlash_c,setup_error",
+        "--json",
+    ]))
+    .unwrap();
+    assert_eq!(
+        forced["effects_included"],
+        serde_json::json!(["backlash_c", "setup_error"])
+    );
+    for p in ["setup_error.thetaz", "setup_error.tx", "setup_error.ty"] {
+        assert!(forced["parameters"][p]["value"].is_number(), "{p}");
+    }
+    // the export holds the final answer and says what it was fitted with
+    let csv = testpiece_ok(&["identify", &file, "--export", "csv"]);
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("name,iso_230_1,value,unit,std,status,fitted_with")
+    );
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f[6], "backlash_c", "{line}");
+        let want = v["parameters"][f[0]]["value"].as_f64().unwrap();
+        let got: f64 = f[2].parse().unwrap();
+        assert!((got - want).abs() <= 1e-12 * want.abs(), "{line}");
+    }
+    // diagnose carries the same final parameters under `corrected`
+    let d: serde_json::Value =
+        serde_json::from_str(&testpiece_ok(&["diagnose", &file, "--json"])).unwrap();
+    assert_eq!(d["corrected"]["parameters"], v["parameters"]);
+    assert_eq!(d["corrected"]["effects_included"], v["effects_included"]);
+    assert_eq!(d["verdict"]["effect"], "backlash_c");
+}
+
+/// `--effects` with an unknown id is refused with the id; a pool says it is not corrected.
+#[test]
+fn effects_option_errors_and_the_pool() {
+    let file = example("example_clean.csv");
+    let (ok, _, err) = testpiece(&["identify", &file, "--effects", "backlash_q"]);
+    assert!(!ok);
+    assert!(err.contains("unknown effect id `backlash_q`"), "{err}");
+    let other = example("example_tool_radius.csv");
+    let v: serde_json::Value =
+        serde_json::from_str(&testpiece_ok(&["identify", &file, &other, "--json"])).unwrap();
+    assert_eq!(v["corrected"], false);
+    assert!(v["correction_note"]
+        .as_str()
+        .unwrap()
+        .contains("NOT corrected"));
+    let (ok, _, err) = testpiece(&["identify", &file, &other, "--effects", "backlash_c"]);
+    assert!(!ok);
+    assert!(err.contains("a pool is not diagnosed"), "{err}");
 }

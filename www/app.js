@@ -5,7 +5,7 @@ import { partsView } from './parts.js';
 import { curvesView } from './curves.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
-import { h, dataView, fig19View, identifyView, gapView, reportView, diagnosisOf, machines, machineName } from './views.js';
+import { h, dataView, fig19View, identifyView, gapView, reportView, diagnosisOf, machines, machineName, fittedWith } from './views.js';
 import { setupBudget } from './budget.js';
 
 const $ = (id) => document.getElementById(id);
@@ -48,6 +48,7 @@ function readSettings() {
     tool_radius: $('toolRadius').checked,
     exclude_bad_rows: $('exclude').checked,
     noise_sigma: Number.isFinite(sigmaUm) && sigmaUm > 0 ? sigmaUm / 1000 : null,
+    effects: $('effects').value,
   };
   st.setupPerPart = $('setupPerPart').checked;
 }
@@ -185,7 +186,7 @@ function summaryText() {
   const d = diagnosisOf(a);
   box.append(
     h('div', { class: 'verdict', id: 'verdict-line' }, d ? d.summary.split('\n')[0] : `Verdict: not available (${a.diagnosis.reason})`),
-    h('div', {}, `${f.name}: identification of ${Object.keys(id.parameters).length} parameters from ${id.points_used} points.`),
+    h('div', {}, `${f.name}: identification of ${Object.keys(id.parameters).length} parameters from ${id.points_used} points, ${fittedWith(a)}.`),
     h('div', {}, `Clearly non-zero (|value| ≥ 3 std): ${strong.length ? strong.join(', ') : 'none'}.`),
     h('div', {}, `Residual after the fit: RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`),
     h('div', {}, weak ? `Not separable or weakly determined by this part: ${weak}.` : 'Every parameter is separately determined by this part.'),
@@ -246,7 +247,7 @@ function setupInputs() {
   drop.addEventListener('drop', (e) => { e.preventDefault(); drop.classList.remove('over'); addFiles([...e.dataTransfer.files]); });
   drop.addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); $('file').click(); } });
   $('example').addEventListener('change', () => loadExample($('example').value));
-  for (const id of ['machine', 'mode', 'branch', 'l0', 'toolRadius', 'exclude', 'sigma', 'setupPerPart']) {
+  for (const id of ['machine', 'mode', 'branch', 'l0', 'toolRadius', 'effects', 'exclude', 'sigma', 'setupPerPart']) {
     $(id).addEventListener('change', async () => {
       readSettings();
       if (id === 'setupPerPart') { await runPool(); render(); return; }

@@ -273,8 +273,7 @@ function whereControl(a, idSuffix) {
 }
 
 /** The measured / simulated / residual chart with the where highlight. */
-function residualChart(a, name) {
-  const id = a.identification;
+function residualChart(a, name, id = a.identification) {
   const curves = id.points.map((p) => p.curve);
   const ids = id.points.map((p) => p.id);
   const L = layout(curves, ids);
@@ -290,36 +289,78 @@ function residualChart(a, name) {
 }
 
 // ---------------------------------------------------------------- Identification
+/** What the final answer was fitted with, in words (core: analysis.correction). */
+export function fittedWith(a) {
+  const c = a.correction;
+  if (!c) return '';
+  if (c.basis === 'effects') return `fitted with ${c.effects_included.map(effectWords).join(' and ')}`;
+  if (c.basis === 'structure') return 'fitted with the unexplained structure as a correlated error (std include it)';
+  return 'the location errors alone (baseline)';
+}
+const effectWords = (id) => {
+  const d = (id.match(/^backlash_([xyzabc])$/) || [])[1];
+  if (d) return `backlash of the ${d.toUpperCase()} axis (${id})`;
+  const s = (id.match(/^scale_([xyz])$/) || [])[1];
+  if (s) return `scale error of the ${s.toUpperCase()} axis (${id})`;
+  return id.replace('_', ' ');
+};
+
+/** A parameters table: value, unit, std, t, status, and the shift from the baseline when given. */
+function parameterTable(name, caption, id, shift, fitted) {
+  const header = ['parameter', 'value', 'unit', 'std', 't', 'status'];
+  if (shift) header.push('shift from baseline (std)');
+  header.push('fitted with');
+  return table(name, caption, header, Object.entries(id.parameters).map(([n, p]) => {
+    const row = [n, { text: fmtNum(p.value, p.unit), num: true, value: p.value }, p.unit,
+      { text: fmtNum(p.std, p.unit), num: true, value: p.std ?? '' }, { text: p.t === null || p.t === undefined ? '—' : p.t.toFixed(1), num: true, value: p.t ?? '' },
+      { text: p.status.replace('_', ' '), class: `status-${p.status}` }];
+    if (shift) {
+      const v = shift[n];
+      row.push(v === undefined ? { text: n.includes('.') ? 'effect' : '—', value: '' }
+        : { text: v === null ? '—' : (v >= 0 ? '+' : '') + v.toFixed(1), num: true, value: v ?? '' });
+    }
+    row.push(fitted);
+    return row;
+  }));
+}
+
 export function identifyView(root, a) {
   root.textContent = '';
   if (!a) { root.append(h('p', {}, 'Load a measured part to identify the machine.')); return; }
   const id = a.identification;
+  const c = a.correction;
   const params = Object.entries(id.parameters);
-  root.append(h('h2', {}, 'Identified parameters'),
+  root.append(h('h2', {}, 'Identified parameters: the final answer'),
+    h('p', { id: 'correction-summary', class: `correction correction-${c.basis}` }, c.summary),
     h('p', {}, `${id.points_used} points, rank ${id.rank} of ${params.length}, condition number ${fmtNum(id.condition)} (unit-scaled design), σ ${id.sigma ? (id.sigma * 1000).toFixed(2) + ' µm' : '—'} (${id.sigma_source}). Residual RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`));
-  root.append(table('parameters', 'ISO 230-1 location errors (rad; EX0B and dR in mm). std: one standard deviation; t = |value|/std.',
-    ['parameter', 'value', 'unit', 'std', 't', 'status'],
-    params.map(([n, p]) => [n, { text: fmtNum(p.value, p.unit), num: true, value: p.value }, p.unit,
-      { text: fmtNum(p.std, p.unit), num: true, value: p.std ?? '' }, { text: p.t === null || p.t === undefined ? '—' : p.t.toFixed(1), num: true, value: p.t ?? '' },
-      { text: p.status.replace('_', ' '), class: `status-${p.status}` }])));
+  root.append(parameterTable('parameters', `ISO 230-1 location errors (rad; EX0B, dR and lengths in mm), ${fittedWith(a)}${c.effect_parameters.length ? '; the effect\'s own parameters are named <effect>.<parameter>' : ''}. std: one standard deviation${c.std_includes_structure ? ' (includes the unexplained structure)' : ''}; t = |value|/std; shift = (final − baseline)/std.`, id, c.basis === 'baseline' ? null : c.shift, fittedWithId(a)));
+  if (c.alternatives && c.alternatives.length) {
+    root.append(h('ul', { id: 'alternatives' }, c.alternatives.map((x) => h('li', {}, x.same_answer
+      ? `With the equivalent ${x.effect} instead: the same location errors (largest difference ${x.difference_std.toFixed(2)} std, ${x.parameter}).`
+      : `With the equivalent ${x.effect} instead: ${x.parameter} differs by ${x.difference_std.toFixed(1)} std; the part cannot choose.`))));
+  }
+  const base = a.baseline.identification;
+  root.append(h('details', { id: 'baseline-details' }, h('summary', {}, 'Baseline identification: the location errors alone, before the diagnosis'),
+    h('p', {}, `Residual RMS ${(base.residual.rms * 1000).toFixed(2)} µm, σ ${base.sigma ? (base.sigma * 1000).toFixed(2) + ' µm' : '—'} (${base.sigma_source}).`),
+    parameterTable('baseline-parameters', 'Baseline location errors (rad; lengths in mm), without any unmodelled effect', base, null, 'none')));
   root.append(h('h2', {}, 'What this part cannot separate'));
   if (!id.groups.length) root.append(h('p', {}, 'Every parameter is separately determined by this part.'));
   root.append(h('ul', { id: 'groups' }, id.groups.map((g) => h('li', {}, h('strong', {}, `${g.kind.replace('_', ' ')}: ${g.parameters.join(', ')}. `), g.explanation))));
   if (id.notes && id.notes.length) root.append(h('ul', {}, id.notes.map((n) => h('li', {}, n))));
   // measured vs simulated vs residual, and the plan view, with where the gap diagnosis lies
-  root.append(h('h2', {}, 'Residual per point and on the part'), whereControl(a, 'identify'));
+  root.append(h('h2', {}, 'Residual per point and on the part (final answer)'), whereControl(a, 'identify'));
   root.append(residualChart(a, 'measured-simulated-residual'));
   root.append(planView(a, 'plan-view'));
   root.append(table('residual-per-curve', 'Residual per curve (paper 001 eq. 15-17)', ['curve', 'n', 'RMS (µm)', 'max |r| (µm)', 'MAD (µm)', 'RMSE (µm)', 'MAPE (%)'],
-    id.per_curve.map((c) => [c.curve, { text: c.n, num: true }, ...[c.rms, c.max_abs, c.mad, c.rmse].map((v) => ({ text: (v * 1000).toFixed(2), num: true, value: v * 1000 })),
-      { text: c.mape === null ? '—' : c.mape.toFixed(1), num: true, value: c.mape ?? '' }])));
+    id.per_curve.map((cv) => [cv.curve, { text: cv.n, num: true }, ...[cv.rms, cv.max_abs, cv.mad, cv.rmse].map((v) => ({ text: (v * 1000).toFixed(2), num: true, value: v * 1000 })),
+      { text: cv.mape === null ? '—' : cv.mape.toFixed(1), num: true, value: cv.mape ?? '' }])));
 }
 
 /** Plan view of the part (x–y) with the residual drawn as coloured arrows along the normal, the
  * points of the highlighted where-group ringed and the axis reversals marked. */
-function planView(a, name) {
+function planView(a, name, id = a.identification) {
   const pts = a.file.points;
-  const res = a.identification.points.map((p) => p.residual);
+  const res = id.points.map((p) => p.residual);
   const maxr = Math.max(1e-9, ...res.map(Math.abs));
   const W = 640, H = 570, pad = 30;
   const xs = pts.map((p) => p.foot[0]), ys = pts.map((p) => p.foot[1]);
@@ -404,12 +445,19 @@ export function reportView(root, st) {
     ['tool-radius term', s.tool_radius ? 'fitted (dR)' : 'not fitted'], ['CMM σ', s.noise_sigma ? `${(s.noise_sigma * 1000).toFixed(2)} µm` : 'from the residual'],
   ]));
   const id = a.identification;
-  root.append(table('report-parameters', 'Identified parameters (value ± 1 std)', ['parameter', 'value', 'std', 'unit', 'status'],
-    Object.entries(id.parameters).map(([n, p]) => [n, { text: fmtNum(p.value, p.unit), num: true, value: p.value }, { text: fmtNum(p.std, p.unit), num: true, value: p.std ?? '' }, p.unit, p.status.replace('_', ' ')])));
+  root.append(h('p', { id: 'report-correction' }, a.correction.summary));
+  root.append(table('report-parameters', `Identified parameters, final answer (value ± 1 std), ${fittedWith(a)}`, ['parameter', 'value', 'std', 'unit', 'status', 'fitted with'],
+    Object.entries(id.parameters).map(([n, p]) => [n, { text: fmtNum(p.value, p.unit), num: true, value: p.value }, { text: fmtNum(p.std, p.unit), num: true, value: p.std ?? '' }, p.unit, p.status.replace('_', ' '), fittedWithId(a)])));
   root.append(h('p', {}, `Residual RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm; rank ${id.rank}, condition ${fmtNum(id.condition)}.`));
   root.append(h('ul', {}, id.groups.map((g) => h('li', {}, g.explanation))));
   if (diagnosisOf(a)) root.append(h('h2', {}, 'Sim-to-real gap'), h('pre', {}, diagnosisOf(a).summary));
   root.append(h('p', { class: 'signature' }, 'Checked by: ____________________   Date: ____________'));
+}
+
+/** The export's `fitted_with` (identify::export): effect ids joined by +, structure, or none. */
+export function fittedWithId(a) {
+  const c = a.correction;
+  return c.basis === 'effects' ? c.effects_included.join('+') : c.basis === 'structure' ? 'structure' : 'none';
 }
 
 // ---------------------------------------------------------------- Sim-to-real gap
@@ -420,7 +468,10 @@ export function gapView(root, a) {
   const d = diagnosisOf(a);
   const v = d.verdict;
   const um = (x) => (x * 1000).toFixed(2);
-  root.append(h('h2', {}, 'Sim-to-real gap'), h('pre', { id: 'gap-summary', class: 'summary' }, d.summary));
+  root.append(h('h2', {}, 'Sim-to-real gap'), h('pre', { id: 'gap-summary', class: 'summary' }, d.summary),
+    h('p', { id: 'gap-corrected', class: `correction correction-${a.correction.basis}` },
+      a.correction.basis === 'effects' ? `The machine's errors are corrected for it: ${a.correction.summary}`
+        : a.correction.summary));
   root.append(table('gap-shrink', 'How far the gap shrinks with the verdict\'s effect (µm; withheld = cross-validation on points left out of the fit)',
     ['', 'before', 'after'], [
       ['RMS in-sample', { text: um(v.rms_before), num: true, value: v.rms_before * 1000 }, { text: um(v.rms_after), num: true, value: v.rms_after * 1000 }],
@@ -455,6 +506,6 @@ export function gapView(root, a) {
       { text: um(w.max_abs), num: true, value: w.max_abs * 1000 }, { text: um(w.mean), num: true, value: w.mean * 1000 },
       { text: Number(w.concentration.toPrecision(3)), num: true }])));
   root.append(h('h2', {}, 'Where, on the plots and the plan view'),
-    h('p', {}, 'The shaded points are those of the chosen group of the table above (by default the curve or region where the core finds the baseline residual concentrated); the ▼ marks are the axis reversals of the tool path that the core marks. The plots show the identification\'s residual at the same points.'),
-    whereControl(a, 'gap'), residualChart(a, 'gap-where-residual'), planView(a, 'gap-where-plan'));
+    h('p', {}, 'The shaded points are those of the chosen group of the table above (by default the curve or region where the core finds the baseline residual concentrated); the ▼ marks are the axis reversals of the tool path that the core marks. The plots show the baseline identification\'s residual (the location errors alone) at the same points: the gap the diagnosis explains.'),
+    whereControl(a, 'gap'), residualChart(a, 'gap-where-residual', a.baseline.identification), planView(a, 'gap-where-plan', a.baseline.identification));
 }

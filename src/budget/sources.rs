@@ -13,7 +13,12 @@
 //!   identified parameters except `dR`): [`crate::analysis::analyse`] with the known path
 //!   deviation (`d_NC`, else `d_CL`) subtracted from the measurement first
 //!   ([`crate::analysis::KnownDeviation`]), so the path's share is not blamed on the machine;
-//! - `tool` = `−dR` (§3.2, the tool-radius column −1) where `dR` is fitted, else 0;
+//!   The identification is the final answer of the analysis: when the gap diagnosis names an
+//!   effect, its columns (`<id>.<parameter>`) are fitted with the location errors and their
+//!   defect is part of `machine` (backlash, scale, thermal growth, set-up, ...), except the
+//!   tool's own effects (`tool_radius.*`, `tool_taper.*`), which go to `tool`;
+//! - `tool` = `−dR` (§3.2, the tool-radius column −1) where `dR` is fitted (and the tool effects
+//!   the diagnosis names), else 0;
 //! - `residual` = `measured − (design + cam + nc + machine + tool)`: by construction the sources
 //!   add up to the measured deviation point by point;
 //! - `cmm` = the CMM's MPE band `±(a + L/b)` µm with `L` the point's distance from the part
@@ -306,7 +311,7 @@ pub fn error_budget(
     let mut parameters = Vec::new();
     for (k, name) in analysis.design.params.iter().enumerate() {
         let value = analysis.identification.value(name).unwrap_or(0.0);
-        let target = if name == DR_NAME {
+        let target = if name == DR_NAME || name.starts_with("tool_") {
             &mut tool
         } else {
             &mut machine

@@ -60,11 +60,43 @@ test('the example part is analysed at once and its numbers are the core\'s', asy
   console.log(`first plot (Figure 19) ${firstPlotMs} ms after navigation start (performance mark; ${firstPlotWallMs} ms wall clock from goto); ` +
     `DOMContentLoaded ${domContentLoaded} ms; marks ${JSON.stringify(marks)}`);
   const native = JSON.parse(cli('identify', path.join(EXAMPLES, 'example_backlash_c.csv'), '--json'));
-  // The parameters table shows 4 significant digits of the wasm core's EA0B.
-  const row = page.locator('[data-table="parameters"] tr', { hasText: 'EA0B' });
-  const shown = Number(await row.locator('td').nth(1).getAttribute('data-value'));
-  const ea0b = native.parameters.EA0B.value;
-  assert.ok(Math.abs(shown - ea0b) <= 1e-9 * Math.abs(ea0b) + 1e-15, `EA0B page ${shown} vs CLI ${ea0b}`);
+  // Issue 17: the parameters table is the final answer (location errors fitted with the named
+  // backlash_c, and its own parameter backlash_c.b), the wasm core's values to 1e-9 of the CLI's;
+  // the shift column is the CLI's `shift`; the baseline table one level down is `baseline_parameters`.
+  assert.deepEqual(native.effects_included, ['backlash_c']);
+  const rowOf = (t, n) => page.locator(`[data-table="${t}"] tbody tr`, { has: page.locator(`td:text-is("${n}")`) });
+  const names = await page.locator('[data-table="parameters"] tbody tr td:first-child').allTextContents();
+  assert.deepEqual([...names].sort(), Object.keys(native.parameters).sort());
+  for (const [n, p] of Object.entries(native.parameters)) {
+    const tds = rowOf('parameters', n).locator('td');
+    const v = Number(await tds.nth(1).getAttribute('data-value'));
+    assert.ok(Math.abs(v - p.value) <= 1e-9 * Math.abs(p.value) + 1e-15, `final ${n}: page ${v} vs CLI ${p.value}`);
+    const sd = Number(await tds.nth(3).getAttribute('data-value'));
+    assert.ok(Math.abs(sd - p.std) <= 1e-9 * Math.abs(p.std), `final std ${n}: page ${sd} vs CLI ${p.std}`);
+    if (n in native.shift) {
+      const sh = Number(await tds.nth(6).getAttribute('data-value'));
+      assert.ok(Math.abs(sh - native.shift[n]) <= 1e-9 * (1 + Math.abs(native.shift[n])), `shift ${n}: page ${sh} vs CLI ${native.shift[n]}`);
+    }
+  }
+  assert.match(await page.textContent('#correction-summary'), /fitted together with the backlash of the C axis/);
+  for (const [n, p] of Object.entries(native.baseline_parameters)) {
+    const v = Number(await rowOf('baseline-parameters', n).locator('td').nth(1).getAttribute('data-value'));
+    assert.ok(Math.abs(v - p.value) <= 1e-9 * Math.abs(p.value) + 1e-15, `baseline ${n}: page ${v} vs CLI ${p.value}`);
+  }
+  // The export of the parameters table holds the final answer, as `identify --export csv` does.
+  await page.click('#tab-identify');
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('button[data-export="parameters.csv"]')]);
+  const csv = fs.readFileSync(await download.path(), 'utf8');
+  const exported = cli('identify', path.join(EXAMPLES, 'example_backlash_c.csv'), '--export', 'csv');
+  assert.match(exported.split('\n')[1], /,backlash_c$/);
+  for (const line of exported.trim().split('\n').slice(1)) {
+    const [n, , value] = line.split(',');
+    const row = csv.split('\n').find((l) => l.startsWith(`${n},`) || l.startsWith(`"${n}",`));
+    assert.ok(row, `export: ${n} missing from the page's CSV`);
+    const v = Number(row.split(',')[1].replace(/"/g, ''));
+    assert.ok(Math.abs(v - Number(value)) <= 1e-9 * Math.abs(Number(value)) + 1e-15, `export ${n}: page ${v} vs CLI ${value}`);
+    assert.ok(row.trim().endsWith(',backlash_c'), `export ${n}: the page's CSV says what it was fitted with: ${row}`);
+  }
   assert.equal(await page.textContent('#version'), cli('--version').trim().split(' ')[1]);
   assert.deepEqual(errors, []);
   for (const t of ['data', 'fig19', 'identify', 'gap', 'parts', 'report']) {
@@ -262,7 +294,12 @@ test('the machine setting changes the chain, its error set and the curves; cone 
     // projector on the null space (basis-independent), so they agree too (identify::least_squares).
     const row = page.locator('[data-table="parameters"] tbody tr', { has: page.locator(`td:text-is("${n}")`) });
     const v = await num(row.locator('td').nth(1));
-    assert.ok(Math.abs(v - p.value) <= 1e-8 * Math.abs(p.value) + 1e-14, `paper002 ${n}: page ${v} vs CLI ${p.value}`);
+    // On this machine the part is `unexplained` (the example's backlash_c was simulated on paper
+    // 000's chain): the final answer is the GLS with the structure's covariance, whitened by an
+    // eigen-decomposition whose kernel goes through `exp` (the last bit differs between the
+    // native and the wasm libm), then refined by Levenberg-Marquardt, whose stopping point moves
+    // with such bits: measured 1.03e-8 relative on EA0B (not separable, fixed by its convention).
+    assert.ok(Math.abs(v - p.value) <= 1e-7 * Math.abs(p.value) + 1e-14, `paper002 ${n}: page ${v} vs CLI ${p.value}`);
   }
   await page.click('#tab-fig19');
   await page.waitForSelector('[data-chart="cone-frustum"] polyline', { state: 'attached', timeout: 60000 });

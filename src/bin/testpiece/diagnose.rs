@@ -1,10 +1,8 @@
 //! `testpiece diagnose FILE [--sigma MM] [--machine M] [--json]`: the sim-to-real gap of a
 //! measured part.
 
-use testpiece::analysis::{diagnose_on_machine, measurement_points, AnalysisOptions, Diagnosis};
-use testpiece::cmm::{read_and_match, ReadOptions};
+use testpiece::analysis::{analyse, AnalysisOptions, Diagnosis};
 use testpiece::machine::Branch;
-use testpiece::part::SShape;
 
 use crate::args::Args;
 
@@ -29,7 +27,13 @@ at the matched points.
              summary says so. --l0 the pivot-to-tip length (mm, 499.889); --branch the B-axis
              branch of the inverse kinematics (signed, default, or positive).
 --exclude-bad-rows  leave out the rows the reader rejects instead of refusing the file.
+The machine's location errors are then identified with what the diagnosis found (as
+`testpiece identify`, default --effects auto): `corrected` holds that final answer.
 --json       the report as JSON (shared/spec/cli.md); default: the plain-language summary.
+             `corrected`: {parameters (the final location errors and effect parameters,
+             {NAME: {value, std, unit, status, t}}), baseline_parameters, effects_included,
+             shift (per location error, in std of the final answer), basis (effects,
+             structure or baseline), summary}.
              verdict.kind is noise, unexplained or named; verdict.effect the id (none,
              unexplained or an effect of effects.md), verdict.with the pair's second effect.
              Each `where` entry names its group (curve, region, lean, reversal) with the
@@ -59,32 +63,42 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         return Err("diagnose needs exactly one FILE (see `testpiece diagnose --help`)".into());
     };
     let bytes = std::fs::read(file).map_err(|e| format!("{file}: {e}"))?;
-    let opts = ReadOptions::default().with_exclude_bad_rows(exclude_bad_rows);
     let name = std::path::Path::new(file)
         .file_name()
         .map_or(file.clone(), |n| n.to_string_lossy().into_owned());
-    let part = SShape::iso();
-    let matched = read_and_match(&bytes, &name, &opts).map_err(|e| format!("{file}: {e}"))?;
-    let points = measurement_points(&part, &matched);
     let settings = AnalysisOptions {
         machine,
         l0,
         branch: Branch::parse(&branch)
             .ok_or_else(|| format!("--branch `{branch}`: expected signed or positive"))?,
         noise_sigma: sigma,
+        exclude_bad_rows,
         ..AnalysisOptions::default()
     };
-    let report = match diagnose_on_machine(&part, &points, &matched.deviations(), &settings) {
+    let a = analyse(&bytes, &name, &settings).map_err(|e| format!("{file}: {e}"))?;
+    let report = match &a.diagnosis {
         Diagnosis::Made { report, .. } => report,
         Diagnosis::NotMade { reason } => return Err(format!("{file}: {reason}")),
     };
     if json {
+        let c = &a.correction;
+        let mut v = serde_json::to_value(report).map_err(|e| e.to_string())?;
+        v["corrected"] = serde_json::json!({
+            "parameters": a.identification.parameters,
+            "baseline_parameters": a.baseline.identification.parameters,
+            "effects_included": c.effects_included,
+            "shift": c.shift,
+            "basis": c.basis,
+            "std_includes_structure": c.std_includes_structure,
+            "summary": c.summary,
+        });
         println!(
             "{}",
-            serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
         );
     } else {
         print!("{}", report.summary);
+        println!("Corrected: {}", a.correction.summary);
     }
     Ok(())
 }
