@@ -38,7 +38,7 @@ use crate::gap::correct::{
 };
 use crate::gap::effects::builtin::{missing_catalogue_axis, part_model, part_model_on, PartModel};
 use crate::gap::{diagnose, DiagnosisReport, Effect, GapError, GapInput};
-use crate::identify::correlated::Whitened;
+use crate::identify::correlated::{whitened_limit, Whitened};
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
@@ -624,13 +624,17 @@ fn refine_with(
                 wy.iter().copied().collect(),
             );
             let model = Whitened { model, whitener: w };
+            let limit = whitened_limit(design, &wd, iopts);
             refine(
                 &wd,
                 &wobs,
                 linear,
                 model,
                 &RefineOptions::default(),
-                &iopts.clone().with_sigma(1.0),
+                &iopts
+                    .clone()
+                    .with_sigma(1.0)
+                    .with_condition_index_limit(limit),
             )
         }
     };

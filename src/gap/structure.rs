@@ -62,7 +62,7 @@ pub fn correlation(points: &[PointMeta], length: f64) -> DMatrix<f64> {
     let n = points.len();
     DMatrix::from_fn(n, n, |i, j| {
         let d = (points[i].s - points[j].s) / length;
-        (-0.5 * d * d).exp()
+        libm::exp(-0.5 * d * d)
     })
 }
 
@@ -96,33 +96,33 @@ pub fn estimate(
         let yt = q.transpose() * &y;
         let loglik = |tau2: f64| restricted_log_likelihood(&lambda, &bt, &yt, s2, tau2);
         // golden section on ln τ² over [ln 1e-4 σ², ln 1e4 σ²]
-        let (mut a, mut b) = ((1e-4 * s2).ln(), (1e4 * s2).ln());
+        let (mut a, mut b) = (libm::log(1e-4 * s2), libm::log(1e4 * s2));
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-        let (mut fc, mut fd) = (loglik(c.exp()), loglik(d.exp()));
+        let (mut fc, mut fd) = (loglik(libm::exp(c)), loglik(libm::exp(d)));
         for _ in 0..40 {
             if fc > fd {
                 b = d;
                 d = c;
                 fd = fc;
                 c = b - g * (b - a);
-                fc = loglik(c.exp());
+                fc = loglik(libm::exp(c));
             } else {
                 a = c;
                 c = d;
                 fc = fd;
                 d = a + g * (b - a);
-                fd = loglik(d.exp());
+                fd = loglik(libm::exp(d));
             }
         }
         // ln τ² rounded to 1e-4 (0.01 % of τ²): the optimum of a flat likelihood is located only
-        // to about √ε, and the last comparisons of the search can go either way with the
-        // last bit of `exp`/`ln`, which differs between the native and the wasm build.
+        // to about √ε. `exp` and `ln` are libm's (pure Rust): the same bits in the native and
+        // the wasm build, so the covariance, and the refinement on top of it, are too.
         let t = if fc > fd { c } else { d };
         let t = (t * 1e4).round() / 1e4;
-        let f = loglik(t.exp());
+        let f = loglik(libm::exp(t));
         if f.is_finite() && best.is_none_or(|(bf, _, _)| f > bf) {
-            best = Some((f, t.exp(), length));
+            best = Some((f, libm::exp(t), length));
         }
     }
     let (loglik, tau2, length) = best?;
@@ -165,7 +165,7 @@ fn restricted_log_likelihood(
     tau2: f64,
 ) -> f64 {
     let dinv: Vec<f64> = lambda.iter().map(|l| 1.0 / (s2 + tau2 * l)).collect();
-    let logdet_sigma: f64 = dinv.iter().map(|d| -d.ln()).sum();
+    let logdet_sigma: f64 = dinv.iter().map(|d| -libm::log(*d)).sum();
     let r = bt.ncols();
     let mut m = DMatrix::zeros(r, r);
     let mut by = DVector::zeros(r);
@@ -189,7 +189,11 @@ fn restricted_log_likelihood(
         return f64::NEG_INFINITY;
     };
     let l: DMatrix<f64> = ch.l();
-    let logdet_m: f64 = 2.0 * l.diagonal().iter().map(|v: &f64| v.ln()).sum::<f64>();
+    let logdet_m: f64 = 2.0
+        * l.diagonal()
+            .iter()
+            .map(|v: &f64| libm::log(*v))
+            .sum::<f64>();
     let quad = yy - by.dot(&ch.solve(&by));
     -0.5 * (logdet_sigma + logdet_m + quad)
 }

@@ -23,6 +23,7 @@ use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
 use serde::{Deserialize, Serialize};
 
+use super::report::NONZERO_T;
 use super::{
     Design, Factored, Identification, IdentifyError, IdentifyOptions, Observations, ScaledSvd,
     Status,
@@ -444,6 +445,9 @@ pub fn apply_refinement(identification: &mut Identification, r: &RefineReport, w
             if p.status != Status::NotSeparable {
                 p.std = r.std[j];
             }
+            // t and the non-zero flag follow the refined value and std (as `identify` sets them)
+            p.t = p.std.filter(|s| *s > 0.0).map(|s| p.value.abs() / s);
+            p.nonzero = p.status == Status::Identified && p.t.is_some_and(|t| t >= NONZERO_T);
         }
         identification.notes.push(format!(
             "values refined with the exact eq. 12{what}: {}",

@@ -11,8 +11,8 @@
 mod parity_common;
 
 use parity_common::{
-    analysis_value, compare, compare_abs, max_rel, EXAMPLES, LOOSE_ABS, LOOSE_REL, PARITY_REL,
-    STRICT,
+    analysis_value, compare, compare_abs, max_rel, EXAMPLES, LM_FTOL_REL, LOOSE_ABS, LOOSE_REL,
+    PARITY_REL, STRICT,
 };
 use testpiece::analysis::{analyse, AnalysisOptions};
 use wasm_bindgen::JsValue;
@@ -100,7 +100,8 @@ const NATIVE_PAPER002: &str = include_str!("../data/parity/analysis_paper002.jso
 
 /// The backlash example on paper 002's tilting table (rank 6 of 8): the values of the
 /// not-separable parameters are fixed by the basis-independent minimum-norm rule
-/// (`identify::least_squares`), so they agree with native like every other result.
+/// (`identify::least_squares`), so the baseline agrees with native to `PARITY_REL`; the final
+/// answer (basis `structure`, refined by LM) to `LM_FTOL_REL`.
 #[wasm_bindgen_test]
 fn tilting_table_not_separable_values_match_native() {
     use testpiece::analysis::MachineChoice;
@@ -113,15 +114,33 @@ fn tilting_table_not_separable_values_match_native() {
     let a = analyse(example("example_backlash_c.csv"), "b.csv", &opts).expect("paper002");
     let wasm = analysis_value(&a);
     let mut failures = Vec::new();
+    // This part is `unexplained` on the tilting table: its final answer is the GLS with the
+    // structure's covariance, refined by LM (parity_common::LM_FTOL_REL); the baseline and the
+    // design stay strict.
+    assert_eq!(wasm.pointer("/correction/basis"), Some(&"structure".into()));
     for key in STRICT {
+        let final_refined = key.starts_with("/identification/") || key.starts_with("/refinement/");
         if let (Some(p), Some(q)) = (native.pointer(key), wasm.pointer(key)) {
-            let diff = compare(p, q, PARITY_REL);
+            // the final covariance's small off-diagonal terms (1e-11 of entries up to 1e-4) are
+            // formed by cancellation: absolute floor 1e-15 (differences measured ≤ 2.2e-16)
+            let diff = if final_refined {
+                compare_abs(p, q, LM_FTOL_REL, 1e-15)
+            } else {
+                compare(p, q, PARITY_REL)
+            };
             if !diff.is_empty() {
                 failures.push(format!("{key}: {diff:?}"));
             }
         }
     }
-    let diff = compare_abs(&native, &wasm, LOOSE_REL, LOOSE_ABS);
+    // LM's number of evaluations is where the two builds' paths differ (12 vs 16 measured).
+    let (mut native, mut wasm) = (native, wasm);
+    for v in [&mut native, &mut wasm] {
+        if let Some(e) = v.pointer_mut("/refinement/evaluations") {
+            *e = serde_json::Value::Null;
+        }
+    }
+    let diff = compare_abs(&native, &wasm, LM_FTOL_REL, 1e-15);
     if !diff.is_empty() {
         failures.push(format!("(whole): {diff:?}"));
     }
