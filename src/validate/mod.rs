@@ -14,6 +14,6 @@ pub mod single;
 pub use pairs::{pairs_table, validate_pairs, PairCase, PairValidation};
 pub use parameter_error::{answer_error, AnswerError, ErrorComparison, ErrorSummary};
 pub use single::{
-    effect_parameters, machine_errors, table, validate, validate_with, ValidateOptions,
-    ValidationModel,
+    effect_parameters, machine_errors, table, validate, validate_with, ParameterErrors,
+    ValidateOptions, ValidationModel,
 };
