@@ -4,13 +4,16 @@
 //! calls [`crate::gap::diagnose`] as any user of the diagnosis would.
 //!
 //! - [`single`]: one effect of effects.md (or none, or an out-of-list shape) per part;
-//! - [`pairs`]: two effects at once (`validate --pairs`).
+//! - [`pairs`]: two effects at once (`validate --pairs`);
+//! - [`parameter_error`]: the identified location errors against the simulated truth.
 
 pub mod pairs;
+pub mod parameter_error;
 pub mod single;
 
 pub use pairs::{pairs_table, validate_pairs, PairCase, PairValidation};
+pub use parameter_error::{answer_error, AnswerError, ErrorComparison, ErrorSummary};
 pub use single::{
-    effect_parameters, machine_errors, table, validate, validate_with, ValidateOptions,
-    ValidationModel,
+    effect_parameters, machine_errors, table, validate, validate_with, ParameterErrors,
+    ValidateOptions, ValidationModel,
 };

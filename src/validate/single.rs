@@ -19,6 +19,14 @@
 //! `--exact`: the exact eq. 12 defect of [`crate::simulate::ExactDefectModel`]) while the
 //! diagnosis keeps fitting the linear baseline.
 //!
+//! Each case is then identified as a user would get it: the baseline fit of the location errors
+//! `A` alone, and the final answer of [`crate::gap::correct`] for the verdict (the location errors
+//! fitted with the named effect, by generalised least squares with the structure's covariance when
+//! `unexplained`, the baseline when `none`), without the exact-model refinement (the twin is
+//! linear). Both are compared with the simulated `ξ` ([`super::parameter_error`]: largest error in
+//! typical units, coverage by 2 std), per case and summarised per group of expected verdict and
+//! per effect.
+//!
 //! Expected verdict: the effect when `ρ > 1` (detectable), `none` when `ρ ≤ 1` or no effect,
 //! `unexplained` for a detectable out-of-list effect. A verdict counts as correct when it is the
 //! expected id, or when the expected id is listed as equivalent, or when the two are
@@ -30,6 +38,8 @@ use std::collections::BTreeMap;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
+use super::parameter_error::{answer_error, AnswerError, ErrorComparison};
+use crate::gap::correct::{self, Basis, CorrectionInput, EffectsChoice};
 use crate::gap::data::{Candidate, GapInput, NamedColumns, PointMeta};
 use crate::gap::diagnose::{diagnose_with, DiagnoseOptions};
 use crate::gap::equivalence::near_equivalent_pairs;
@@ -38,6 +48,7 @@ use crate::gap::lsq::{rms, Factor};
 use crate::gap::verdict::VerdictId;
 use crate::gap::Effect;
 use crate::gap::GapError;
+use crate::identify::{identify, Design, IdentifyOptions, Observations, Parameter};
 use crate::random::Sampler;
 
 /// Shortest simulated waviness wavelength (mm of tool path).
@@ -195,6 +206,12 @@ pub struct CaseResult {
     pub sigma_used: f64,
     /// Baseline residual structure beyond noise found by the diagnosis (mm).
     pub structure_rms: f64,
+    /// What the final answer was fitted with (by the verdict).
+    pub basis: Basis,
+    /// The baseline's location errors against the true `ξ` (typical units, 2-std coverage).
+    pub baseline_error: AnswerError,
+    /// The final answer's location errors against the true `ξ`.
+    pub final_error: AnswerError,
 }
 
 /// Accuracy of one group of cases.
@@ -227,6 +244,20 @@ pub struct EffectRow {
     /// and achievable by fitting the true effect.
     pub shrink_achieved: f64,
     pub shrink_achievable: f64,
+    /// Location errors against the truth over the detectable cases of this effect, baseline and
+    /// final answer.
+    pub parameter_error: ErrorComparison,
+}
+
+/// Location errors against the truth per group of expected verdict.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct ParameterErrors {
+    /// Expected = an effect of the list (detectable single effects).
+    pub detectable: ErrorComparison,
+    /// Expected `unexplained` (detectable out-of-list effects).
+    pub unexplained: ErrorComparison,
+    /// Expected `none` (no effect, or one below the detection limit).
+    pub none: ErrorComparison,
 }
 
 /// The validation report.
@@ -245,6 +276,8 @@ pub struct ValidationReport {
     pub per_effect: Vec<EffectRow>,
     /// `confusion[expected][verdict]` = count.
     pub confusion: BTreeMap<String, BTreeMap<String, usize>>,
+    /// The final answer's and the baseline's location errors against the truth, per group.
+    pub parameter_error: ParameterErrors,
     pub results: Vec<CaseResult>,
 }
 
@@ -322,6 +355,20 @@ pub fn validate_with(
     let s_path: Vec<f64> = model.points.iter().map(|p| p.s).collect();
     let s_max = s_path.iter().cloned().fold(0.0, f64::max);
     let kinds = model.candidates.len() + 4;
+    let location = Design::try_new(
+        model
+            .baseline
+            .names
+            .iter()
+            .map(|name| Parameter::named(name))
+            .collect(),
+        a.clone(),
+    )?;
+    let iopts = if opts.known_sigma {
+        IdentifyOptions::default().with_sigma(sigma)
+    } else {
+        IdentifyOptions::default()
+    };
     let mut rng = Sampler::new(opts.seed);
     let mut results = Vec::with_capacity(opts.cases);
     for case in 0..opts.cases {
@@ -407,6 +454,21 @@ pub fn validate_with(
             }
             None => v.rms_before,
         };
+        let observations = Observations::plain(y.iter().copied().collect());
+        let baseline = identify(&location, &observations, &iopts)?;
+        let fin = correct::correct(
+            &CorrectionInput {
+                design: &location,
+                observations: &observations,
+                baseline: &baseline,
+                points: &model.points,
+                candidates: &model.candidates,
+                verdict: Some(v),
+                unavailable: &[],
+                options: &iopts,
+            },
+            &EffectsChoice::Auto,
+        )?;
         results.push(CaseResult {
             case,
             truth,
@@ -423,6 +485,9 @@ pub fn validate_with(
             achievable_rms_after,
             sigma_used: v.sigma,
             structure_rms: report.structure.structure_rms,
+            basis: fin.correction.basis,
+            baseline_error: answer_error(location.parameters(), &xi, &baseline),
+            final_error: answer_error(location.parameters(), &xi, &fin.identification),
         });
     }
     Ok(summarise(model, opts, &base, results))
@@ -495,9 +560,17 @@ fn summarise(
                 detection_limit,
                 shrink_achieved: if k > 0.0 { sa / k } else { f64::NAN },
                 shrink_achievable: if k > 0.0 { sb / k } else { f64::NAN },
+                parameter_error: errors_where(&results, |r| {
+                    r.detectable && r.truth == Truth::Effect(c.effect)
+                }),
             }
         })
         .collect();
+    let parameter_error = ParameterErrors {
+        detectable: errors_where(&results, |r| matches!(r.expected, VerdictId::Effect(_))),
+        unexplained: errors_where(&results, |r| r.expected == VerdictId::Unexplained),
+        none: errors_where(&results, |r| r.expected == VerdictId::Noise),
+    };
     ValidationReport {
         cases: results.len(),
         seed: opts.seed,
@@ -508,8 +581,30 @@ fn summarise(
         out_of_list,
         per_effect,
         confusion,
+        parameter_error,
         results,
     }
+}
+
+/// Baseline and final errors over the cases that satisfy `keep`.
+fn errors_where(results: &[CaseResult], keep: impl Fn(&CaseResult) -> bool) -> ErrorComparison {
+    ErrorComparison::of(
+        results
+            .iter()
+            .filter(|r| keep(r))
+            .map(|r| (&r.baseline_error, &r.final_error)),
+    )
+}
+
+/// `largest b / f   coverage b / f` of a comparison (typical units, %).
+fn error_cells(c: &ErrorComparison) -> String {
+    format!(
+        "{:>5.2} / {:<5.2}  {:>5.1} / {:<5.1} %",
+        c.baseline.median_largest_error,
+        c.final_answer.median_largest_error,
+        100.0 * c.baseline.coverage,
+        100.0 * c.final_answer.coverage
+    )
 }
 
 /// A plain-text table of a validation report.
@@ -544,7 +639,19 @@ pub fn table(r: &ValidationReport) -> String {
         r.out_of_list.cases,
         100.0 * r.out_of_list.rate
     );
-    s += "effect          detectable  none-if-below  shrink achieved/achievable  detection limit\n";
+    s += "location errors against the truth (largest error: median over the cases of max |value - true| \
+          in typical units, 1e-4 rad and 0.01 mm; coverage: share of the location errors within 2 std \
+          of the true value), baseline / final answer:\n";
+    s += "group                  cases  largest error   coverage\n";
+    for (name, g) in [
+        ("detectable effects", &r.parameter_error.detectable),
+        ("unexplained", &r.parameter_error.unexplained),
+        ("none", &r.parameter_error.none),
+    ] {
+        s += &format!("{name:22} {:>5}  {}\n", g.cases, error_cells(g));
+    }
+    s += "effect          detectable  none-if-below  shrink achieved/achievable  \
+          largest error   coverage         detection limit\n";
     for e in &r.per_effect {
         let lim: Vec<String> = e
             .detection_limit
@@ -552,7 +659,7 @@ pub fn table(r: &ValidationReport) -> String {
             .map(|(k, v)| format!("{k}={v:.2e}"))
             .collect();
         s += &format!(
-            "{:15} {:>3}/{:<3}      {:>3}/{:<3}        {:>5.3} / {:<5.3}             {}\n",
+            "{:15} {:>3}/{:<3}      {:>3}/{:<3}        {:>5.3} / {:<5.3}             {}  {}\n",
             e.effect,
             e.detectable.correct,
             e.detectable.cases,
@@ -560,6 +667,7 @@ pub fn table(r: &ValidationReport) -> String {
             e.undetectable.cases,
             e.shrink_achieved,
             e.shrink_achievable,
+            error_cells(&e.parameter_error),
             lim.join(" ")
         );
     }
