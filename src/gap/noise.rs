@@ -256,7 +256,7 @@ pub fn second_difference_sigma(seqs: &[Vec<f64>]) -> f64 {
     if d2.is_empty() {
         0.0
     } else {
-        1.482_6 * median(&mut d2) / 6f64.sqrt()
+        1.482_6 * stats::median(&mut d2) / 6f64.sqrt()
     }
 }
 
@@ -286,7 +286,7 @@ pub fn estimate_noise(
     let second_difference = if d2.is_empty() {
         0.0
     } else {
-        1.482_6 * median(&mut d2) / 6f64.sqrt()
+        1.482_6 * stats::median(&mut d2) / 6f64.sqrt()
     };
     let variogram_nugget = variogram_nugget_sigma(seqs);
     let estimated = smooth.map_or(second_difference, |s| s.0.min(s.1).min(s.2));
@@ -300,16 +300,6 @@ pub fn estimate_noise(
         smooth_second_difference: smooth.map(|s| s.2),
         variogram_nugget,
         used: given.unwrap_or(estimated),
-    }
-}
-
-fn median(x: &mut [f64]) -> f64 {
-    x.sort_by(f64::total_cmp);
-    let m = x.len();
-    if m % 2 == 1 {
-        x[m / 2]
-    } else {
-        0.5 * (x[m / 2 - 1] + x[m / 2])
     }
 }
 

@@ -8,6 +8,21 @@
 /// χ²₁ quantile at 0.95: fits closer than this (in σ² units) are not told apart.
 pub const CHI2_1_95: f64 = 3.841_459;
 
+/// The median (mean of the two middle values for an even count), sorting `x` in place; NaN
+/// when empty.
+pub fn median(x: &mut [f64]) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    x.sort_by(f64::total_cmp);
+    let m = x.len();
+    if m % 2 == 1 {
+        x[m / 2]
+    } else {
+        0.5 * (x[m / 2 - 1] + x[m / 2])
+    }
+}
+
 /// `ln Γ(x)`, `x > 0`.
 pub fn ln_gamma(x: f64) -> f64 {
     const G: [f64; 9] = [

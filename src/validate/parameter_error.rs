@@ -119,7 +119,7 @@ impl ErrorSummary {
             parameters += e.parameters;
         }
         ErrorSummary {
-            median_largest_error: median(&mut largest),
+            median_largest_error: crate::gap::stats::median(&mut largest),
             covered,
             parameters,
             coverage: if parameters > 0 {
@@ -149,20 +149,6 @@ impl ErrorComparison {
             baseline: ErrorSummary::of(cases.clone().map(|c| c.0)),
             final_answer: ErrorSummary::of(cases.map(|c| c.1)),
         }
-    }
-}
-
-/// The median (mean of the two middle values for an even count); NaN when empty.
-pub fn median(x: &mut [f64]) -> f64 {
-    if x.is_empty() {
-        return f64::NAN;
-    }
-    x.sort_by(f64::total_cmp);
-    let m = x.len();
-    if m % 2 == 1 {
-        x[m / 2]
-    } else {
-        0.5 * (x[m / 2 - 1] + x[m / 2])
     }
 }
 
