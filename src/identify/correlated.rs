@@ -8,6 +8,9 @@
 //! rules of [`super::identify`] apply to the directions the correlated errors leave
 //! determined. The residuals, fitted values and their statistics are then restated in mm on the
 //! measured (not whitened) deviations, and the σ reported is the white part given by the caller.
+//! Weights may only be 0 (a point excluded, e.g. an outlier of [`crate::gap::outliers`]) or 1;
+//! `Σ` must not correlate an excluded point with the others (block-diagonal), so that the
+//! whitened rows of the kept points do not depend on it.
 //!
 //! Used by the final identification of the gap stage ([`crate::gap::correct`]) when a part
 //! carries structure that no candidate effect explains: the structure is modelled as a
@@ -72,11 +75,16 @@ pub fn identify_correlated(
     opts: &IdentifyOptions,
 ) -> Result<Correlated, IdentifyError> {
     obs.validate(design.rows())?;
-    if obs.weights.is_some() {
+    if let Some(&bad) = obs
+        .weights
+        .iter()
+        .flatten()
+        .find(|&&w| w != 0.0 && w != 1.0)
+    {
         return Err(IdentifyError::BadOption {
             name: "weights with a noise covariance",
-            value: f64::NAN,
-            expected: "none: the covariance carries every point's variance",
+            value: bad,
+            expected: "0 (point excluded) or 1: the covariance carries every point's variance",
         });
     }
     if sigma.nrows() != design.rows() {
@@ -89,11 +97,13 @@ pub fn identify_correlated(
     let w = inverse_square_root(sigma)?;
     let wd = Design::try_new(design.parameters().to_vec(), &w * design.matrix())?;
     let wy = &w * DVector::from_column_slice(&obs.deviation);
-    let wobs = Observations::new(
+    let mut wobs = Observations::new(
         obs.ids.clone(),
         obs.curves.clone(),
         wy.iter().copied().collect(),
     );
+    // A point of weight 0 (an outlier) stays excluded; `sigma` must not couple it to the others.
+    wobs.weights = obs.weights.clone();
     let mut id = identify(&wd, &wobs, &opts.clone().with_sigma(1.0))?;
     let fitted = design.predict(&id.values());
     restate_residuals(&mut id, obs, &fitted, opts.mape_floor);

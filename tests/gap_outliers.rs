@@ -1,0 +1,190 @@
+//! Single-point outliers (issue 18 item 1, `gap::outliers`): a spike of 30 µm at one point of the
+//! reference examples is named and left out, the verdict is the one of the part without it;
+//! structured effects and clean simulated parts give no outlier.
+
+use testpiece::analysis::{analyse, Analysis, AnalysisOptions};
+use testpiece::gap::effects::builtin::builtin_model;
+use testpiece::gap::outliers::find_outliers;
+use testpiece::gap::{Effect, GapInput};
+use testpiece::machine::AxisName;
+use testpiece::part::SShape;
+use testpiece::random::Sampler;
+
+const CLEAN: &str = include_str!("data/reference/examples/example_clean.csv");
+const BACKLASH: &str = include_str!("data/reference/examples/example_backlash_c.csv");
+
+/// The file with `spike` mm added to the deviation of point `id`.
+fn with_spike(text: &str, id: u32, spike: f64) -> String {
+    let mut out = String::new();
+    for (k, line) in text.lines().enumerate() {
+        let mut cells: Vec<String> = line.split(',').map(str::to_string).collect();
+        if k > 0 && cells[0] == id.to_string() {
+            let last = cells.len() - 1;
+            let v: f64 = cells[last].parse().unwrap();
+            cells[last] = format!("{:.6}", v + spike);
+        }
+        out += &cells.join(",");
+        out.push('\n');
+    }
+    out
+}
+
+fn run(text: &str, opts: &AnalysisOptions) -> Analysis {
+    analyse(text.as_bytes(), "spiked.csv", opts).unwrap()
+}
+
+fn verdict(a: &Analysis) -> String {
+    a.diagnosis.report().unwrap().verdict.id().to_string()
+}
+
+fn named(a: &Analysis) -> Vec<String> {
+    a.outliers.test.as_ref().map_or(Vec::new(), |t| {
+        t.points.iter().map(|o| o.id.clone()).collect()
+    })
+}
+
+/// Inner points and end points of the curves (1 and 25 end A_Z11, 76 starts B_Z25, 100 ends it).
+const SPIKE_IDS: [u32; 6] = [1, 13, 25, 38, 76, 100];
+
+#[test]
+fn a_clean_part_with_one_spike_is_none_with_the_spike_named() {
+    let opts = AnalysisOptions::default();
+    let clean = run(CLEAN, &opts);
+    assert!(named(&clean).is_empty(), "{:?}", named(&clean));
+    assert!(!clean.outliers.excluded);
+    for id in SPIKE_IDS {
+        for sign in [1.0, -1.0] {
+            let a = run(&with_spike(CLEAN, id, sign * 0.030), &opts);
+            assert_eq!(named(&a), vec![id.to_string()], "spike at {id}");
+            assert_eq!(verdict(&a), "none", "spike at {id}");
+            let o = &a.outliers.test.as_ref().unwrap().points[0];
+            // The size is the spike (the deleted residual: within a few σ of 30 µm).
+            assert!(
+                (o.size - sign * 0.030).abs() < 0.006,
+                "spike at {id}: {}",
+                o.size
+            );
+            assert!(o.statistic.abs() > a.outliers.test.as_ref().unwrap().threshold);
+            // Excluded from the identification, with the reason.
+            let x = a
+                .identification
+                .points_excluded
+                .iter()
+                .find(|x| x.id == id.to_string())
+                .unwrap_or_else(|| panic!("{id} not in points_excluded"));
+            assert!(x.reason.starts_with("outlier:"), "{}", x.reason);
+            assert_eq!(a.identification.points_used, 99);
+            assert!(a.outliers.excluded);
+            assert!(a.outliers.verdict_all_points.is_some());
+            let s = &a.diagnosis.report().unwrap().summary;
+            assert!(s.contains("outlier"), "{s}");
+        }
+    }
+}
+
+#[test]
+fn a_part_with_an_effect_and_a_spike_still_gets_its_effect() {
+    let opts = AnalysisOptions::default();
+    assert_eq!(verdict(&run(BACKLASH, &opts)), "backlash_c");
+    assert!(named(&run(BACKLASH, &opts)).is_empty());
+    for id in SPIKE_IDS {
+        let a = run(&with_spike(BACKLASH, id, 0.030), &opts);
+        assert_eq!(named(&a), vec![id.to_string()], "spike at {id}");
+        assert_eq!(verdict(&a), "backlash_c", "spike at {id}");
+    }
+}
+
+#[test]
+fn keep_outliers_names_them_but_keeps_every_point() {
+    let opts = AnalysisOptions {
+        keep_outliers: true,
+        ..Default::default()
+    };
+    let a = run(&with_spike(CLEAN, 13, 0.030), &opts);
+    assert_eq!(named(&a), vec!["13".to_string()]);
+    assert!(!a.outliers.excluded);
+    assert_eq!(a.identification.points_used, 100);
+    assert!(a.identification.points_excluded.is_empty());
+    assert!(
+        a.outliers.summary.contains("kept"),
+        "{}",
+        a.outliers.summary
+    );
+}
+
+/// Simulated parts of the built-in points: random location errors, an effect, noise σ.
+fn simulated(seed: u64, effect: Option<(Effect, f64)>, sigma: f64) -> GapInput {
+    let m = builtin_model(&SShape::iso()).unwrap();
+    let mut rng = Sampler::new(seed);
+    let n = m.points.len();
+    let xi: Vec<f64> = m
+        .baseline
+        .names
+        .iter()
+        .map(|name| {
+            if name.starts_with("EX") {
+                rng.uniform(-0.03, 0.03)
+            } else {
+                rng.uniform(-3e-4, 3e-4)
+            }
+        })
+        .collect();
+    let mut y: Vec<f64> = (0..n)
+        .map(|i| {
+            (0..xi.len())
+                .map(|j| m.baseline.matrix[(i, j)] * xi[j])
+                .sum::<f64>()
+                + sigma * rng.normal()
+        })
+        .collect();
+    if let Some((e, v)) = effect {
+        for (yi, d) in y.iter_mut().zip(m.effect_deviation(&[(e, 0, v)]).unwrap()) {
+            *yi += d;
+        }
+    }
+    GapInput {
+        deviations: y,
+        points: m.points,
+        baseline: m.baseline,
+        candidates: m.candidates,
+        noise_sigma: None,
+        reversals: m.reversals,
+    }
+}
+
+#[test]
+fn clean_simulated_parts_have_no_outlier() {
+    // False alarms: the bound is family-wise 5 %; on 100 seeds at most 8 parts may name a point (2 do: seeds 17 and 24).
+    let mut alarms = Vec::new();
+    for seed in 1..=100 {
+        let t = find_outliers(&simulated(seed, None, 0.0015));
+        if !t.points.is_empty() {
+            alarms.push((seed, t.points[0].id.clone(), t.points[0].statistic));
+        }
+    }
+    assert!(alarms.len() <= 8, "{alarms:?}");
+}
+
+#[test]
+fn structured_effects_are_not_taken_for_outliers() {
+    // Backlash steps (a few points move at each reversal) of every axis, at sizes far above the
+    // detection limit, and the other effects: no point is named.
+    let m = builtin_model(&SShape::iso()).unwrap();
+    let mut named = Vec::new();
+    for c in &m.candidates {
+        let col = c.signature.matrix.column(0);
+        let peak = col.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if peak == 0.0 {
+            continue;
+        }
+        // 40 µm at the largest point: a step as large as a spike.
+        for (seed, size) in [(3u64, 0.040), (4, -0.040), (5, 0.020)] {
+            let t = find_outliers(&simulated(seed, Some((c.effect, size / peak)), 0.0015));
+            if !t.points.is_empty() {
+                named.push((c.effect, seed, t.points[0].id.clone()));
+            }
+        }
+    }
+    assert!(named.is_empty(), "{named:?}");
+    let _ = Effect::Backlash(AxisName::C);
+}
