@@ -2,10 +2,14 @@
 //! reference examples is named and left out, the verdict is the one of the part without it;
 //! structured effects and clean simulated parts give no outlier.
 
-use testpiece::analysis::{analyse, Analysis, AnalysisOptions};
+#[cfg(not(target_arch = "wasm32"))]
+mod cli_common;
+
+use testpiece::analysis::{analyse, noise_from_mpe, Analysis, AnalysisOptions};
 use testpiece::gap::effects::builtin::builtin_model;
 use testpiece::gap::outliers::find_outliers;
 use testpiece::gap::{Effect, GapInput};
+use testpiece::identify::monte_carlo::CmmMpe;
 use testpiece::machine::AxisName;
 use testpiece::part::SShape;
 use testpiece::random::Sampler;
@@ -187,4 +191,91 @@ fn structured_effects_are_not_taken_for_outliers() {
     }
     assert!(named.is_empty(), "{named:?}");
     let _ = Effect::Backlash(AxisName::C);
+}
+
+#[test]
+fn the_cmm_mpe_gives_the_median_sigma_and_is_reported() {
+    // Paper 000's CMM (3 + L/75 µm, R0 = 3 µm): σ_i = max(MPE/√3, R0/1.693) lies in
+    // 1.77..2.96 µm on the S-shape (monte_carlo.rs); the analysis uses the median for every point.
+    let clean = run(CLEAN, &AnalysisOptions::default());
+    let lengths = clean.lengths();
+    let (med, lo, hi) = noise_from_mpe(&CmmMpe::paper000(), &lengths);
+    assert!(lo >= 0.00177 - 1e-5 && hi <= 0.00296 + 1e-5, "{lo} {hi}");
+    assert!(lo <= med && med <= hi);
+    let opts = AnalysisOptions {
+        noise_mpe: Some(CmmMpe::paper000()),
+        ..Default::default()
+    };
+    let a = run(CLEAN, &opts);
+    assert_eq!(a.noise.source, "mpe");
+    assert_eq!(a.noise.sigma, Some(med));
+    assert_eq!(a.noise.mpe_range, Some((lo, hi)));
+    assert_eq!(a.baseline.identification.sigma, Some(med));
+    assert_eq!(a.diagnosis.report().unwrap().verdict.sigma, med);
+    assert!(a
+        .baseline
+        .identification
+        .notes
+        .iter()
+        .any(|n| n.contains("MPE_E = 3 + L/75")));
+    // The same σ given directly gives the same answer.
+    let b = run(
+        CLEAN,
+        &AnalysisOptions {
+            noise_sigma: Some(med),
+            ..Default::default()
+        },
+    );
+    assert_eq!(b.noise.source, "given");
+    assert_eq!(
+        a.identification.values(),
+        b.identification.values(),
+        "MPE σ and the same σ given"
+    );
+    // Not both.
+    let both = AnalysisOptions {
+        noise_sigma: Some(0.0015),
+        noise_mpe: Some(CmmMpe::paper000()),
+        ..Default::default()
+    };
+    let e = analyse(CLEAN.as_bytes(), "c.csv", &both).unwrap_err();
+    assert!(e.to_string().contains("given twice"), "{e}");
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn the_cli_lists_outliers_and_refuses_sigma_with_mpe() {
+    let dir = std::env::temp_dir().join(format!("testpiece_outliers_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("spiked.csv");
+    std::fs::write(&path, with_spike(CLEAN, 38, -0.030)).unwrap();
+    let file = path.to_str().unwrap();
+    for cmd in ["identify", "diagnose"] {
+        let out = cli_common::testpiece_ok(&[cmd, file, "--json"]);
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let x = &v["points_excluded"][0];
+        assert_eq!(x["id"], "38", "{cmd}");
+        assert!(
+            x["reason"].as_str().unwrap().starts_with("outlier:"),
+            "{cmd}"
+        );
+        assert_eq!(v["outliers"]["points"][0]["id"], "38", "{cmd}");
+        assert_eq!(v["outliers"]["excluded"], true, "{cmd}");
+        assert_eq!(v["outliers"]["verdict_all_points"], "none", "{cmd}");
+        let text = cli_common::testpiece_ok(&[cmd, file]);
+        assert!(text.contains("point 38 (A_Z25"), "{cmd}: {text}");
+        let kept = cli_common::testpiece_ok(&[cmd, file, "--json", "--keep-outliers"]);
+        let v: serde_json::Value = serde_json::from_str(&kept).unwrap();
+        assert_eq!(v["outliers"]["excluded"], false, "{cmd}");
+        assert!(v["points_excluded"].as_array().unwrap().is_empty(), "{cmd}");
+        let out = cli_common::testpiece_ok(&[cmd, file, "--json", "--mpe", "3,75,3"]);
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["noise"]["source"], "mpe", "{cmd}");
+        let (ok, _, err) =
+            cli_common::testpiece(&[cmd, file, "--sigma", "0.0015", "--mpe", "3,75"]);
+        assert!(!ok && err.contains("give one of them"), "{cmd}: {err}");
+        let (ok, _, err) = cli_common::testpiece(&[cmd, file, "--mpe", "3"]);
+        assert!(!ok && err.contains("expected A,K"), "{cmd}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }
