@@ -185,6 +185,33 @@ mod tests {
         );
     }
 
+    /// A point of weight 0 (an outlier) not correlated with the others changes nothing: the
+    /// pair-plus-one case of `a_shared_error_counts_once` with a fourth point of weight 0 and a
+    /// wild value gives the same estimate and std, and the point is listed as excluded.
+    #[test]
+    fn a_point_of_weight_zero_is_left_out() {
+        let d = Design::from_column_major(&["EX0B"], 4, &[1.0, 1.0, 1.0, 1.0]).unwrap();
+        let obs =
+            Observations::plain(vec![1.0, 1.0, 0.0, 50.0]).with_weights(vec![1.0, 1.0, 1.0, 0.0]);
+        let mut s = DMatrix::identity(4, 4);
+        s.view_mut((0, 0), (3, 3))
+            .copy_from(&DMatrix::from_row_slice(
+                3,
+                3,
+                &[10.0, 9.0, 0.0, 9.0, 10.0, 0.0, 0.0, 0.0, 1.0],
+            ));
+        let c = identify_correlated(&d, &obs, &s, 1.0, &IdentifyOptions::default()).unwrap();
+        let p = &c.identification.parameters.0[0];
+        assert_near!(p.std.unwrap(), (19.0f64 / 21.0).sqrt(), 1e-12);
+        // GLS mean: (1ᵀB⁻¹y_pair + y_3) / (2/19 + 1) = (2/19) / (21/19) = 2/21.
+        assert_near!(p.value, 2.0 / 21.0, 1e-12);
+        assert_eq!(c.identification.points_used, 3);
+        assert_eq!(c.identification.points_excluded[0].id, "4");
+        // Other weights are refused: Σ carries the variances.
+        let bad = obs.clone().with_weights(vec![1.0, 2.0, 1.0, 1.0]);
+        assert!(identify_correlated(&d, &bad, &s, 1.0, &IdentifyOptions::default()).is_err());
+    }
+
     #[test]
     fn a_covariance_that_is_not_positive_definite_is_refused_with_its_eigenvalue() {
         let s = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);

@@ -68,7 +68,8 @@ One answer per part: after this baseline identification the sim-to-real gap is d
 --machine M       the chain: paper000 (B head / C table, default), paper001 (A-B head),
                   paper002 (B-C tilting table); --l0 its pivot-to-tip length (mm, 499.889)
 --monte-carlo N   adds a Monte Carlo check (N runs, --seed, default 7) with the noise of the
-                  paper's CMM: MPE_E = ±(3 + L/75) µm, R0 = 3 µm, σ = max(MPE/√3, R0/1.693)
+                  CMM of --mpe, else of the paper's CMM: MPE_E = ±(3 + L/75) µm, R0 = 3 µm;
+                  σ = max(MPE/√3, R0/1.693) per point
 
 Several files: one machine from the pooled points of several parts (or repeated measurements)
 of the same machine and settings. The location errors are shared; with --tool-radius each part
@@ -154,6 +155,13 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         if export_fmt.is_some() || runs.is_some() {
             return Err("--export and --monte-carlo take one FILE, not a pool".to_string());
         }
+        if settings.noise_mpe.is_some() || settings.keep_outliers {
+            return Err(
+                "--mpe and --keep-outliers take one FILE: a pool is not tested for outliers \
+                 (identify the parts one by one) and takes --sigma for the CMM noise"
+                    .to_string(),
+            );
+        }
         if args.value("effects").is_some_and(|e| e != "none") {
             return Err(
                 "--effects: a pool is not diagnosed, so it cannot be corrected for an effect; \
@@ -206,7 +214,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     }
     let mc = match runs {
         Some(r) => {
-            let noise = Noise::from_mpe(&CmmMpe::paper000(), &lengths);
+            let cmm = noise_mpe.unwrap_or_else(CmmMpe::paper000);
+            let noise = Noise::from_mpe(&cmm, &lengths);
             let o = MonteCarloOptions::default().with_runs(r).with_seed(seed);
             Some(
                 monte_carlo(&design, &obs, &id.values(), &noise, &o, &opts)
