@@ -261,6 +261,8 @@ fn the_cli_lists_outliers_and_refuses_sigma_with_mpe() {
             "{cmd}"
         );
         assert_eq!(v["outliers"]["points"][0]["id"], "38", "{cmd}");
+        // the row in `points` (0-based), for the page's plan view
+        assert_eq!(v["outliers"]["points"][0]["row"], 37, "{cmd}");
         assert_eq!(v["outliers"]["excluded"], true, "{cmd}");
         assert_eq!(v["outliers"]["verdict_all_points"], "none", "{cmd}");
         let text = cli_common::testpiece_ok(&[cmd, file]);

@@ -73,8 +73,9 @@ pub const MIN_CURVE_POINTS: usize = 2 * (SMOOTH_DEGREE + 1);
 /// A point named as an outlier.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Outlier {
-    /// Row of the point in the input (0-based).
-    #[serde(skip)]
+    /// Row of the point in the input (0-based; in an analysis, the index into `points` and
+    /// `file.points`).
+    #[serde(rename = "row")]
     pub index: usize,
     /// Point id (as in the file when the caller sets it; else the point's metadata id).
     pub id: String,

@@ -126,10 +126,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
         );
     } else {
+        // The σ from an MPE is stated in the summary; a σ given or estimated is in the JSON.
         print!("{}", report.summary);
-        if a.noise.source != "mpe" {
-            println!("{}", a.noise.summary);
-        }
         println!("Corrected: {}", a.correction.summary);
     }
     Ok(())
