@@ -37,8 +37,11 @@ use crate::gap::correct::{
     correct, shifts, summary, Basis, Correction, CorrectionInput, EffectsChoice, Final,
 };
 use crate::gap::effects::builtin::{missing_catalogue_axis, part_model, part_model_on, PartModel};
+use crate::gap::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
+use crate::gap::verdict::VerdictId;
 use crate::gap::{diagnose, DiagnosisReport, Effect, GapError, GapInput};
 use crate::identify::correlated::{whitened_limit, Whitened};
+use crate::identify::monte_carlo::CmmMpe;
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
@@ -126,8 +129,17 @@ pub struct AnalysisOptions {
     pub tool_radius: bool,
     /// Exclude the rows the reader lists instead of rejecting the file (shown in every result).
     pub exclude_bad_rows: bool,
-    /// CMM standard uncertainty of one deviation (mm, 1σ); `None` uses the residual.
+    /// CMM standard uncertainty of one deviation (mm, 1σ); `None` uses the residual (or
+    /// `noise_mpe`).
     pub noise_sigma: Option<f64>,
+    /// The CMM's maximum permissible error `MPE_E = A + L/K` µm (and its `R0`), turned into σ by
+    /// [`noise_from_mpe`]; not together with `noise_sigma`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub noise_mpe: Option<CmmMpe>,
+    /// Keep the single-point outliers ([`crate::gap::outliers`]) in the identification and the
+    /// diagnosis (they are still found and named).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub keep_outliers: bool,
     /// Refine with the exact eq. 12 where the linearisation error matters (default on).
     pub refine: bool,
     /// Deviation already explained by the process (the CAM path or NC trace of issue 10, mm per
@@ -159,6 +171,8 @@ impl Default for AnalysisOptions {
             tool_radius: false,
             exclude_bad_rows: false,
             noise_sigma: None,
+            noise_mpe: None,
+            keep_outliers: false,
             refine: true,
             known: None,
             effects: EffectsChoice::Auto,
@@ -179,6 +193,12 @@ pub enum AnalysisError {
     BadL0(f64),
     #[error("CMM uncertainty σ = {0} mm is not a positive finite number")]
     BadSigma(f64),
+    #[error(
+        "the CMM noise is given twice: σ = {sigma} mm and MPE = {a} + L/{k} µm; give one of them"
+    )]
+    SigmaAndMpe { sigma: f64, a: f64, k: f64 },
+    #[error("CMM MPE: {0}")]
+    BadMpe(IdentifyError),
     #[error("exact model: {0}")]
     Exact(#[from] SimulateError),
     #[error("exact-model refinement: {0}")]
@@ -229,6 +249,115 @@ pub struct Analysis {
     pub correction: Correction,
     /// The baseline identification (the location errors alone), as before the diagnosis.
     pub baseline: BaselineFit,
+    /// The single-point outliers found, and whether they were left out.
+    pub outliers: Outliers,
+    /// The σ of the CMM noise the analysis used, and where it came from.
+    pub noise: NoiseSource,
+}
+
+/// The single-point outliers of an analysis ([`crate::gap::outliers`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct Outliers {
+    /// Whether the test was made (it needs the diagnosis's part model).
+    pub tested: bool,
+    /// The test: `points` (`id` as in the file, `curve`, `size` in mm = the deleted residual,
+    /// `statistic` = |t|), `rule`, `alpha`, `threshold`, `sigma` (mm), `sigma_source`,
+    /// `structured` (points over the bound kept as structure).
+    #[serde(flatten)]
+    pub test: Option<OutlierTest>,
+    /// `true`: the outliers were left out of the identification and the diagnosis (default);
+    /// `false`: kept (`keep_outliers`).
+    pub excluded: bool,
+    /// The verdict of the diagnosis on every point, outliers included (when some were left
+    /// out; otherwise the verdict itself).
+    pub verdict_all_points: Option<VerdictId>,
+    /// One sentence for the reports (empty when there is none).
+    pub summary: String,
+}
+
+/// The σ of the CMM noise an analysis used.
+#[derive(Debug, Clone, Serialize)]
+pub struct NoiseSource {
+    /// `given` (σ), `mpe` (from the CMM's MPE) or `estimated` (from the residual).
+    pub source: &'static str,
+    /// The σ given or from the MPE (mm); `None` when estimated (the diagnosis's own estimate is
+    /// `diagnosis.report.verdict.sigma`).
+    pub sigma: Option<f64>,
+    /// Smallest and largest per-point σ from the MPE (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mpe_range: Option<(f64, f64)>,
+    /// One sentence for the reports.
+    pub summary: String,
+}
+
+/// σ (mm) from a CMM's MPE at points at distances `lengths` (mm) from the part origin: each
+/// point's `σ_i = max(MPE_E(L_i)/√3, R0/1.693)` (the Monte Carlo's rule,
+/// [`crate::identify::monte_carlo::CmmMpe::sigma_mm`]); the analysis uses their **median** as
+/// one σ for every point, in the identification and in the diagnosis. Why one σ and not
+/// per-point weights: the diagnosis's tests (χ², F, the k σ rule) and the correlated fit of an
+/// unexplained structure take one white σ, and the final answer must be fitted as the diagnosis
+/// was; on the S-shape (L ≤ 160 mm) the σ_i differ by less than a factor 1.3 for usual MPEs
+/// (`3 + L/75`: 1.77..2.96 µm), so weights would change the estimates little. Returns (median,
+/// min, max).
+pub fn noise_from_mpe(mpe: &CmmMpe, lengths: &[f64]) -> (f64, f64, f64) {
+    let mut s: Vec<f64> = lengths.iter().map(|&l| mpe.sigma_mm(l)).collect();
+    s.sort_by(f64::total_cmp);
+    if s.is_empty() {
+        return (0.0, 0.0, 0.0);
+    }
+    let m = s.len();
+    let med = if m % 2 == 1 {
+        s[m / 2]
+    } else {
+        0.5 * (s[m / 2 - 1] + s[m / 2])
+    };
+    (med, s[0], s[m - 1])
+}
+
+/// The σ an analysis uses (checked) and where it came from.
+fn noise_source(opts: &AnalysisOptions, lengths: &[f64]) -> Result<NoiseSource, AnalysisError> {
+    if let Some(s) = opts.noise_sigma {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(AnalysisError::BadSigma(s));
+        }
+    }
+    match (opts.noise_sigma, &opts.noise_mpe) {
+        (Some(sigma), Some(m)) => Err(AnalysisError::SigmaAndMpe {
+            sigma,
+            a: m.a_um,
+            k: m.k_mm,
+        }),
+        (Some(sigma), None) => Ok(NoiseSource {
+            source: "given",
+            sigma: Some(sigma),
+            mpe_range: None,
+            summary: format!("Noise: σ = {:.2} µm, as given.", sigma * 1e3),
+        }),
+        (None, Some(m)) => {
+            let m = CmmMpe::try_new(m.a_um, m.k_mm, m.r0_um).map_err(AnalysisError::BadMpe)?;
+            let (med, lo, hi) = noise_from_mpe(&m, lengths);
+            Ok(NoiseSource {
+                source: "mpe",
+                sigma: Some(med),
+                mpe_range: Some((lo, hi)),
+                summary: format!(
+                    "Noise: σ = {:.2} µm from the CMM's MPE_E = {} + L/{} µm (R0 = {} µm):                      σ_i = max(MPE_E(L_i)/√3, R0/1.693) = {:.2}..{:.2} µm over the points                      (L = distance from the part origin), median used.",
+                    med * 1e3,
+                    m.a_um,
+                    m.k_mm,
+                    m.r0_um,
+                    lo * 1e3,
+                    hi * 1e3
+                ),
+            })
+        }
+        (None, None) => Ok(NoiseSource {
+            source: "estimated",
+            sigma: None,
+            mpe_range: None,
+            summary: "Noise: σ estimated from the residual (no CMM figure given).".to_string(),
+        }),
+    }
 }
 
 /// The baseline identification of an analysis: the location errors alone (`--effects none`).
@@ -396,6 +525,11 @@ struct Modelled {
     /// Effects whose signature on the diagnosis's machine does not belong to the
     /// identification's machine, and why.
     unavailable: Vec<(Effect, String)>,
+    /// The outlier test (when the model could be built) and the rows left out.
+    outliers: Option<OutlierTest>,
+    excluded: Vec<usize>,
+    /// The verdict on every point, when outliers were left out.
+    verdict_all_points: Option<VerdictId>,
 }
 
 fn diagnose_modelled(
@@ -405,13 +539,46 @@ fn diagnose_modelled(
     opts: &AnalysisOptions,
 ) -> Modelled {
     let mut unavailable = Vec::new();
+    let mut outliers = None;
+    let mut excluded = Vec::new();
+    let mut verdict_all_points = None;
+    // The outliers of the part (named, and left out unless kept), then the diagnosis.
+    let mut run = |m: &PartModel| -> Result<DiagnosisReport, GapError> {
+        let test = find_outliers(&input_of(m, deviations, opts.noise_sigma));
+        let drop = if opts.keep_outliers {
+            Vec::new()
+        } else {
+            test.indices()
+        };
+        let sentence = outlier_sentence(&test, opts.keep_outliers);
+        outliers = Some(test);
+        let mut report = if drop.is_empty() {
+            diagnose_model(m, deviations, opts.noise_sigma)?
+        } else {
+            let all = diagnose_model(m, deviations, opts.noise_sigma)?;
+            verdict_all_points = Some(all.verdict.id());
+            diagnose(&without_rows(
+                &input_of(m, deviations, opts.noise_sigma),
+                &drop,
+            ))?
+        };
+        if !sentence.is_empty() {
+            report.summary = format!("{}\nOutliers: {sentence}\n", report.summary.trim_end());
+        }
+        if let Some(v) = verdict_all_points {
+            report.summary = format!(
+                "{}With every point, outliers included, the verdict would be `{v}`.\n",
+                report.summary
+            );
+        }
+        excluded = drop;
+        Ok(report)
+    };
     let made = match missing_catalogue_axis(&opts.machine.chain(opts.l0)) {
-        None => part_model_on(part, points, &sensitivity_options(opts)).and_then(|m| {
-            diagnose_model(&m, deviations, opts.noise_sigma)
-                .map(|report| (opts.machine, None, report, m))
-        }),
+        None => part_model_on(part, points, &sensitivity_options(opts))
+            .and_then(|m| run(&m).map(|report| (opts.machine, None, report, m))),
         Some(missing_axis) => part_model(part, points).and_then(|m| {
-            diagnose_model(&m, deviations, opts.noise_sigma).map(|mut report| {
+            run(&m).map(|mut report| {
                 report.summary = format!(
                     "{}\nMachine: the diagnosis used paper 000's B head / C table, not the {} \
                      chosen for the identification: {}.\n",
@@ -453,6 +620,9 @@ fn diagnose_modelled(
                 },
                 model: Some(model),
                 unavailable,
+                outliers,
+                excluded,
+                verdict_all_points,
             }
         }
         Err(e) => Modelled {
@@ -461,7 +631,22 @@ fn diagnose_modelled(
             },
             model: None,
             unavailable,
+            outliers,
+            excluded: Vec::new(),
+            verdict_all_points: None,
         },
+    }
+}
+
+/// The diagnosis's input for a part model and deviations.
+fn input_of(m: &PartModel, deviations: &[f64], noise_sigma: Option<f64>) -> GapInput {
+    GapInput {
+        deviations: deviations.to_vec(),
+        points: m.points.clone(),
+        baseline: m.baseline.clone(),
+        candidates: m.candidates.clone(),
+        noise_sigma,
+        reversals: m.reversals.clone(),
     }
 }
 
@@ -470,14 +655,7 @@ fn diagnose_model(
     deviations: &[f64],
     noise_sigma: Option<f64>,
 ) -> Result<DiagnosisReport, GapError> {
-    diagnose(&GapInput {
-        deviations: deviations.to_vec(),
-        points: m.points.clone(),
-        baseline: m.baseline.clone(),
-        candidates: m.candidates.clone(),
-        noise_sigma,
-        reversals: m.reversals.clone(),
-    })
+    diagnose(&input_of(m, deviations, noise_sigma))
 }
 
 /// The measured deviations minus the known ones (issue 10), checked point for point.
@@ -534,13 +712,32 @@ pub fn analyse_fitted(
     let ropts = ReadOptions::default().with_exclude_bad_rows(opts.exclude_bad_rows);
     let matched = read_and_match(bytes, name, &ropts)?;
     let points = measurement_points(&part, &matched);
+    let noise = noise_source(
+        opts,
+        &points.iter().map(|p| p.point.norm()).collect::<Vec<_>>(),
+    )?;
+    // The options the stages see: σ given or from the MPE.
+    let opts_in = opts;
+    let opts = &AnalysisOptions {
+        noise_sigma: noise.sigma,
+        noise_mpe: None,
+        ..opts.clone()
+    };
     let (design, columns) = design_at(&part, &points, opts)?;
     let deviations = minus_known(matched.deviations(), opts.known.as_ref())?;
-    let obs = Observations::new(
-        matched.points.iter().map(|p| p.file.id.clone()).collect(),
+    let ids: Vec<String> = matched.points.iter().map(|p| p.file.id.clone()).collect();
+    let modelled = diagnose_modelled(&part, &points, &deviations, opts);
+    let mut obs = Observations::new(
+        ids.clone(),
         points.iter().map(|p| p.curve.name().to_string()).collect(),
         deviations.clone(),
     );
+    if !modelled.excluded.is_empty() {
+        let w = (0..obs.len())
+            .map(|i| f64::from(u8::from(!modelled.excluded.contains(&i))))
+            .collect();
+        obs = obs.with_weights(w);
+    }
     let mut iopts = IdentifyOptions::default();
     if let Some(s) = opts.noise_sigma {
         iopts = iopts.with_sigma(s);
@@ -553,7 +750,7 @@ pub fn analyse_fitted(
     } else {
         None
     };
-    let modelled = diagnose_modelled(&part, &points, &deviations, opts);
+    let outliers = outliers_of(&modelled, &ids, opts.keep_outliers);
     let mut diagnosis = modelled.diagnosis;
     let (final_design, mut final_id, final_refinement, correction) = final_answer(
         FinalInput {
@@ -577,10 +774,23 @@ pub fn analyse_fitted(
             report.summary = format!("{}\n{note}", report.summary.trim_end());
         }
     }
+    for id in [&mut identification, &mut final_id] {
+        name_outliers(id, &outliers);
+        if noise.source == "mpe" {
+            id.notes.push(noise.summary.clone());
+        }
+    }
+    if noise.source == "mpe" {
+        if let Diagnosis::Made { report, .. } = &mut diagnosis {
+            report.summary = format!("{}\n{}\n", report.summary.trim_end(), noise.summary);
+        }
+    }
     let analysis = Analysis {
         diagnosis,
         version: crate::VERSION,
-        settings: opts.clone(),
+        settings: opts_in.clone(),
+        outliers,
+        noise,
         file: matched,
         points,
         design: columns_of(&final_design),
@@ -602,6 +812,54 @@ pub fn analyse_fitted(
     ))
 }
 
+/// The outliers of a diagnosis, named by the file's point ids.
+fn outliers_of(m: &Modelled, ids: &[String], kept: bool) -> Outliers {
+    let test = m.outliers.clone().map(|mut t| {
+        for o in &mut t.points {
+            o.id = ids[o.index].clone();
+        }
+        // `structured` holds the metadata ids (1-based rows): the file's ids instead.
+        t.structured = t
+            .structured
+            .iter()
+            .filter_map(|s| s.parse::<usize>().ok())
+            .filter_map(|k| ids.get(k.wrapping_sub(1)).cloned())
+            .collect();
+        t
+    });
+    let summary = test
+        .as_ref()
+        .map_or(String::new(), |t| outlier_sentence(t, kept));
+    Outliers {
+        tested: test.is_some(),
+        excluded: !kept && test.as_ref().is_some_and(|t| !t.points.is_empty()),
+        verdict_all_points: m
+            .verdict_all_points
+            .or(m.diagnosis.report().map(|r| r.verdict.id())),
+        test,
+        summary,
+    }
+}
+
+/// The reason an outlier left out of `id` is listed under `points_excluded`.
+fn name_outliers(id: &mut Identification, outliers: &Outliers) {
+    if !outliers.excluded {
+        return;
+    }
+    let Some(t) = &outliers.test else { return };
+    for x in &mut id.points_excluded {
+        if let Some(o) = t.points.iter().find(|o| o.id == x.id) {
+            x.reason = format!(
+                "outlier: {:+.1} µm from the fit without it, |t| = {:.1} > {:.2} (Bonferroni α = {} over the points; a chip, dirt or a probing error)",
+                o.size * 1e3,
+                o.statistic.abs(),
+                t.threshold,
+                t.alpha
+            );
+        }
+    }
+}
+
 /// The exact-model refinement of a fit of `design` (plain, or whitened by `whitener`).
 fn refine_with(
     design: &Design,
@@ -618,11 +876,12 @@ fn refine_with(
         Some(w) => {
             let wd = Design::try_new(design.parameters().to_vec(), w * design.matrix())?;
             let wy = w * nalgebra::DVector::from_column_slice(&obs.deviation);
-            let wobs = Observations::new(
+            let mut wobs = Observations::new(
                 obs.ids.clone(),
                 obs.curves.clone(),
                 wy.iter().copied().collect(),
             );
+            wobs.weights = obs.weights.clone();
             let model = Whitened { model, whitener: w };
             let limit = whitened_limit(design, &wd, iopts);
             refine(

@@ -382,22 +382,36 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
                 .sigma
                 .or(input.verdict.map(|v| v.sigma))
                 .unwrap_or(0.0);
+            // Points of weight 0 (outliers) take no part in the structure's estimate and are
+            // not correlated with the others.
+            let obs = input.observations;
+            let used: Vec<usize> = (0..obs.len()).filter(|&i| obs.weight(i) > 0.0).collect();
+            let used_points: Vec<PointMeta> =
+                used.iter().map(|&i| input.points[i].clone()).collect();
+            let used_y: Vec<f64> = used.iter().map(|&i| obs.deviation[i]).collect();
             let s = structure::estimate(
-                input.points,
-                input.design.matrix(),
-                &input.observations.deviation,
+                &used_points,
+                &input.design.matrix().select_rows(&used),
+                &used_y,
                 sigma,
             )
             .ok_or_else(|| {
                 GapError::Invalid(format!(
                     "the structure's covariance cannot be estimated (σ = {sigma} mm, {} points)",
-                    input.points.len()
+                    used.len()
                 ))
             })?;
+            let n = obs.len();
+            let mut full = DMatrix::<f64>::identity(n, n) * s.white_sigma.powi(2);
+            for (a, &i) in used.iter().enumerate() {
+                for (b, &j) in used.iter().enumerate() {
+                    full[(i, j)] = s.matrix[(a, b)];
+                }
+            }
             let c = identify_correlated(
                 input.design,
                 input.observations,
-                &s.matrix,
+                &full,
                 s.white_sigma,
                 input.options,
             )?;

@@ -22,6 +22,10 @@
 //!    HOW FAR per curve;
 //! 5. a serialisable [`DiagnosisReport`] with a plain-language summary ([`report`]).
 //!
+//! Before it, [`outliers`] names the single-point faults (a chip, dirt, a probing error) by
+//! externally studentised residuals against a robust σ with a Bonferroni bound; the analysis
+//! leaves them out of the identification and the diagnosis and reports the verdict with them too.
+//!
 //! After the diagnosis, [`correct`] makes the final identification: the location errors fitted
 //! with the named effect, or with the unexplained structure as a correlated error
 //! ([`structure`]), or the baseline when the residual is noise.
@@ -44,6 +48,7 @@ pub mod folds;
 pub mod location;
 pub mod lsq;
 pub mod noise;
+pub mod outliers;
 pub mod pairs;
 pub mod regions;
 pub mod report;

@@ -8,6 +8,9 @@
 //! rules of [`super::identify`] apply to the directions the correlated errors leave
 //! determined. The residuals, fitted values and their statistics are then restated in mm on the
 //! measured (not whitened) deviations, and the σ reported is the white part given by the caller.
+//! Weights may only be 0 (a point excluded, e.g. an outlier of [`crate::gap::outliers`]) or 1;
+//! `Σ` must not correlate an excluded point with the others (block-diagonal), so that the
+//! whitened rows of the kept points do not depend on it.
 //!
 //! Used by the final identification of the gap stage ([`crate::gap::correct`]) when a part
 //! carries structure that no candidate effect explains: the structure is modelled as a
@@ -92,11 +95,16 @@ pub fn identify_correlated(
     opts: &IdentifyOptions,
 ) -> Result<Correlated, IdentifyError> {
     obs.validate(design.rows())?;
-    if obs.weights.is_some() {
+    if let Some(&bad) = obs
+        .weights
+        .iter()
+        .flatten()
+        .find(|&&w| w != 0.0 && w != 1.0)
+    {
         return Err(IdentifyError::BadOption {
             name: "weights with a noise covariance",
-            value: f64::NAN,
-            expected: "none: the covariance carries every point's variance",
+            value: bad,
+            expected: "0 (point excluded) or 1: the covariance carries every point's variance",
         });
     }
     if sigma.nrows() != design.rows() {
@@ -109,11 +117,13 @@ pub fn identify_correlated(
     let w = inverse_square_root(sigma)?;
     let wd = Design::try_new(design.parameters().to_vec(), &w * design.matrix())?;
     let wy = &w * DVector::from_column_slice(&obs.deviation);
-    let wobs = Observations::new(
+    let mut wobs = Observations::new(
         obs.ids.clone(),
         obs.curves.clone(),
         wy.iter().copied().collect(),
     );
+    // A point of weight 0 (an outlier) stays excluded; `sigma` must not couple it to the others.
+    wobs.weights = obs.weights.clone();
     let limit = whitened_limit(design, &wd, opts);
     let mut id = identify(
         &wd,
@@ -201,6 +211,33 @@ mod tests {
             (19.0f64 / 21.0).sqrt(),
             1e-12
         );
+    }
+
+    /// A point of weight 0 (an outlier) not correlated with the others changes nothing: the
+    /// pair-plus-one case of `a_shared_error_counts_once` with a fourth point of weight 0 and a
+    /// wild value gives the same estimate and std, and the point is listed as excluded.
+    #[test]
+    fn a_point_of_weight_zero_is_left_out() {
+        let d = Design::from_column_major(&["EX0B"], 4, &[1.0, 1.0, 1.0, 1.0]).unwrap();
+        let obs =
+            Observations::plain(vec![1.0, 1.0, 0.0, 50.0]).with_weights(vec![1.0, 1.0, 1.0, 0.0]);
+        let mut s = DMatrix::identity(4, 4);
+        s.view_mut((0, 0), (3, 3))
+            .copy_from(&DMatrix::from_row_slice(
+                3,
+                3,
+                &[10.0, 9.0, 0.0, 9.0, 10.0, 0.0, 0.0, 0.0, 1.0],
+            ));
+        let c = identify_correlated(&d, &obs, &s, 1.0, &IdentifyOptions::default()).unwrap();
+        let p = &c.identification.parameters.0[0];
+        assert_near!(p.std.unwrap(), (19.0f64 / 21.0).sqrt(), 1e-12);
+        // GLS mean: (1ᵀB⁻¹y_pair + y_3) / (2/19 + 1) = (2/19) / (21/19) = 2/21.
+        assert_near!(p.value, 2.0 / 21.0, 1e-12);
+        assert_eq!(c.identification.points_used, 3);
+        assert_eq!(c.identification.points_excluded[0].id, "4");
+        // Other weights are refused: Σ carries the variances.
+        let bad = obs.clone().with_weights(vec![1.0, 2.0, 1.0, 1.0]);
+        assert!(identify_correlated(&d, &bad, &s, 1.0, &IdentifyOptions::default()).is_err());
     }
 
     #[test]

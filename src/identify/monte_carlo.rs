@@ -32,7 +32,8 @@ pub struct CmmMpe {
     pub a_um: f64,
     /// Length divisor `k` (mm per µm): MPE grows by 1 µm every `k` mm.
     pub k_mm: f64,
-    /// Repeatability range `R0` (µm).
+    /// Repeatability range `R0` (µm; 0 when not given: the MPE term alone).
+    #[serde(default)]
     pub r0_um: f64,
 }
 

@@ -13,7 +13,13 @@
 //!   (w uniform in 10..30 mm, s₀ anywhere on the path);
 //! - the magnitude set so that the RMS of the part the baseline cannot absorb is
 //!   `ρ · 2.5σ` with `ρ` log-uniform in [0.3, 6] (below and above the detection limit);
-//! - Gaussian noise `ε`, σ = 1.5 µm.
+//! - Gaussian noise `ε`, σ = 1.5 µm;
+//! - with `spikes` (`--spikes`), a single-point fault on every case: one point drawn uniformly,
+//!   its deviation moved by ±[`SPIKE_MIN_MM`]..[`SPIKE_MAX_MM`] (a chip, dirt, a probing error).
+//!
+//! Every case goes through the outlier test of the analysis ([`crate::gap::outliers`]): the
+//! points it names are left out of the diagnosis, as `testpiece diagnose` does; the report
+//! counts how often the spike is named and how often another point is.
 //!
 //! [`validate_with`] replaces the linear machine part `A ξ` by any model of it (the CLI's
 //! `--exact`: the exact eq. 12 defect of [`crate::simulate::ExactDefectModel`]) while the
@@ -45,11 +51,17 @@ use crate::gap::diagnose::{diagnose_with, DiagnoseOptions};
 use crate::gap::equivalence::near_equivalent_pairs;
 use crate::gap::location::DETECT_FACTOR;
 use crate::gap::lsq::{rms, Factor};
+use crate::gap::outliers::{find_outliers, without_rows};
 use crate::gap::verdict::VerdictId;
 use crate::gap::Effect;
 use crate::gap::GapError;
 use crate::identify::{identify, Design, IdentifyOptions, Observations, Parameter};
 use crate::random::Sampler;
+
+/// Smallest simulated spike (mm).
+pub const SPIKE_MIN_MM: f64 = 0.025;
+/// Largest simulated spike (mm).
+pub const SPIKE_MAX_MM: f64 = 0.040;
 
 /// Shortest simulated waviness wavelength (mm of tool path).
 pub const WAVE_MIN_MM: f64 = 150.0;
@@ -106,6 +118,8 @@ pub struct ValidateOptions {
     /// `k` of the `k σ` detection rule, given to the diagnosis and used to size the effects
     /// (default [`DETECT_FACTOR`]).
     pub detect_factor: f64,
+    /// Add a single-point spike of 25-40 µm at a random point of every case.
+    pub spikes: bool,
 }
 
 impl Default for ValidateOptions {
@@ -120,6 +134,7 @@ impl Default for ValidateOptions {
             ratio_max: 6.0,
             known_sigma: false,
             detect_factor: DETECT_FACTOR,
+            spikes: false,
         }
     }
 }
@@ -146,6 +161,10 @@ impl ValidateOptions {
     }
     pub fn with_known_sigma(mut self, k: bool) -> Self {
         self.known_sigma = k;
+        self
+    }
+    pub fn with_spikes(mut self, s: bool) -> Self {
+        self.spikes = s;
         self
     }
 }
@@ -212,6 +231,10 @@ pub struct CaseResult {
     pub baseline_error: AnswerError,
     /// The final answer's location errors against the true `ξ`.
     pub final_error: AnswerError,
+    /// The spike added (point id, mm), with `spikes`.
+    pub spike: Option<(u32, f64)>,
+    /// Ids of the points the outlier test named (left out of the diagnosis).
+    pub outliers: Vec<u32>,
 }
 
 /// Accuracy of one group of cases.
@@ -230,6 +253,20 @@ impl Accuracy {
         self.exact += usize::from(c.exact);
         self.rate = self.correct as f64 / self.cases as f64;
     }
+}
+
+/// What the outlier test did over the cases.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct OutlierCounts {
+    /// Cases with a spike.
+    pub spiked: usize,
+    /// Cases whose spike was named.
+    pub spike_named: usize,
+    /// Cases where a point other than the spike was named.
+    pub other_named: usize,
+    /// Cases expected `none` (with a spike when `spikes`): verdict `none` and the spike named.
+    pub none_cases: usize,
+    pub none_and_named: usize,
 }
 
 /// Per-effect figures.
@@ -274,6 +311,8 @@ pub struct ValidationReport {
     /// Detectable effects outside the list: verdict `unexplained`.
     pub out_of_list: Accuracy,
     pub per_effect: Vec<EffectRow>,
+    /// How often the outlier test named points.
+    pub outliers: OutlierCounts,
     /// `confusion[expected][verdict]` = count.
     pub confusion: BTreeMap<String, BTreeMap<String, usize>>,
     /// The final answer's and the baseline's location errors against the truth, per group.
@@ -420,7 +459,15 @@ pub fn validate_with(
                 (truth, shape * amp, None)
             };
         let noise = DVector::from_iterator(n, (0..n).map(|_| sigma * rng.normal()));
-        let y = machine(&xi)? + &effect + &noise;
+        let mut y = machine(&xi)? + &effect + &noise;
+        let spike = if opts.spikes {
+            let i = ((rng.unit() * n as f64) as usize).min(n - 1);
+            let size = rng.sign() * rng.uniform(SPIKE_MIN_MM, SPIKE_MAX_MM);
+            y[i] += size;
+            Some((i, size))
+        } else {
+            None
+        };
         let un_true = base.unabsorbed_vec(&effect).norm() / (n as f64).sqrt();
         let true_ratio = un_true / limit;
         let detectable = truth != Truth::None && true_ratio > 1.0;
@@ -437,7 +484,13 @@ pub fn validate_with(
             noise_sigma: opts.known_sigma.then_some(sigma),
             reversals: Vec::new(),
         };
-        let report = diagnose_with(&input, opts.diagnose_options())?;
+        let test = find_outliers(&input);
+        let named = test.indices();
+        let report = if named.is_empty() {
+            diagnose_with(&input, opts.diagnose_options())?
+        } else {
+            diagnose_with(&without_rows(&input, &named), opts.diagnose_options())?
+        };
         let v = &report.verdict;
         let exact = v.id() == expected;
         let correct = exact
@@ -454,7 +507,15 @@ pub fn validate_with(
             }
             None => v.rms_before,
         };
-        let observations = Observations::plain(y.iter().copied().collect());
+        // the points the outlier test named are left out of the final answer too (weight 0)
+        let mut observations = Observations::plain(y.iter().copied().collect());
+        if !named.is_empty() {
+            observations = observations.with_weights(
+                (0..n)
+                    .map(|i| f64::from(u8::from(!named.contains(&i))))
+                    .collect(),
+            );
+        }
         let baseline = identify(&location, &observations, &iopts)?;
         let fin = correct::correct(
             &CorrectionInput {
@@ -488,6 +549,8 @@ pub fn validate_with(
             basis: fin.correction.basis,
             baseline_error: answer_error(location.parameters(), &xi, &baseline),
             final_error: answer_error(location.parameters(), &xi, &fin.identification),
+            spike: spike.map(|(i, size)| (model.points[i].id, size)),
+            outliers: named.iter().map(|&i| model.points[i].id).collect(),
         });
     }
     Ok(summarise(model, opts, &base, results))
@@ -505,7 +568,24 @@ fn summarise(
     let mut none_or_undetectable = Accuracy::default();
     let mut out_of_list = Accuracy::default();
     let mut confusion: BTreeMap<String, BTreeMap<String, usize>> = BTreeMap::new();
+    let mut outliers = OutlierCounts::default();
     for r in &results {
+        let spike_named = r.spike.is_some_and(|(id, _)| r.outliers.contains(&id));
+        if r.spike.is_some() {
+            outliers.spiked += 1;
+            outliers.spike_named += usize::from(spike_named);
+        }
+        outliers.other_named += usize::from(
+            r.outliers
+                .iter()
+                .any(|id| r.spike.is_none_or(|(s, _)| s != *id)),
+        );
+        if r.expected == VerdictId::Noise {
+            outliers.none_cases += 1;
+            outliers.none_and_named += usize::from(
+                r.correct && (r.spike.is_none() && r.outliers.is_empty() || spike_named),
+            );
+        }
         *confusion
             .entry(r.expected.to_string())
             .or_default()
@@ -580,6 +660,7 @@ fn summarise(
         none_or_undetectable,
         out_of_list,
         per_effect,
+        outliers,
         confusion,
         parameter_error,
         results,
@@ -638,6 +719,22 @@ pub fn table(r: &ValidationReport) -> String {
         r.out_of_list.correct,
         r.out_of_list.cases,
         100.0 * r.out_of_list.rate
+    );
+    let o = &r.outliers;
+    if o.spiked > 0 {
+        s += &format!(
+            "spike (25-40 µm at one point) named: {}/{} = {:.1} %; none with the spike named on none/undetectable: {}/{} = {:.1} %\n",
+            o.spike_named,
+            o.spiked,
+            100.0 * o.spike_named as f64 / o.spiked as f64,
+            o.none_and_named,
+            o.none_cases,
+            100.0 * o.none_and_named as f64 / o.none_cases.max(1) as f64
+        );
+    }
+    s += &format!(
+        "cases where another point was named an outlier: {}/{}\n",
+        o.other_named, r.cases
     );
     s += "location errors against the truth (largest error: median over the cases of max |value - true| \
           in typical units, 1e-4 rad and 0.01 mm; coverage: share of the location errors within 2 std \

@@ -5,7 +5,8 @@ use wasm_bindgen::prelude::*;
 use crate::analysis::{analyse as run, AnalysisOptions};
 
 /// Reads, matches and identifies one CMM file. `options` is `{mode, branch, l0, tool_radius,
-/// exclude_bad_rows, noise_sigma}` (any may be absent: defaults of `AnalysisOptions`).
+/// exclude_bad_rows, noise_sigma, noise_mpe: {a_um, k_mm, r0_um}, keep_outliers, ...}` (any may
+/// be absent: defaults of `AnalysisOptions`; `noise_sigma` and `noise_mpe` not both).
 /// Returns the [`crate::analysis::Analysis`] as a plain object; a bad file throws the reader's
 /// message (line, column, text found, what was expected).
 #[wasm_bindgen]

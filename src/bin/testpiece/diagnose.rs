@@ -7,7 +7,8 @@ use testpiece::machine::Branch;
 use crate::args::Args;
 
 const HELP: &str = "\
-testpiece diagnose FILE [--sigma MM] [--machine paper000|paper001|paper002] [--l0 MM]
+testpiece diagnose FILE [--sigma MM | --mpe A,K[,R0]] [--keep-outliers]
+                        [--machine paper000|paper001|paper002] [--l0 MM]
                         [--branch signed|positive] [--exclude-bad-rows] [--json]
 
 Diagnoses the sim-to-real gap of a measured S-shape part: the baseline (the machine's location
@@ -20,6 +21,16 @@ FILE: any CMM export of shared/spec/cmm-csv.md; every point is matched to the no
 by projection of its own coordinates, and the model (baseline and candidate signatures) is built
 at the matched points.
 --sigma MM   CMM repeatability (1σ, mm); default: estimated from the data.
+--mpe A,K[,R0]  the CMM's MPE_E = A + L/K µm (L = distance from the part origin, mm; R0 the
+             repeatability range, µm): σ_i = max(MPE_E/√3, R0/1.693), the median used; not
+             with --sigma. `noise` in the JSON says which σ and where from.
+--keep-outliers  keep single-point outliers in the diagnosis. By default a point beyond the
+             Bonferroni bound of the externally studentised residual (fit of the baseline plus a
+             smooth basis per curve, robust σ, α = 0.05 over the points), isolated along its
+             curve and explained by no candidate (a chip, dirt, a probing error) is left out and
+             named: `points_excluded` [{id, reason}], `outliers` {points [{id, curve, size (mm),
+             statistic}], rule, threshold, sigma, excluded, verdict_all_points (the verdict
+             with every point)}.
 --machine M  the machine whose location errors are the baseline and whose axes the backlash,
              scale and reversal candidates use: paper000 (B head / C table, default),
              paper002 (B-C tilting table); paper001 (A-B head) has no C axis for the catalogue's
@@ -46,7 +57,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     if crate::wants_help(rest, HELP) {
         return Ok(());
     }
-    let args = Args::parse(rest, &["sigma", "machine", "l0", "branch"])?;
+    let args = Args::parse(rest, &["sigma", "mpe", "machine", "l0", "branch"])?;
     let json = args.flag("json");
     let exclude_bad_rows = args.flag("exclude-bad-rows");
     let sigma = args
@@ -56,6 +67,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
                 .map_err(|_| format!("--sigma: `{s}` is not a number"))
         })
         .transpose()?;
+    let noise_mpe = crate::identify::parse_mpe(&args, sigma)?;
+    let keep_outliers = args.flag("keep-outliers");
     let (machine, l0) = crate::identify::machine_and_l0(&args)?;
     let (_, branch) = crate::simulate::mode_and_branch(&args)?;
     args.reject_unknown("diagnose")?;
@@ -72,6 +85,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         branch: Branch::parse(&branch)
             .ok_or_else(|| format!("--branch `{branch}`: expected signed or positive"))?,
         noise_sigma: sigma,
+        noise_mpe,
+        keep_outliers,
         exclude_bad_rows,
         ..AnalysisOptions::default()
     };
@@ -92,11 +107,26 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             "std_includes_structure": c.std_includes_structure,
             "summary": c.summary,
         });
+        let mut excluded: Vec<serde_json::Value> = a
+            .identification
+            .points_excluded
+            .iter()
+            .map(|x| serde_json::json!({"id": x.id, "reason": x.reason}))
+            .collect();
+        for r in &a.file.excluded {
+            excluded.push(
+                serde_json::json!({"id": format!("line {}", r.line), "reason": r.to_string()}),
+            );
+        }
+        v["points_excluded"] = serde_json::Value::Array(excluded);
+        v["outliers"] = serde_json::to_value(&a.outliers).map_err(|e| e.to_string())?;
+        v["noise"] = serde_json::to_value(&a.noise).map_err(|e| e.to_string())?;
         println!(
             "{}",
             serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
         );
     } else {
+        // The σ from an MPE is stated in the summary; a σ given or estimated is in the JSON.
         print!("{}", report.summary);
         println!("Corrected: {}", a.correction.summary);
     }

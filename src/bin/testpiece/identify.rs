@@ -12,7 +12,8 @@ use testpiece::sensitivity::Mode;
 const HELP: &str = "\
 testpiece identify FILE [--mode physical|paper] [--branch signed|positive] [--tool-radius]
                         [--effects auto|none|ID[,ID]]
-                        [--json | --export csv|json] [--sigma MM] [--no-refine]
+                        [--json | --export csv|json] [--sigma MM | --mpe A,K[,R0]]
+                        [--keep-outliers] [--no-refine]
                         [--exclude-bad-rows] [--monte-carlo RUNS] [--seed S]
                         [--machine paper000|paper001|paper002] [--l0 MM]
 testpiece identify FILE1 FILE2 ... [--json] [--setup-per-part] [same options]
@@ -48,6 +49,18 @@ One answer per part: after this baseline identification the sim-to-real gap is d
 --export csv|json the compensation table of the final answer: name, iso_230_1, value, unit, std,
                   status, fitted_with (effect ids joined by +, structure, or none)
 --sigma MM        a priori σ of the deviations instead of the residual's
+--mpe A,K[,R0]    the CMM's MPE_E = A + L/K µm (L = the point's distance from the part origin,
+                  mm) and optionally its repeatability range R0 (µm): σ_i = max(MPE_E/√3,
+                  R0/1.693) per point (the Monte Carlo's rule), the median used as the σ of
+                  every point; not with --sigma. The report says which σ and where from.
+--keep-outliers   keep the single-point outliers in the fit. By default a point whose deviation
+                  from the fit of the baseline plus a smooth basis per curve is beyond the
+                  Bonferroni bound (externally studentised residual against a robust σ, α = 0.05
+                  over the points), isolated along its curve and explained by no candidate effect
+                  (a chip, dirt, a probing error) is left out of the identification and the
+                  diagnosis and listed under points_excluded with its size and statistic; the
+                  JSON's `outliers` gives the test (points, rule, threshold, sigma) and
+                  verdict_all_points, the verdict with every point
 --exclude-bad-rows  leave out the rows the reader rejects (listed under points_excluded)
 --no-refine       skips the exact-model check: by default the exact eq. 12 is evaluated at the
                   linear solution and Levenberg-Marquardt refines it when the linearisation error
@@ -55,7 +68,8 @@ One answer per part: after this baseline identification the sim-to-real gap is d
 --machine M       the chain: paper000 (B head / C table, default), paper001 (A-B head),
                   paper002 (B-C tilting table); --l0 its pivot-to-tip length (mm, 499.889)
 --monte-carlo N   adds a Monte Carlo check (N runs, --seed, default 7) with the noise of the
-                  paper's CMM: MPE_E = ±(3 + L/75) µm, R0 = 3 µm, σ = max(MPE/√3, R0/1.693)
+                  CMM of --mpe, else of the paper's CMM: MPE_E = ±(3 + L/75) µm, R0 = 3 µm;
+                  σ = max(MPE/√3, R0/1.693) per point
 
 Several files: one machine from the pooled points of several parts (or repeated measurements)
 of the same machine and settings. The location errors are shared; with --tool-radius each part
@@ -78,6 +92,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             "branch",
             "export",
             "sigma",
+            "mpe",
             "monte-carlo",
             "seed",
             "machine",
@@ -111,6 +126,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             .map_err(|_| format!("--seed `{t}`: expected a non-negative integer"))?,
         None => 7,
     };
+    let noise_mpe = parse_mpe(&args, sigma)?;
+    let keep_outliers = args.flag("keep-outliers");
     let (machine, l0) = machine_and_l0(&args)?;
     let setup_per_part = args.flag("setup-per-part");
     let effects: EffectsChoice = args
@@ -128,6 +145,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         tool_radius,
         exclude_bad_rows,
         noise_sigma: sigma,
+        noise_mpe,
+        keep_outliers,
         refine: !no_refine,
         known: None,
         effects,
@@ -135,6 +154,13 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     if args.positional.len() >= 2 {
         if export_fmt.is_some() || runs.is_some() {
             return Err("--export and --monte-carlo take one FILE, not a pool".to_string());
+        }
+        if settings.noise_mpe.is_some() || settings.keep_outliers {
+            return Err(
+                "--mpe and --keep-outliers take one FILE: a pool is not tested for outliers \
+                 (identify the parts one by one) and takes --sigma for the CMM noise"
+                    .to_string(),
+            );
         }
         if args.value("effects").is_some_and(|e| e != "none") {
             return Err(
@@ -166,7 +192,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         observations: obs,
     } = fitted;
     let mut opts = IdentifyOptions::default();
-    if let Some(s) = sigma {
+    if let Some(s) = analysis.noise.sigma {
         opts = opts.with_sigma(s);
     }
     let mut id = analysis.identification.clone();
@@ -188,7 +214,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     }
     let mc = match runs {
         Some(r) => {
-            let noise = Noise::from_mpe(&CmmMpe::paper000(), &lengths);
+            let cmm = noise_mpe.unwrap_or_else(CmmMpe::paper000);
+            let noise = Noise::from_mpe(&cmm, &lengths);
             let o = MonteCarloOptions::default().with_runs(r).with_seed(seed);
             Some(
                 monte_carlo(&design, &obs, &id.values(), &noise, &o, &opts)
@@ -213,6 +240,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         v["shift"] = serde_json::to_value(&c.shift).map_err(|e| e.to_string())?;
         v["verdict"] = serde_json::to_value(c.verdict).map_err(|e| e.to_string())?;
         v["correction"] = serde_json::to_value(c).map_err(|e| e.to_string())?;
+        v["outliers"] = serde_json::to_value(&analysis.outliers).map_err(|e| e.to_string())?;
+        v["noise"] = serde_json::to_value(&analysis.noise).map_err(|e| e.to_string())?;
         if let Some(mc) = mc {
             v["monte_carlo"] = serde_json::to_value(mc).map_err(|e| e.to_string())?;
         }
@@ -285,6 +314,17 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     for x in &id.points_excluded {
         println!("excluded {}: {}", x.id, x.reason);
     }
+    if !analysis.outliers.summary.is_empty() {
+        println!("Outliers: {}", analysis.outliers.summary);
+        if let Some(v) = analysis
+            .outliers
+            .verdict_all_points
+            .filter(|_| analysis.outliers.excluded)
+        {
+            println!("With every point, outliers included, the verdict would be `{v}`.");
+        }
+    }
+    println!("{}", analysis.noise.summary);
     if let Some(mc) = mc {
         println!(
             "Monte Carlo ({} runs, seed {}, σ {:.2e}..{:.2e} mm):",
@@ -378,6 +418,36 @@ fn pooled(
 const POOL_NOT_CORRECTED: &str = "The pool is not diagnosed and NOT corrected for any unmodelled \
     effect: these are baseline values. Identify the parts one by one for their diagnosis and \
     corrected errors.";
+
+/// `--mpe A,K[,R0]` (µm, mm, µm): the CMM's MPE; refused together with `--sigma`.
+pub fn parse_mpe(args: &Args, sigma: Option<f64>) -> Result<Option<CmmMpe>, String> {
+    let Some(t) = args.value("mpe") else {
+        return Ok(None);
+    };
+    if let Some(s) = sigma {
+        return Err(format!(
+            "--sigma {s} and --mpe {t} both give the CMM noise: give one of them \
+             (--sigma the σ in mm, --mpe the MPE A + L/K in µm)"
+        ));
+    }
+    let v: Vec<f64> = t
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--mpe `{t}`: expected A,K or A,K,R0 (numbers: µm, mm, µm)"))?;
+    let (a, k, r0) = match v.as_slice() {
+        [a, k] => (*a, *k, 0.0),
+        [a, k, r0] => (*a, *k, *r0),
+        _ => {
+            return Err(format!(
+                "--mpe `{t}`: expected A,K or A,K,R0 (MPE_E = A + L/K µm, R0 in µm)"
+            ))
+        }
+    };
+    CmmMpe::try_new(a, k, r0)
+        .map(Some)
+        .map_err(|e| format!("--mpe `{t}`: {e}"))
+}
 
 /// `--machine paper000|paper001|paper002` and `--l0 MM` (default paper 000's 499.889 mm).
 pub fn machine_and_l0(args: &Args) -> Result<(MachineChoice, f64), String> {

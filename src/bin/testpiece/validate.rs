@@ -14,7 +14,7 @@ use testpiece::validate::{
 use crate::args::Args;
 
 const HELP: &str = "\
-testpiece validate [--cases N] [--seed S] [--known-sigma] [--exact] [--pairs] [--json]
+testpiece validate [--cases N] [--seed S] [--known-sigma] [--exact] [--pairs] [--spikes] [--json]
 
 Simulates N parts (default 200) of the built-in S-shape with random machine errors (angles
 ±3e-4 rad, EX0B ±0.03 mm), each with one effect of effects.md at a random magnitude around its
@@ -23,6 +23,9 @@ detection limit, or none, or an effect outside the list (waviness, local bump), 
 the confusion matrix, detection limits and the shrink achieved versus achievable.
 
 --known-sigma  give σ to the diagnosis as the CMM repeatability (default: estimated).
+--spikes       add a single-point spike of 25-40 µm (random sign) at a random point of every
+               case; prints how often the spike is named as an outlier. Every case goes
+               through the outlier test as `testpiece diagnose` does (named points left out).
 --exact        simulate the machine part with the exact eq. 12 defect (the diagnosis still fits
                the linear baseline); default: the linear twin.
 --pairs        instead: N parts with TWO effects each (every pair of candidates the part can tell
@@ -54,6 +57,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let known = args.flag("known-sigma");
     let exact = args.flag("exact");
     let pairs = args.flag("pairs");
+    let spikes = args.flag("spikes");
     let parse = |name: &str, default: u64| -> Result<u64, String> {
         args.value(name).map_or(Ok(default), |s| {
             s.parse()
@@ -72,7 +76,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let opts = ValidateOptions::default()
         .with_cases(cases)
         .with_seed(seed)
-        .with_known_sigma(known);
+        .with_known_sigma(known)
+        .with_spikes(spikes);
     if pairs {
         let r = validate_pairs(&model, &opts).map_err(|e| e.to_string())?;
         if json {
