@@ -49,7 +49,10 @@ function readSettings() {
     exclude_bad_rows: $('exclude').checked,
     noise_sigma: Number.isFinite(sigmaUm) && sigmaUm > 0 ? sigmaUm / 1000 : null,
     effects: $('effects').value,
+    keep_outliers: $('keepOutliers').checked,
   };
+  const a = parseFloat($('mpeA').value), k = parseFloat($('mpeK').value);
+  if (Number.isFinite(a) && a > 0 && Number.isFinite(k) && k > 0) st.settings.noise_mpe = { a_um: a, k_mm: k };
   st.setupPerPart = $('setupPerPart').checked;
 }
 
@@ -191,6 +194,8 @@ function summaryText() {
     h('div', {}, `Residual after the fit: RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`),
     h('div', {}, weak ? `Not separable or weakly determined by this part: ${weak}.` : 'Every parameter is separately determined by this part.'),
   );
+  if (a.outliers && a.outliers.summary) box.append(h('div', { id: 'outlier-line', class: 'warn' }, a.outliers.summary));
+  if (a.noise && a.noise.summary) box.append(h('div', { id: 'noise-line' }, a.noise.summary));
 }
 
 /** The views, one per tab (index.html: tab-<id> / view-<id>); add a view by adding a line. */
@@ -247,7 +252,7 @@ function setupInputs() {
   drop.addEventListener('drop', (e) => { e.preventDefault(); drop.classList.remove('over'); addFiles([...e.dataTransfer.files]); });
   drop.addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); $('file').click(); } });
   $('example').addEventListener('change', () => loadExample($('example').value));
-  for (const id of ['machine', 'mode', 'branch', 'l0', 'toolRadius', 'effects', 'exclude', 'sigma', 'setupPerPart']) {
+  for (const id of ['machine', 'mode', 'branch', 'l0', 'toolRadius', 'effects', 'exclude', 'sigma', 'mpeA', 'mpeK', 'keepOutliers', 'setupPerPart']) {
     $(id).addEventListener('change', async () => {
       readSettings();
       if (id === 'setupPerPart') { await runPool(); render(); return; }

@@ -305,6 +305,18 @@ const effectWords = (id) => {
   return id.replace('_', ' ');
 };
 
+/** The single-point outliers the core named (a.outliers), with the rule, as a table. */
+function outlierBlock(a) {
+  const o = a.outliers;
+  if (!o || !o.tested) return h('p', { id: 'outliers' }, 'Outlier test: not made (no diagnosis model for this part).');
+  const pts = o.points || [];
+  if (!pts.length) return h('p', { id: 'outliers' }, `Outliers: none (${o.rule}).`);
+  return h('div', { id: 'outliers' }, h('h2', {}, 'Single-point outliers'), h('p', { class: 'warn' }, o.summary),
+    table('outlier-points', `Points whose deviation the fit without them does not explain (|t| above ${Number(o.threshold).toFixed(2)}, Bonferroni α = ${o.alpha} over the points; σ = ${(o.sigma * 1000).toFixed(2)} µm, ${o.sigma_source}); ${o.excluded ? 'left out of the identification and the diagnosis' : 'kept (setting)'}`,
+      ['point', 'curve', 'size (µm)', '|t|'],
+      pts.map((p) => [String(p.id), p.curve, { text: (p.size * 1000).toFixed(1), num: true, value: p.size * 1000 }, { text: p.statistic.toFixed(1), num: true, value: p.statistic }])));
+}
+
 /** A parameters table: value, unit, std, t, status, and the shift from the baseline when given. */
 function parameterTable(name, caption, id, shift, fitted) {
   const header = ['parameter', 'value', 'unit', 'std', 't', 'status'];
@@ -343,6 +355,7 @@ export function identifyView(root, a) {
   root.append(h('details', { id: 'baseline-details' }, h('summary', {}, 'Baseline identification: the location errors alone, before the diagnosis'),
     h('p', {}, `Residual RMS ${(base.residual.rms * 1000).toFixed(2)} µm, σ ${base.sigma ? (base.sigma * 1000).toFixed(2) + ' µm' : '—'} (${base.sigma_source}).`),
     parameterTable('baseline-parameters', 'Baseline location errors (rad; lengths in mm), without any unmodelled effect', base, null, 'none')));
+  root.append(outlierBlock(a));
   root.append(h('h2', {}, 'What this part cannot separate'));
   if (!id.groups.length) root.append(h('p', {}, 'Every parameter is separately determined by this part.'));
   root.append(h('ul', { id: 'groups' }, id.groups.map((g) => h('li', {}, h('strong', {}, `${g.kind.replace('_', ' ')}: ${g.parameters.join(', ')}. `), g.explanation))));
@@ -389,7 +402,14 @@ function planView(a, name, id = a.identification) {
     add('line', { x1: xa, y1: ya, x2: xb, y2: yb, stroke: color, 'stroke-width': 2 });
     add('circle', { cx: xb, cy: yb, r: 2, fill: color }).appendChild(document.createElementNS(NS, 'title')).textContent = `point ${p.file.id}: residual ${(r * 1000).toFixed(2)} µm`;
   });
-  add('text', { x: W - pad, y: H - 8, 'text-anchor': 'end', fill: '#555' }).textContent = 'blue: material left (+), red: overcut (−); x, y in mm';
+  for (const o of (a.outliers && a.outliers.points) || []) {
+    const i = o.row;
+    if (i === undefined || !pts[i]) continue;
+    const ring = add('circle', { cx: X(xs[i]), cy: Y(ys[i]), r: 9, fill: 'none', stroke: '#d62728', 'stroke-width': 2.5, 'stroke-dasharray': '3 2',
+      class: 'outlier-ring', 'data-id': o.id, role: 'img', 'aria-label': `outlier: point ${o.id}, ${(o.size * 1000).toFixed(1)} µm` });
+    add('title', {}, ring).textContent = `outlier: point ${o.id}, ${(o.size * 1000).toFixed(1)} µm from the fit without it (|t| = ${o.statistic.toFixed(1)}); ${a.outliers.excluded ? 'left out' : 'kept'}`;
+  }
+  add('text', { x: W - pad, y: H - 8, 'text-anchor': 'end', fill: '#555' }).textContent = 'blue: material left (+), red: overcut (−); dashed red ring: outlier; x, y in mm';
   const note = add('text', { x: pad, y: H - 52, fill: '#7a4b00', class: 'note' });
   const byId = new Map(pts.map((p, i) => [String(p.file.id), i]));
   function drawWhere() {
@@ -442,7 +462,8 @@ export function reportView(root, st) {
     ['file', f.name], ['SHA-256', f.sha256 || ''], ['format', a.file.format.description],
     ['points used', String(a.identification.points_used)], ['rows excluded', a.file.excluded.map((p) => p.line).join(' ') || 'none'],
     ['machine', machineName(s.machine)], ['L0', machineUsesL0(s.machine) ? `${s.l0} mm` : 'not used by this machine'], ['mode', s.mode], ['branch', s.branch],
-    ['tool-radius term', s.tool_radius ? 'fitted (dR)' : 'not fitted'], ['CMM σ', s.noise_sigma ? `${(s.noise_sigma * 1000).toFixed(2)} µm` : 'from the residual'],
+    ['tool-radius term', s.tool_radius ? 'fitted (dR)' : 'not fitted'], ['CMM σ', a.noise ? a.noise.summary : (s.noise_sigma ? `${(s.noise_sigma * 1000).toFixed(2)} µm` : 'from the residual')],
+    ['outliers', a.outliers && a.outliers.summary ? a.outliers.summary : 'none found'], ['errors reported', fittedWith(a)],
   ]));
   const id = a.identification;
   root.append(h('p', { id: 'report-correction' }, a.correction.summary));
@@ -468,6 +489,7 @@ export function gapView(root, a) {
   const d = diagnosisOf(a);
   const v = d.verdict;
   const um = (x) => (x * 1000).toFixed(2);
+  if (a.outliers && a.outliers.summary) root.append(h('p', { id: 'gap-outliers', class: 'warn' }, a.outliers.summary));
   root.append(h('h2', {}, 'Sim-to-real gap'), h('pre', { id: 'gap-summary', class: 'summary' }, d.summary),
     h('p', { id: 'gap-corrected', class: `correction correction-${a.correction.basis}` },
       a.correction.basis === 'effects' ? `The machine's errors are corrected for it: ${a.correction.summary}`
