@@ -2,4 +2,4 @@
 //! [`crate::identify::solve`] (one core for identification and diagnosis), re-exported here under
 //! the names the gap modules use.
 
-pub use crate::identify::solve::{max_abs, rms, Factor, RANK_TOL};
+pub use crate::identify::solve::{hstack, max_abs, rms, Factor, RANK_TOL};

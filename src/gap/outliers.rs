@@ -49,7 +49,7 @@ use serde::Serialize;
 
 use super::data::GapInput;
 use super::location::curve_sequences;
-use super::lsq::Factor;
+use super::lsq::{hstack, Factor};
 use super::smooth_noise::{smooth_basis, SMOOTH_DEGREE};
 use super::stats;
 
@@ -136,16 +136,6 @@ pub fn t_two_sided_quantile(p: f64, nu: f64) -> f64 {
         }
     }
     0.5 * (lo + hi)
-}
-
-fn hstack(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
-    DMatrix::from_fn(a.nrows(), a.ncols() + b.ncols(), |i, j| {
-        if j < a.ncols() {
-            a[(i, j)]
-        } else {
-            b[(i, j - a.ncols())]
-        }
-    })
 }
 
 /// Residual, leverage and rank of the fit of `y` by `x` restricted to the rows `keep`

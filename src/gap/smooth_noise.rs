@@ -14,7 +14,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::data::PointMeta;
 use super::location::curve_sequences;
-use super::lsq::Factor;
+use super::lsq::{hstack, Factor};
 
 /// Degree of the per-curve Legendre basis.
 pub const SMOOTH_DEGREE: usize = 5;
@@ -77,14 +77,7 @@ pub fn smooth_factor(
     a: &DMatrix<f64>,
     y: &DVector<f64>,
 ) -> (Factor, DVector<f64>) {
-    let aug = DMatrix::from_fn(a.nrows(), a.ncols() + b.ncols(), |i, j| {
-        if j < a.ncols() {
-            a[(i, j)]
-        } else {
-            b[(i, j - a.ncols())]
-        }
-    });
-    let f = Factor::new(&aug, None);
+    let f = Factor::new(&hstack(a, b), None);
     let r = f.unabsorbed_vec(y);
     (f, r)
 }

@@ -105,6 +105,17 @@ impl Factor {
     }
 }
 
+/// `[a | b]`: the columns of `a`, then those of `b` (same number of rows).
+pub fn hstack(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    DMatrix::from_fn(a.nrows(), a.ncols() + b.ncols(), |i, j| {
+        if j < a.ncols() {
+            a[(i, j)]
+        } else {
+            b[(i, j - a.ncols())]
+        }
+    })
+}
+
 /// Root mean square of a slice (0 for an empty one).
 pub fn rms(x: &[f64]) -> f64 {
     if x.is_empty() {

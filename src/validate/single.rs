@@ -50,7 +50,7 @@ use crate::gap::data::{Candidate, GapInput, NamedColumns, PointMeta};
 use crate::gap::diagnose::{diagnose_with, DiagnoseOptions};
 use crate::gap::equivalence::near_equivalent_pairs;
 use crate::gap::location::DETECT_FACTOR;
-use crate::gap::lsq::{rms, Factor};
+use crate::gap::lsq::{hstack, rms, Factor};
 use crate::gap::outliers::{find_outliers, without_rows};
 use crate::gap::verdict::VerdictId;
 use crate::gap::Effect;
@@ -318,16 +318,6 @@ pub struct ValidationReport {
     /// The final answer's and the baseline's location errors against the truth, per group.
     pub parameter_error: ParameterErrors,
     pub results: Vec<CaseResult>,
-}
-
-fn hstack(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
-    DMatrix::from_fn(a.nrows(), a.ncols() + b.ncols(), |i, j| {
-        if j < a.ncols() {
-            a[(i, j)]
-        } else {
-            b[(i, j - a.ncols())]
-        }
-    })
 }
 
 /// The machine part of a simulated deviation for the location errors `ξ` (baseline order), mm.
