@@ -341,7 +341,9 @@ fn noise_source(opts: &AnalysisOptions, lengths: &[f64]) -> Result<NoiseSource, 
                 sigma: Some(med),
                 mpe_range: Some((lo, hi)),
                 summary: format!(
-                    "Noise: σ = {:.2} µm from the CMM's MPE_E = {} + L/{} µm (R0 = {} µm):                      σ_i = max(MPE_E(L_i)/√3, R0/1.693) = {:.2}..{:.2} µm over the points                      (L = distance from the part origin), median used.",
+                    "Noise: σ = {:.2} µm from the CMM's MPE_E = {} + L/{} µm (R0 = {} µm): \
+                     σ_i = max(MPE_E(L_i)/√3, R0/1.693) = {:.2}..{:.2} µm over the points \
+                     (L = distance from the part origin), median used.",
                     med * 1e3,
                     m.a_um,
                     m.k_mm,
