@@ -200,14 +200,7 @@ fn mad_sigma(u: &[f64]) -> f64 {
     if a.is_empty() {
         return 0.0;
     }
-    a.sort_by(f64::total_cmp);
-    let m = a.len();
-    let med = if m % 2 == 1 {
-        a[m / 2]
-    } else {
-        0.5 * (a[m / 2 - 1] + a[m / 2])
-    };
-    1.482_6 * med
+    1.482_6 * stats::median(&mut a)
 }
 
 /// The neighbours of each row: along its curve (previous and next in `u`), and on every other
