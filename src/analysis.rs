@@ -40,7 +40,7 @@ use crate::gap::effects::builtin::{missing_catalogue_axis, part_model, part_mode
 use crate::gap::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
 use crate::gap::verdict::VerdictId;
 use crate::gap::{diagnose, DiagnosisReport, Effect, GapError, GapInput};
-use crate::identify::correlated::{whitened_limit, Whitened};
+use crate::identify::correlated::{whiten, whitened_limit, Whitened};
 use crate::identify::monte_carlo::CmmMpe;
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{
@@ -546,7 +546,8 @@ fn diagnose_modelled(
     let mut verdict_all_points = None;
     // The outliers of the part (named, and left out unless kept), then the diagnosis.
     let mut run = |m: &PartModel| -> Result<DiagnosisReport, GapError> {
-        let test = find_outliers(&input_of(m, deviations, opts.noise_sigma));
+        let input = input_of(m, deviations, opts.noise_sigma);
+        let test = find_outliers(&input);
         let drop = if opts.keep_outliers {
             Vec::new()
         } else {
@@ -554,15 +555,12 @@ fn diagnose_modelled(
         };
         let sentence = outlier_sentence(&test, opts.keep_outliers);
         outliers = Some(test);
+        let all = diagnose(&input)?;
         let mut report = if drop.is_empty() {
-            diagnose_model(m, deviations, opts.noise_sigma)?
+            all
         } else {
-            let all = diagnose_model(m, deviations, opts.noise_sigma)?;
             verdict_all_points = Some(all.verdict.id());
-            diagnose(&without_rows(
-                &input_of(m, deviations, opts.noise_sigma),
-                &drop,
-            ))?
+            diagnose(&without_rows(&input, &drop))?
         };
         if !sentence.is_empty() {
             report.summary = format!("{}\nOutliers: {sentence}\n", report.summary.trim_end());
@@ -729,17 +727,12 @@ pub fn analyse_fitted(
     let deviations = minus_known(matched.deviations(), opts.known.as_ref())?;
     let ids: Vec<String> = matched.points.iter().map(|p| p.file.id.clone()).collect();
     let modelled = diagnose_modelled(&part, &points, &deviations, opts);
-    let mut obs = Observations::new(
+    let obs = Observations::new(
         ids.clone(),
         points.iter().map(|p| p.curve.name().to_string()).collect(),
         deviations.clone(),
-    );
-    if !modelled.excluded.is_empty() {
-        let w = (0..obs.len())
-            .map(|i| f64::from(u8::from(!modelled.excluded.contains(&i))))
-            .collect();
-        obs = obs.with_weights(w);
-    }
+    )
+    .excluding(&modelled.excluded);
     let mut iopts = IdentifyOptions::default();
     if let Some(s) = opts.noise_sigma {
         iopts = iopts.with_sigma(s);
@@ -876,14 +869,7 @@ fn refine_with(
     let r = match whitener {
         None => refine(design, obs, linear, model, &RefineOptions::default(), iopts),
         Some(w) => {
-            let wd = Design::try_new(design.parameters().to_vec(), w * design.matrix())?;
-            let wy = w * nalgebra::DVector::from_column_slice(&obs.deviation);
-            let mut wobs = Observations::new(
-                obs.ids.clone(),
-                obs.curves.clone(),
-                wy.iter().copied().collect(),
-            );
-            wobs.weights = obs.weights.clone();
+            let (wd, wobs) = whiten(design, obs, w)?;
             let model = Whitened { model, whitener: w };
             let limit = whitened_limit(design, &wd, iopts);
             refine(

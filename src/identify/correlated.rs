@@ -77,12 +77,28 @@ pub struct Correlated {
     /// The identification: values, std from `(AᵀΣ⁻¹A)⁻¹`, groups of the whitened design;
     /// residuals and their statistics on the measured deviations (mm).
     pub identification: Identification,
-    /// `W = Σ^{-½}` (n × n, 1/mm).
+    /// `W = Σ^{-½}` (n × n, 1/mm): [`whiten`] gives the whitened problem again (for the
+    /// refinement).
     pub whitener: DMatrix<f64>,
-    /// The whitened design `W A`.
-    pub design: Design,
-    /// The whitened observations `W y` (same ids and curves).
-    pub observations: Observations,
+}
+
+/// The whitened problem `W A x ≈ W y`: the design `W A` and the observations `W y` (same ids,
+/// curves and weights: a point of weight 0, an outlier, stays excluded, and its covariance must
+/// not couple it to the others).
+pub fn whiten(
+    design: &Design,
+    obs: &Observations,
+    w: &DMatrix<f64>,
+) -> Result<(Design, Observations), IdentifyError> {
+    let wd = Design::try_new(design.parameters().to_vec(), w * design.matrix())?;
+    let wy = w * DVector::from_column_slice(&obs.deviation);
+    let mut wobs = Observations::new(
+        obs.ids.clone(),
+        obs.curves.clone(),
+        wy.iter().copied().collect(),
+    );
+    wobs.weights = obs.weights.clone();
+    Ok((wd, wobs))
 }
 
 /// Generalised least squares of `design` on `obs` with the noise covariance `sigma` (mm²);
@@ -115,15 +131,7 @@ pub fn identify_correlated(
         });
     }
     let w = inverse_square_root(sigma)?;
-    let wd = Design::try_new(design.parameters().to_vec(), &w * design.matrix())?;
-    let wy = &w * DVector::from_column_slice(&obs.deviation);
-    let mut wobs = Observations::new(
-        obs.ids.clone(),
-        obs.curves.clone(),
-        wy.iter().copied().collect(),
-    );
-    // A point of weight 0 (an outlier) stays excluded; `sigma` must not couple it to the others.
-    wobs.weights = obs.weights.clone();
+    let (wd, wobs) = whiten(design, obs, &w)?;
     let limit = whitened_limit(design, &wd, opts);
     let mut id = identify(
         &wd,
@@ -146,8 +154,6 @@ pub fn identify_correlated(
     Ok(Correlated {
         identification: id,
         whitener: w,
-        design: wd,
-        observations: wobs,
     })
 }
 

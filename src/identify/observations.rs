@@ -49,6 +49,24 @@ impl Observations {
         self
     }
 
+    /// The rows `rows` get weight 0 (left out of the fit and listed in `points_excluded`), the
+    /// others keep theirs; no change when `rows` is empty.
+    pub fn excluding(self, rows: &[usize]) -> Self {
+        if rows.is_empty() {
+            return self;
+        }
+        let w = (0..self.len())
+            .map(|i| {
+                if rows.contains(&i) {
+                    0.0
+                } else {
+                    self.weight(i)
+                }
+            })
+            .collect();
+        self.with_weights(w)
+    }
+
     /// Number of points.
     pub fn len(&self) -> usize {
         self.deviation.len()

@@ -498,14 +498,7 @@ pub fn validate_with(
             None => v.rms_before,
         };
         // the points the outlier test named are left out of the final answer too (weight 0)
-        let mut observations = Observations::plain(y.iter().copied().collect());
-        if !named.is_empty() {
-            observations = observations.with_weights(
-                (0..n)
-                    .map(|i| f64::from(u8::from(!named.contains(&i))))
-                    .collect(),
-            );
-        }
+        let observations = Observations::plain(y.iter().copied().collect()).excluding(&named);
         let baseline = identify(&location, &observations, &iopts)?;
         let fin = correct::correct(
             &CorrectionInput {
