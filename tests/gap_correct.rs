@@ -45,6 +45,7 @@ fn the_examples_final_answers_are_within_two_std_of_their_keys() {
             None => {
                 assert_eq!(a.correction.basis, Basis::Baseline, "{name}");
                 assert_eq!(a.identification, a.baseline.identification);
+                assert_eq!(a.correction.fitted_with, "none");
             }
             Some((fitted, truth)) => {
                 assert_eq!(a.correction.basis, Basis::Effects, "{name}");
@@ -57,6 +58,14 @@ fn the_examples_final_answers_are_within_two_std_of_their_keys() {
                     e.value
                 );
                 assert_eq!(a.design.params.last().map(String::as_str), Some(fitted));
+                // the export's column and the page's words come from the core
+                let id = fitted.split('.').next().unwrap();
+                assert_eq!(a.correction.fitted_with, id);
+                assert!(
+                    a.correction.fitted_with_words.ends_with(&format!("({id})")),
+                    "{}",
+                    a.correction.fitted_with_words
+                );
             }
         }
     }

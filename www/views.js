@@ -289,21 +289,8 @@ function residualChart(a, name, id = a.identification) {
 }
 
 // ---------------------------------------------------------------- Identification
-/** What the final answer was fitted with, in words (core: analysis.correction). */
-export function fittedWith(a) {
-  const c = a.correction;
-  if (!c) return '';
-  if (c.basis === 'effects') return `fitted with ${c.effects_included.map(effectWords).join(' and ')}`;
-  if (c.basis === 'structure') return 'fitted with the unexplained structure as a correlated error (std include it)';
-  return 'the location errors alone (baseline)';
-}
-const effectWords = (id) => {
-  const d = (id.match(/^backlash_([xyzabc])$/) || [])[1];
-  if (d) return `backlash of the ${d.toUpperCase()} axis (${id})`;
-  const s = (id.match(/^scale_([xyz])$/) || [])[1];
-  if (s) return `scale error of the ${s.toUpperCase()} axis (${id})`;
-  return id.replace('_', ' ');
-};
+/** What the final answer was fitted with, in the core's words (analysis.correction). */
+export const fittedWith = (a) => (a.correction ? a.correction.fitted_with_words : '');
 
 /** The single-point outliers the core named (a.outliers), with the rule, as a table. */
 function outlierBlock(a) {
@@ -475,11 +462,8 @@ export function reportView(root, st) {
   root.append(h('p', { class: 'signature' }, 'Checked by: ____________________   Date: ____________'));
 }
 
-/** The export's `fitted_with` (identify::export): effect ids joined by +, structure, or none. */
-export function fittedWithId(a) {
-  const c = a.correction;
-  return c.basis === 'effects' ? c.effects_included.join('+') : c.basis === 'structure' ? 'structure' : 'none';
-}
+/** The export's `fitted_with` column, as the core writes it (identify::export). */
+const fittedWithId = (a) => a.correction.fitted_with;
 
 // ---------------------------------------------------------------- Sim-to-real gap
 export function gapView(root, a) {

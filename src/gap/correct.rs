@@ -195,25 +195,41 @@ pub struct Correction {
     pub structure: Option<StructureCovariance>,
     /// Whether the std include an unexplained structure.
     pub std_includes_structure: bool,
+    /// What the values were fitted with, as the export's `fitted_with` column: effect ids
+    /// joined by `+`, `structure`, or `none`.
+    pub fitted_with: String,
+    /// The same in words ("fitted with the backlash of the C axis (backlash_c)").
+    pub fitted_with_words: String,
     /// What was not added and why, in sentences.
     pub notes: Vec<String>,
     /// The plain-language account (the page's verdict box, the CLI).
     pub summary: String,
 }
 
-impl Correction {
-    /// What the final values were fitted with, for the export: effect ids joined by `+`,
-    /// `structure`, or `none`.
-    pub fn fitted_with(&self) -> String {
-        match self.basis {
-            Basis::Baseline => "none".to_string(),
-            Basis::Structure => "structure".to_string(),
-            Basis::Effects => self
-                .effects_included
+/// What the final values were fitted with, for the export: effect ids joined by `+`,
+/// `structure`, or `none`.
+fn fitted_with(basis: Basis, effects: &[Effect]) -> String {
+    match basis {
+        Basis::Baseline => "none".to_string(),
+        Basis::Structure => "structure".to_string(),
+        Basis::Effects => effects.iter().map(|e| e.id()).collect::<Vec<_>>().join("+"),
+    }
+}
+
+/// The same in words, for the page and the reports.
+fn fitted_with_words(basis: Basis, effects: &[Effect]) -> String {
+    match basis {
+        Basis::Baseline => "the location errors alone (baseline)".to_string(),
+        Basis::Structure => {
+            "fitted with the unexplained structure as a correlated error (std include it)"
+                .to_string()
+        }
+        Basis::Effects => {
+            let names: Vec<String> = effects
                 .iter()
-                .map(|e| e.id())
-                .collect::<Vec<_>>()
-                .join("+"),
+                .map(|e| format!("the {} ({e})", e.plain_name()))
+                .collect();
+            format!("fitted with {}", names.join(" and "))
         }
     }
 }
@@ -432,7 +448,7 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
         _ => Vec::new(),
     };
     let effects_included = match basis {
-        Basis::Effects => effects,
+        Basis::Effects => effects.clone(),
         _ => Vec::new(),
     };
     let mut correction = Correction {
@@ -444,6 +460,8 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
         shift,
         alternatives,
         std_includes_structure: structure.is_some(),
+        fitted_with: fitted_with(basis, &effects),
+        fitted_with_words: fitted_with_words(basis, &effects),
         structure,
         notes,
         summary: String::new(),

@@ -203,12 +203,12 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         });
     }
     let refinement = analysis.refinement.clone();
-    let fitted_with = analysis.correction.fitted_with();
+    let fitted_with = &analysis.correction.fitted_with;
     if let Some(f) = export_fmt {
         if f == "csv" {
-            print!("{}", export::compensation_csv(&id, &fitted_with));
+            print!("{}", export::compensation_csv(&id, fitted_with));
         } else {
-            println!("{}", export::compensation_json(&id, &fitted_with));
+            println!("{}", export::compensation_json(&id, fitted_with));
         }
         return Ok(());
     }
