@@ -38,6 +38,7 @@ use crate::gap::correct::{
 };
 use crate::gap::effects::builtin::{missing_catalogue_axis, part_model, part_model_on, PartModel};
 use crate::gap::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
+use crate::gap::repeat::{self, LackOfFit, Measurement, PureError, RepeatError};
 use crate::gap::verdict::VerdictId;
 use crate::gap::{diagnose, DiagnosisReport, Effect, GapError, GapInput};
 use crate::identify::correlated::{whiten, whitened_limit, Whitened};
@@ -205,6 +206,10 @@ pub enum AnalysisError {
     Refine(String),
     #[error("{0}")]
     Correction(GapError),
+    #[error("{0}")]
+    Repeat(#[from] RepeatError),
+    #[error("the CMM noise is given twice: {given} and {repeats} repeat measurements of the part; give the figure or the repeats")]
+    SigmaAndRepeats { given: String, repeats: usize },
     #[error(
         "known deviation ({what}): {values} values for {points} matched points, or not finite"
     )]
@@ -253,6 +258,21 @@ pub struct Analysis {
     pub outliers: Outliers,
     /// The σ of the CMM noise the analysis used, and where it came from.
     pub noise: NoiseSource,
+    /// Repeat measurements of the part: the pure error and the lack of fit (absent with one
+    /// file).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub repeat: Option<RepeatReport>,
+}
+
+/// What repeat measurements of the part gave ([`crate::gap::repeat`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct RepeatReport {
+    /// σ from the differences of the measurements (pure error).
+    pub pure_error: PureError,
+    /// The lack-of-fit test of the baseline (the location errors alone) against it.
+    pub lack_of_fit: LackOfFit,
+    /// One sentence for the reports.
+    pub summary: String,
 }
 
 /// The single-point outliers of an analysis ([`crate::gap::outliers`]).
@@ -278,7 +298,8 @@ pub struct Outliers {
 /// The σ of the CMM noise an analysis used.
 #[derive(Debug, Clone, Serialize)]
 pub struct NoiseSource {
-    /// `given` (σ), `mpe` (from the CMM's MPE) or `estimated` (from the residual).
+    /// `given` (σ), `mpe` (from the CMM's MPE), `repeat` (σ of the mean of repeat
+    /// measurements, from their differences) or `estimated` (from the residual).
     pub source: &'static str,
     /// The σ given or from the MPE (mm); `None` when estimated (the diagnosis's own estimate is
     /// `diagnosis.report.verdict.sigma`).
@@ -697,10 +718,78 @@ pub fn analyse(
     analyse_fitted(bytes, name, opts).map(|(a, _)| a)
 }
 
+/// [`analyse`] of the mean of several measurements of one part (the first file, then its
+/// repeats: the same point ids measured again). The CMM noise is the pure error of their
+/// differences ([`crate::gap::repeat`]), so neither σ nor an MPE may be given with them; the
+/// points, their order and the excluded rows are the first file's.
+pub fn analyse_repeats(
+    files: &[(&[u8], &str)],
+    opts: &AnalysisOptions,
+) -> Result<Analysis, AnalysisError> {
+    analyse_parts(files, opts).map(|(a, _)| a)
+}
+
 /// [`analyse`], and what it fitted.
 pub fn analyse_fitted(
     bytes: &[u8],
     name: &str,
+    opts: &AnalysisOptions,
+) -> Result<(Analysis, Fitted), AnalysisError> {
+    analyse_parts(&[(bytes, name)], opts)
+}
+
+/// The files read, matched and combined: the first file, its deviations replaced by the mean of
+/// the repeats when there are some, and their pure error.
+fn read_parts(
+    files: &[(&[u8], &str)],
+    opts: &AnalysisOptions,
+) -> Result<(MatchedPart, Option<PureError>), AnalysisError> {
+    let ropts = ReadOptions::default().with_exclude_bad_rows(opts.exclude_bad_rows);
+    let mut parts = files
+        .iter()
+        .map(|(bytes, name)| read_and_match(bytes, name, &ropts))
+        .collect::<Result<Vec<_>, _>>()?;
+    if parts.len() < 2 {
+        return Ok((parts.remove(0), None));
+    }
+    if opts.noise_sigma.is_some() || opts.noise_mpe.is_some() {
+        return Err(AnalysisError::SigmaAndRepeats {
+            given: match (opts.noise_sigma, &opts.noise_mpe) {
+                (Some(s), _) => format!("σ = {s} mm"),
+                (None, Some(m)) => format!("MPE = {} + L/{} µm", m.a_um, m.k_mm),
+                (None, None) => unreachable!("checked above"),
+            },
+            repeats: parts.len(),
+        });
+    }
+    let ids: Vec<Vec<String>> = parts
+        .iter()
+        .map(|p| p.points.iter().map(|q| q.file.id.clone()).collect())
+        .collect();
+    let feet: Vec<Vec<[f64; 3]>> = parts
+        .iter()
+        .map(|p| p.points.iter().map(|q| q.foot).collect())
+        .collect();
+    let deviations: Vec<Vec<f64>> = parts.iter().map(MatchedPart::deviations).collect();
+    let measurements: Vec<Measurement> = (0..parts.len())
+        .map(|k| Measurement {
+            name: &parts[k].name,
+            ids: &ids[k],
+            positions: &feet[k],
+            deviations: &deviations[k],
+        })
+        .collect();
+    let pe = repeat::pure_error(&measurements)?;
+    let mut first = parts.remove(0);
+    for (q, m) in first.points.iter_mut().zip(&pe.mean) {
+        q.deviation = *m;
+    }
+    Ok((first, Some(pe)))
+}
+
+/// [`analyse_repeats`], and what it fitted: one file (`files.len() == 1`) is [`analyse_fitted`].
+pub fn analyse_parts(
+    files: &[(&[u8], &str)],
     opts: &AnalysisOptions,
 ) -> Result<(Analysis, Fitted), AnalysisError> {
     if let Some(s) = opts.noise_sigma {
@@ -709,13 +798,20 @@ pub fn analyse_fitted(
         }
     }
     let part = SShape::iso();
-    let ropts = ReadOptions::default().with_exclude_bad_rows(opts.exclude_bad_rows);
-    let matched = read_and_match(bytes, name, &ropts)?;
+    let (matched, pure) = read_parts(files, opts)?;
     let points = measurement_points(&part, &matched);
-    let noise = noise_source(
-        opts,
-        &points.iter().map(|p| p.point.norm()).collect::<Vec<_>>(),
-    )?;
+    let noise = match &pure {
+        Some(pe) => NoiseSource {
+            source: "repeat",
+            sigma: Some(pe.sigma_mean),
+            mpe_range: None,
+            summary: repeat::sentence(pe, None),
+        },
+        None => noise_source(
+            opts,
+            &points.iter().map(|p| p.point.norm()).collect::<Vec<_>>(),
+        )?,
+    };
     // The options the stages see: σ given or from the MPE.
     let opts_in = opts;
     let opts = &AnalysisOptions {
@@ -746,6 +842,24 @@ pub fn analyse_fitted(
         None
     };
     let outliers = outliers_of(&modelled, &ids, opts.keep_outliers);
+    let mut noise = noise;
+    let repeat = pure.map(|pe| {
+        let used: Vec<f64> = identification
+            .points
+            .iter()
+            .filter(|p| p.used)
+            .map(|p| p.residual)
+            .collect();
+        let rss: f64 = used.iter().map(|r| r * r).sum();
+        let lack_of_fit = repeat::lack_of_fit(&pe, rss, used.len(), identification.rank_used);
+        let summary = repeat::sentence(&pe, Some(&lack_of_fit));
+        noise.summary = summary.clone();
+        RepeatReport {
+            pure_error: pe,
+            lack_of_fit,
+            summary,
+        }
+    });
     let mut diagnosis = modelled.diagnosis;
     let (final_design, mut final_id, final_refinement, correction) = final_answer(
         FinalInput {
@@ -771,11 +885,11 @@ pub fn analyse_fitted(
     }
     for id in [&mut identification, &mut final_id] {
         name_outliers(id, &outliers);
-        if noise.source == "mpe" {
+        if noise.source != "estimated" && noise.source != "given" {
             id.notes.push(noise.summary.clone());
         }
     }
-    if noise.source == "mpe" {
+    if noise.source != "estimated" && noise.source != "given" {
         if let Diagnosis::Made { report, .. } = &mut diagnosis {
             report.summary = format!("{}\n{}\n", report.summary.trim_end(), noise.summary);
         }
@@ -786,6 +900,7 @@ pub fn analyse_fitted(
         settings: opts_in.clone(),
         outliers,
         noise,
+        repeat,
         file: matched,
         points,
         design: columns_of(&final_design),

@@ -288,11 +288,7 @@ fn validate_with_spikes_names_them_and_keeps_the_verdicts() {
     // Floors on seed 1 (chosen on; 418 cases: 97.1 % of the spikes named, 98.4 / 99.0 / 96.4 %
     // detectable / none / unexplained). Here 126 cases (6 of each kind).
     let m = builtin_model(&SShape::iso()).unwrap();
-    let model = ValidationModel {
-        points: m.points,
-        baseline: m.baseline,
-        candidates: m.candidates,
-    };
+    let model = ValidationModel::of(m);
     let opts = ValidateOptions::default()
         .with_cases(126)
         .with_seed(1)

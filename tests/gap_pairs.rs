@@ -235,11 +235,7 @@ fn validate_pairs_floor() {
     use testpiece::gap::effects::builtin::builtin_model;
     use testpiece::validate::{pairs_table, validate_pairs, ValidateOptions, ValidationModel};
     let m = builtin_model(&testpiece::part::SShape::iso()).unwrap();
-    let model = ValidationModel {
-        points: m.points,
-        baseline: m.baseline,
-        candidates: m.candidates,
-    };
+    let model = ValidationModel::of(m);
     let r = validate_pairs(&model, &ValidateOptions::default().with_cases(202)).unwrap();
     print!("{}", pairs_table(&r));
     assert!(r.rate >= 0.65, "{}", r.rate);

@@ -14,6 +14,7 @@ fn model() -> ValidationModel {
         points: inp.points,
         baseline: inp.baseline,
         candidates: inp.candidates,
+        shapes: Default::default(),
     }
 }
 
@@ -124,33 +125,16 @@ fn same_seed_same_report() {
 /// verdict. Measured over 418 cases, seed 1 (`testpiece validate --exact`): 0 verdicts differ.
 #[test]
 fn verdicts_hold_on_the_exact_model() {
-    use nalgebra::DVector;
     use testpiece::gap::effects::builtin::builtin_model;
-    use testpiece::gap::GapError;
-    use testpiece::identify::refine::ExactModel;
     use testpiece::part::SShape;
-    use testpiece::simulate::{builtin_design, ExactDefectModel};
-    use testpiece::validate::validate_with;
+    use testpiece::validate::{exact_machine_part, validate_with};
 
     let m = builtin_model(&SShape::iso()).unwrap();
-    let model = ValidationModel {
-        points: m.points,
-        baseline: m.baseline,
-        candidates: m.candidates,
-    };
-    let design = builtin_design("physical", "signed", false).unwrap();
-    let exact = ExactDefectModel::new(&design, "physical", "signed").unwrap();
-    let names = model.baseline.names.clone();
-    let machine = |xi: &DVector<f64>| -> Result<DVector<f64>, GapError> {
-        let pairs: Vec<(String, f64)> = names.iter().cloned().zip(xi.iter().copied()).collect();
-        let x = design.vector_from(&pairs).unwrap();
-        Ok(DVector::from_vec(
-            exact.deviation(&x).map_err(GapError::Model)?,
-        ))
-    };
+    let model = ValidationModel::of(m);
+    let machine = exact_machine_part(&model.baseline.names).unwrap();
     let o = ValidateOptions::default().with_cases(19).with_seed(1);
     let lin = validate(&model, &o).unwrap();
-    let ex = validate_with(&model, &o, &machine).unwrap();
+    let ex = validate_with(&model, &o, machine.as_ref()).unwrap();
     for (a, b) in lin.results.iter().zip(&ex.results) {
         assert_eq!(a.verdict, b.verdict, "case {} ({})", a.case, a.truth);
         // The exact and linear machine parts differ by well under the 1.5 µm noise.

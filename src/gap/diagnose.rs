@@ -129,6 +129,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         .map(|f| (f.effect, f.unabsorbed_basis.clone()))
         .collect();
     let equivalences = near_equivalent_pairs(&spans);
+    let layout = super::layout::layout(&input.points, &fits);
 
     // (d) VERDICT and (e) HOW FAR.
     let mut verdict = decide(&DecisionInput {
@@ -181,6 +182,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
             .collect(),
         verdict,
         pair,
+        layout,
         summary: String::new(),
     };
     report.summary = summary(&report);

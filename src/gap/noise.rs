@@ -33,6 +33,11 @@ use serde::Serialize;
 
 use super::stats;
 
+/// Largest σ (mm) an estimate may have before the report questions it: a CMM measuring a
+/// flank-milled wall repeats within 1-2 µm (paper 000 §6: R0 = 3 µm over 3 repeats, σ ≈ 1.8 µm);
+/// an estimate above 3 µm more likely holds a structure the estimators took for noise.
+pub const PLAUSIBLE_CMM_SIGMA_MM: f64 = 0.003;
+
 /// Lags of the Ljung–Box test (≈ 100 mm of tool path at the built-in 25 mm spacing).
 pub const LJUNG_BOX_LAGS: usize = 4;
 

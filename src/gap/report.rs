@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use super::equivalence::Equivalence;
+use super::layout::{sentence as layout_sentence, Layout};
 use super::location::{WhereEntry, WhereReport};
 use super::pairs::PairFit;
 use super::verdict::{Finding, Verdict};
@@ -44,6 +45,8 @@ pub struct DiagnosisReport {
     pub verdict: Verdict,
     /// The pair behind the verdict when two effects together explain the gap ([`super::pairs`]).
     pub pair: Option<PairFit>,
+    /// The measured points' layout and what it cannot tell ([`super::layout`]).
+    pub layout: Layout,
     /// Plain-language summary; the first line is `Verdict: <plain name> (`<id>`)`.
     pub summary: String,
 }
@@ -98,12 +101,22 @@ pub fn summary(r: &DiagnosisReport) -> String {
         "Noise: σ = {} ({}); detection limit {} RMS of an effect's visible part.\n",
         um(v.sigma),
         if r.structure.noise.given.is_some() {
-            "CMM repeatability, given"
+            "given to the diagnosis"
         } else {
             "estimated from the data: residual of the fit plus a smooth basis per curve"
         },
         um(v.detection_limit)
     );
+    if r.structure.noise.given.is_none() && v.sigma > super::noise::PLAUSIBLE_CMM_SIGMA_MM {
+        s += &format!(
+            "Check: an estimated σ of {} is more than a CMM's usual {} on a part like this one: \
+             it may hold structure that looks like noise (a short waviness) and then hides \
+             effects. Give the CMM's figure (--sigma or --mpe) or measure the part again \
+             (--repeat) so that σ is measured, not estimated.\n",
+            um(v.sigma),
+            um(super::noise::PLAUSIBLE_CMM_SIGMA_MM)
+        );
+    }
     s += &format!(
         "Where: baseline residual {} RMS, {} of it beyond noise ({}){}.\n",
         um(r.baseline.rms),
@@ -140,6 +153,10 @@ pub fn summary(r: &DiagnosisReport) -> String {
             "Near-equivalent on this part: `{}` and `{}` (cosine {:.3}).\n",
             e.a, e.b, e.cosine
         );
+    }
+    if let Some(l) = layout_sentence(&r.layout) {
+        s += &l;
+        s.push('\n');
     }
     s
 }

@@ -13,6 +13,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::data::PointMeta;
+use super::layout::curve_degree;
 use super::location::curve_sequences;
 use super::lsq::{hstack, Factor};
 
@@ -31,12 +32,18 @@ pub fn legendre(t: f64, d: usize) -> Vec<f64> {
     p
 }
 
-/// The `n × 4(d+1)` per-curve smooth basis.
+/// The per-curve smooth basis: on a curve of `m` points the Legendre polynomials up to degree
+/// [`curve_degree`]`(m, degree)` (`degree` on the built-in layout's 25 points a curve), so that
+/// half of a curve's points always remain to measure the noise ([`super::layout`]).
 pub fn smooth_basis(points: &[PointMeta], degree: usize) -> DMatrix<f64> {
     let seqs = curve_sequences(points);
-    let k = degree + 1;
-    let mut m = DMatrix::zeros(points.len(), k * seqs.len());
-    for (c, (_, idx)) in seqs.iter().enumerate() {
+    let widths: Vec<usize> = seqs
+        .iter()
+        .map(|(_, idx)| curve_degree(idx.len(), degree) + 1)
+        .collect();
+    let mut m = DMatrix::zeros(points.len(), widths.iter().sum());
+    let mut first = 0;
+    for ((_, idx), k) in seqs.iter().zip(widths) {
         let lo = idx
             .iter()
             .map(|&i| points[i].s)
@@ -48,10 +55,11 @@ pub fn smooth_basis(points: &[PointMeta], degree: usize) -> DMatrix<f64> {
         let span = (hi - lo).max(1e-12);
         for &i in idx {
             let t = 2.0 * (points[i].s - lo) / span - 1.0;
-            for (j, v) in legendre(t, degree).into_iter().enumerate() {
-                m[(i, c * k + j)] = v;
+            for (j, v) in legendre(t, k - 1).into_iter().enumerate() {
+                m[(i, first + j)] = v;
             }
         }
+        first += k;
     }
     m
 }

@@ -12,6 +12,6 @@ pub mod s_shape;
 pub use cone::{ConeFrustum, ConePoint};
 pub use flat::{Flat, FLAT_COLUMNS};
 pub use frame::{Frame, FrameDerivs, Section};
-pub use points::{builtin_points, Curve, MeasurementPoint};
+pub use points::{builtin_points, curve_points_n, Curve, MeasurementPoint};
 pub use ruled::RuledPart;
 pub use s_shape::{SShape, Surface, HEIGHT};

@@ -181,12 +181,25 @@ pub fn arc_length_table(part: &SShape, s: Surface, v: f64) -> ArcLength<impl Fn(
 
 /// The 25 points of one curve, ids starting at `first_id`.
 pub fn curve_points(part: &SShape, curve: Curve, first_id: usize) -> Vec<MeasurementPoint> {
+    curve_points_n(part, curve, first_id, POINTS_PER_CURVE)
+}
+
+/// `count ≥ 2` points of one curve at equal arc length over the built-in layout's range of the
+/// curve (another layout than the standard's 25, e.g. for a measurement plan or a validation),
+/// ids starting at `first_id`.
+pub fn curve_points_n(
+    part: &SShape,
+    curve: Curve,
+    first_id: usize,
+    count: usize,
+) -> Vec<MeasurementPoint> {
     let v = curve.v();
     let table = arc_length_table(part, curve.surface(), v);
     let (f0, f1) = ARC_FRACTION_RANGE;
-    (0..POINTS_PER_CURVE)
+    let steps = count.max(2) - 1;
+    (0..count)
         .map(|k| {
-            let frac = f0 + (f1 - f0) * k as f64 / (POINTS_PER_CURVE - 1) as f64;
+            let frac = f0 + (f1 - f0) * k as f64 / steps as f64;
             // The fraction is inside [0, 1], so the length is in range: param_at cannot fail.
             let u = table
                 .param_at(frac * table.total())

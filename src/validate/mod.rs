@@ -5,15 +5,20 @@
 //!
 //! - [`single`]: one effect of effects.md (or none, or an out-of-list shape) per part;
 //! - [`pairs`]: two effects at once (`validate --pairs`);
-//! - [`parameter_error`]: the identified location errors against the simulated truth.
+//! - [`parameter_error`]: the identified location errors against the simulated truth;
+//! - [`shapes`]: the out-of-list shapes (waviness, bump, short wave, gouge, straightness, cyclic C);
+//! - [`conditions`]: one table of the lab's conditions (noise, spikes, layouts, shapes, ...).
 
+pub mod conditions;
 pub mod pairs;
 pub mod parameter_error;
+pub mod shapes;
 pub mod single;
 
+pub use conditions::{conditions_table, run_conditions, ConditionsReport, CONDITIONS};
 pub use pairs::{pairs_table, validate_pairs, PairCase, PairValidation};
 pub use parameter_error::{answer_error, AnswerError, ErrorComparison, ErrorSummary};
 pub use single::{
-    effect_parameters, machine_errors, table, validate, validate_with, ParameterErrors,
-    ValidateOptions, ValidationModel,
+    effect_parameters, exact_machine_part, machine_errors, table, validate, validate_with,
+    MachinePart, ParameterErrors, ValidateOptions, ValidationModel,
 };

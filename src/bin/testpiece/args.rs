@@ -5,7 +5,8 @@ use std::collections::BTreeMap;
 #[derive(Debug, Default)]
 pub struct Args {
     pub positional: Vec<String>,
-    options: BTreeMap<String, Option<String>>,
+    /// Every occurrence of each option, in order.
+    options: BTreeMap<String, Vec<Option<String>>>,
     used: std::cell::RefCell<Vec<String>>,
 }
 
@@ -26,7 +27,7 @@ impl Args {
                     }
                     None => (name.to_string(), None),
                 };
-                a.options.insert(k, v);
+                a.options.entry(k).or_default().push(v);
             } else {
                 a.positional.push(s.clone());
             }
@@ -42,7 +43,20 @@ impl Args {
     #[allow(dead_code)] // used by commands with options
     pub fn value(&self, name: &str) -> Option<&str> {
         self.used.borrow_mut().push(name.to_string());
-        self.options.get(name).and_then(|v| v.as_deref())
+        self.options
+            .get(name)
+            .and_then(|v| v.last())
+            .and_then(|v| v.as_deref())
+    }
+
+    /// Every value of an option given several times (`--repeat A --repeat B`), in order.
+    #[allow(dead_code)] // used by commands with repeatable options
+    pub fn values(&self, name: &str) -> Vec<&str> {
+        self.used.borrow_mut().push(name.to_string());
+        self.options
+            .get(name)
+            .map(|v| v.iter().filter_map(|x| x.as_deref()).collect())
+            .unwrap_or_default()
     }
 
     /// An error naming the first option the command did not ask about.

@@ -1,13 +1,13 @@
 //! `testpiece diagnose FILE [--sigma MM] [--machine M] [--json]`: the sim-to-real gap of a
 //! measured part.
 
-use testpiece::analysis::{analyse, AnalysisOptions, Diagnosis};
+use testpiece::analysis::{analyse_parts, Analysis, AnalysisOptions, Diagnosis, Fitted};
 use testpiece::machine::Branch;
 
 use crate::args::Args;
 
 const HELP: &str = "\
-testpiece diagnose FILE [--sigma MM | --mpe A,K[,R0]] [--keep-outliers]
+testpiece diagnose FILE [--repeat FILE2 ...] [--sigma MM | --mpe A,K[,R0]] [--keep-outliers]
                         [--machine paper000|paper001|paper002] [--l0 MM]
                         [--branch signed|positive] [--exclude-bad-rows] [--json]
 
@@ -20,7 +20,13 @@ pair explains the gap, none or unexplained) with its detection limit.
 FILE: any CMM export of shared/spec/cmm-csv.md; every point is matched to the nominal surfaces
 by projection of its own coordinates, and the model (baseline and candidate signatures) is built
 at the matched points.
---sigma MM   CMM repeatability (1σ, mm); default: estimated from the data.
+--repeat FILE2  the same part measured again (the same point ids; give it once per repeat):
+             σ is the pure error of the measurements' differences (no estimator), their mean is
+             diagnosed with σ/√k, and the lack of fit of the location errors (F against the pure
+             error) is reported: `repeat` {pure_error {sigma, dof, sigma_mean, largest},
+             lack_of_fit {f, dof_fit, dof_pure, p_value}, summary}. Not with --sigma or --mpe.
+--sigma MM   CMM repeatability (1σ, mm); default: estimated from the data (an estimate above
+             3 µm is questioned in the report: give the CMM's figure or a repeat).
 --mpe A,K[,R0]  the CMM's MPE_E = A + L/K µm (L = distance from the part origin, mm; R0 the
              repeatability range, µm): σ_i = max(MPE_E/√3, R0/1.693), the median used; not
              with --sigma. `noise` in the JSON says which σ and where from.
@@ -38,6 +44,10 @@ at the matched points.
              summary says so. --l0 the pivot-to-tip length (mm, 499.889); --branch the B-axis
              branch of the inverse kinematics (signed, default, or positive).
 --exclude-bad-rows  leave out the rows the reader rejects instead of refusing the file.
+Any layout: 30 to 200 points or more, a curve not measured, ids of your own, rows in any order.
+`layout` in the JSON (and a `Layout:` line when it is not the built-in 4 x 25) says what it
+limits: points per curve, the smooth basis's degree there (min(5, m/2 - 1) on m points),
+curves not measured, effects the location errors absorb entirely on these points.
 The machine's location errors are then identified with what the diagnosis found (as
 `testpiece identify`, default --effects auto): `corrected` holds that final answer.
 --json       the report as JSON (shared/spec/cli.md); default: the plain-language summary.
@@ -57,7 +67,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     if crate::wants_help(rest, HELP) {
         return Ok(());
     }
-    let args = Args::parse(rest, &["sigma", "mpe", "machine", "l0", "branch"])?;
+    let args = Args::parse(rest, &["sigma", "mpe", "machine", "l0", "branch", "repeat"])?;
     let json = args.flag("json");
     let exclude_bad_rows = args.flag("exclude-bad-rows");
     let sigma = args
@@ -71,14 +81,15 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let keep_outliers = args.flag("keep-outliers");
     let (machine, l0) = crate::identify::machine_and_l0(&args)?;
     let (_, branch) = crate::simulate::mode_and_branch(&args)?;
+    let repeats: Vec<String> = args
+        .values("repeat")
+        .into_iter()
+        .map(str::to_string)
+        .collect();
     args.reject_unknown("diagnose")?;
     let [file] = args.positional.as_slice() else {
         return Err("diagnose needs exactly one FILE (see `testpiece diagnose --help`)".into());
     };
-    let bytes = std::fs::read(file).map_err(|e| format!("{file}: {e}"))?;
-    let name = std::path::Path::new(file)
-        .file_name()
-        .map_or(file.clone(), |n| n.to_string_lossy().into_owned());
     let settings = AnalysisOptions {
         machine,
         l0,
@@ -90,7 +101,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         exclude_bad_rows,
         ..AnalysisOptions::default()
     };
-    let a = analyse(&bytes, &name, &settings).map_err(|e| format!("{file}: {e}"))?;
+    let (a, _) = analyse_files(file, &repeats, &settings)?;
     let report = match &a.diagnosis {
         Diagnosis::Made { report, .. } => report,
         Diagnosis::NotMade { reason } => return Err(format!("{file}: {reason}")),
@@ -121,6 +132,9 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         v["points_excluded"] = serde_json::Value::Array(excluded);
         v["outliers"] = serde_json::to_value(&a.outliers).map_err(|e| e.to_string())?;
         v["noise"] = serde_json::to_value(&a.noise).map_err(|e| e.to_string())?;
+        if let Some(r) = &a.repeat {
+            v["repeat"] = serde_json::to_value(r).map_err(|e| e.to_string())?;
+        }
         println!(
             "{}",
             serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
@@ -131,4 +145,26 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         println!("Corrected: {}", a.correction.summary);
     }
     Ok(())
+}
+
+/// Reads FILE and its repeats (the same points measured again) and analyses their mean
+/// ([`analyse_parts`]); errors name the file.
+pub fn analyse_files(
+    file: &str,
+    repeats: &[String],
+    settings: &AnalysisOptions,
+) -> Result<(Analysis, Fitted), String> {
+    let mut contents = Vec::new();
+    for f in std::iter::once(file).chain(repeats.iter().map(String::as_str)) {
+        let bytes = std::fs::read(f).map_err(|e| format!("{f}: {e}"))?;
+        let name = std::path::Path::new(f)
+            .file_name()
+            .map_or(f.to_string(), |n| n.to_string_lossy().into_owned());
+        contents.push((bytes, name));
+    }
+    let files: Vec<(&[u8], &str)> = contents
+        .iter()
+        .map(|(b, n)| (b.as_slice(), n.as_str()))
+        .collect();
+    analyse_parts(&files, settings).map_err(|e| format!("{file}: {e}"))
 }

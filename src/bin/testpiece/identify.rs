@@ -1,7 +1,7 @@
 //! `testpiece identify FILE`: identify the machine's errors from a measured part.
 
 use crate::args::Args;
-use testpiece::analysis::{analyse_fitted, AnalysisOptions, Fitted, MachineChoice};
+use testpiece::analysis::{AnalysisOptions, Fitted, MachineChoice};
 use testpiece::gap::correct::{Basis, EffectsChoice};
 use testpiece::identify::monte_carlo::{monte_carlo, CmmMpe, MonteCarloOptions, Noise};
 use testpiece::identify::{export, ExcludedPoint, IdentifyOptions, Status};
@@ -48,6 +48,10 @@ One answer per part: after this baseline identification the sim-to-real gap is d
                   points_excluded, ...}
 --export csv|json the compensation table of the final answer: name, iso_230_1, value, unit, std,
                   status, fitted_with (effect ids joined by +, structure, or none)
+--repeat FILE2    the same part measured again (same point ids; once per repeat): the mean
+                  of the measurements is identified with σ = the pure error of their
+                  differences / √k, and the JSON's `repeat` gives the pure error and the lack
+                  of fit of the location errors. Not with --sigma, --mpe or a pool.
 --sigma MM        a priori σ of the deviations instead of the residual's
 --mpe A,K[,R0]    the CMM's MPE_E = A + L/K µm (L = the point's distance from the part origin,
                   mm) and optionally its repeatability range R0 (µm): σ_i = max(MPE_E/√3,
@@ -98,6 +102,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             "machine",
             "l0",
             "effects",
+            "repeat",
         ],
     )?;
     let (mode, branch) = crate::simulate::mode_and_branch(&args)?;
@@ -135,6 +140,11 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         .unwrap_or("auto")
         .parse()
         .map_err(|e| format!("--effects: {e}"))?;
+    let repeats: Vec<String> = args
+        .values("repeat")
+        .into_iter()
+        .map(str::to_string)
+        .collect();
     args.reject_unknown("identify")?;
     let settings = AnalysisOptions {
         machine,
@@ -152,6 +162,11 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         effects,
     };
     if args.positional.len() >= 2 {
+        if !repeats.is_empty() {
+            return Err(
+                "--repeat takes one FILE (the part measured again), not a pool".to_string(),
+            );
+        }
         if export_fmt.is_some() || runs.is_some() {
             return Err("--export and --monte-carlo take one FILE, not a pool".to_string());
         }
@@ -182,10 +197,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             return Err(format!("--export `{f}`: expected csv or json"));
         }
     }
-    let bytes = std::fs::read(file).map_err(|e| format!("{file}: {e}"))?;
-    let name = file_name(file);
-    let (analysis, fitted) =
-        analyse_fitted(&bytes, &name, &settings).map_err(|e| format!("{file}: {e}"))?;
+    let (analysis, fitted) = crate::diagnose::analyse_files(file, &repeats, &settings)?;
     let lengths = analysis.lengths();
     let Fitted {
         design,
@@ -242,6 +254,9 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         v["correction"] = serde_json::to_value(c).map_err(|e| e.to_string())?;
         v["outliers"] = serde_json::to_value(&analysis.outliers).map_err(|e| e.to_string())?;
         v["noise"] = serde_json::to_value(&analysis.noise).map_err(|e| e.to_string())?;
+        if let Some(r) = &analysis.repeat {
+            v["repeat"] = serde_json::to_value(r).map_err(|e| e.to_string())?;
+        }
         if let Some(mc) = mc {
             v["monte_carlo"] = serde_json::to_value(mc).map_err(|e| e.to_string())?;
         }

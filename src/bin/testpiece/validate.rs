@@ -1,14 +1,10 @@
 //! `testpiece validate [--cases N] [--seed S] [--known-sigma] [--exact] [--pairs] [--json]`: the withheld-effect
 //! benchmark of the gap diagnosis.
 
-use nalgebra::DVector;
-use testpiece::gap::effects::builtin::builtin_model;
-use testpiece::gap::GapError;
-use testpiece::identify::refine::ExactModel;
-use testpiece::part::SShape;
-use testpiece::simulate::{builtin_design, ExactDefectModel};
+use testpiece::part::{builtin_points, SShape};
 use testpiece::validate::{
-    pairs_table, table, validate, validate_pairs, validate_with, ValidateOptions, ValidationModel,
+    conditions_table, exact_machine_part, pairs_table, run_conditions, table, validate,
+    validate_pairs, validate_with, ValidateOptions, ValidationModel, CONDITIONS,
 };
 
 use crate::args::Args;
@@ -52,7 +48,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     if crate::wants_help(rest, HELP) {
         return Ok(());
     }
-    let args = Args::parse(rest, &["cases", "seed"])?;
+    let args = Args::parse(rest, &["cases", "seed", "conditions"])?;
     let json = args.flag("json");
     let known = args.flag("known-sigma");
     let exact = args.flag("exact");
@@ -66,13 +62,35 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     };
     let cases = parse("cases", 200)? as usize;
     let seed = parse("seed", 1)?;
+    let conditions = args.value("conditions").map(str::to_string);
     args.reject_unknown("validate")?;
-    let m = builtin_model(&SShape::iso()).map_err(|e| e.to_string())?;
-    let model = ValidationModel {
-        points: m.points,
-        baseline: m.baseline,
-        candidates: m.candidates,
-    };
+    let part = SShape::iso();
+    let model = ValidationModel::at(&part, &builtin_points(&part)).map_err(|e| e.to_string())?;
+    if let Some(which) = conditions {
+        let which: Vec<&str> = if which == "all" {
+            Vec::new()
+        } else {
+            which.split(',').map(str::trim).collect()
+        };
+        if let Some(bad) = which.iter().find(|w| !CONDITIONS.contains(w)) {
+            return Err(format!(
+                "--conditions: unknown condition `{bad}` (known: all, {})",
+                CONDITIONS.join(", ")
+            ));
+        }
+        let exact = exact_machine_part(&model.baseline.names).map_err(|e| e.to_string())?;
+        let r = run_conditions(&part, &model, exact.as_ref(), &which, cases, seed)
+            .map_err(|e| e.to_string())?;
+        if json {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
+            );
+        } else {
+            print!("{}", conditions_table(&r));
+        }
+        return Ok(());
+    }
     let opts = ValidateOptions::default()
         .with_cases(cases)
         .with_seed(seed)
@@ -91,19 +109,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         return Ok(());
     }
     let r = if exact {
-        let design = builtin_design("physical", "signed", false).map_err(|e| e.to_string())?;
-        let exact_model =
-            ExactDefectModel::new(&design, "physical", "signed").map_err(|e| e.to_string())?;
-        let names = model.baseline.names.clone();
-        let machine = move |xi: &DVector<f64>| -> Result<DVector<f64>, GapError> {
-            let pairs: Vec<(String, f64)> = names.iter().cloned().zip(xi.iter().copied()).collect();
-            let x = design
-                .vector_from(&pairs)
-                .map_err(|e| GapError::Model(e.to_string()))?;
-            let d = exact_model.deviation(&x).map_err(GapError::Model)?;
-            Ok(DVector::from_vec(d))
-        };
-        validate_with(&model, &opts, &machine)
+        let machine = exact_machine_part(&model.baseline.names).map_err(|e| e.to_string())?;
+        validate_with(&model, &opts, machine.as_ref())
     } else {
         validate(&model, &opts)
     }

@@ -1,0 +1,169 @@
+//! What a layout of measured points can and cannot tell: points per curve, curves not measured,
+//! the estimators it weakens, and the candidates it cannot see.
+//!
+//! The built-in layout is 25 points on each of the four curves (s-shape.md). A lab may send 30
+//! to 200 points, leave a curve out, number the points its own way and write the rows in any
+//! order: the diagnosis groups points by curve label and orders them by `u`, so the rules hold on
+//! any layout, with these limits:
+//! - the per-curve smooth basis of [`super::smooth_noise`] has degree `min(5, ⌊m/2⌋ − 1)` on a
+//!   curve of `m` points ([`curve_degree`]): at least half of each curve's points stay free to
+//!   measure the noise (with 6 points a degree-5 basis would fit them exactly and leave no
+//!   noise to see); a waviness the lower degree cannot follow then counts as noise there;
+//! - the Ljung–Box test skips curves of fewer than `lags + 3` = 7 points;
+//! - a candidate whose signature the location errors absorb entirely on these points (added rank
+//!   0) cannot be detected at any size; the others have a detection limit per parameter (in the
+//!   candidate's `evidence.detection_limit`).
+
+use serde::Serialize;
+
+use super::data::PointMeta;
+use super::location::curve_sequences;
+use super::noise::LJUNG_BOX_LAGS;
+use super::smooth_noise::SMOOTH_DEGREE;
+use super::which::CandidateFit;
+use super::Effect;
+use crate::part::Curve;
+
+/// Fewest points on a curve for the full [`SMOOTH_DEGREE`] basis (`⌊m/2⌋ − 1 ≥ 5`).
+pub const FULL_BASIS_POINTS: usize = 12;
+
+/// Degree of the smooth basis on a curve of `m` points: `min(max_degree, ⌊m/2⌋ − 1)`, 0 below 4.
+pub fn curve_degree(m: usize, max_degree: usize) -> usize {
+    (m / 2).saturating_sub(1).min(max_degree)
+}
+
+/// Points on one curve.
+#[derive(Debug, Clone, Serialize)]
+pub struct CurveCount {
+    pub curve: String,
+    pub points: usize,
+    /// Degree of the smooth basis there ([`curve_degree`]).
+    pub smooth_degree: usize,
+}
+
+/// The layout of the measured points and what it limits.
+#[derive(Debug, Clone, Serialize)]
+pub struct Layout {
+    pub points: usize,
+    pub curves: Vec<CurveCount>,
+    /// Curves of the built-in layout (s-shape.md) with no point.
+    pub not_measured: Vec<String>,
+    /// Candidates the location errors absorb entirely on these points.
+    pub invisible: Vec<Effect>,
+    /// Whether it is the built-in layout's shape: the four curves, each with at least
+    /// [`FULL_BASIS_POINTS`] points.
+    pub full: bool,
+    /// Plain-language limits (empty for a full layout).
+    pub notes: Vec<String>,
+}
+
+/// The layout of `points`, with the candidates' fits (for the invisible ones).
+pub fn layout(points: &[PointMeta], fits: &[CandidateFit]) -> Layout {
+    let seqs = curve_sequences(points);
+    let curves: Vec<CurveCount> = seqs
+        .iter()
+        .map(|(c, idx)| CurveCount {
+            curve: c.clone(),
+            points: idx.len(),
+            smooth_degree: curve_degree(idx.len(), SMOOTH_DEGREE),
+        })
+        .collect();
+    let not_measured: Vec<String> = Curve::ALL
+        .iter()
+        .map(|c| c.name().to_string())
+        .filter(|name| !curves.iter().any(|c| &c.curve == name))
+        .collect();
+    let mut invisible: Vec<Effect> = fits
+        .iter()
+        .filter(|f| f.with.is_none() && f.evidence.added_rank == 0)
+        .map(|f| f.effect)
+        .collect();
+    invisible.sort_by_key(|e| e.id());
+    let full = not_measured.is_empty() && curves.iter().all(|c| c.points >= FULL_BASIS_POINTS);
+    let mut notes = Vec::new();
+    if !not_measured.is_empty() {
+        notes.push(format!(
+            "not measured: {}; the errors and effects are seen through the other curves only",
+            not_measured.join(", ")
+        ));
+    }
+    let short: Vec<String> = curves
+        .iter()
+        .filter(|c| c.points < FULL_BASIS_POINTS)
+        .map(|c| {
+            format!(
+                "{} ({} points, degree {})",
+                c.curve, c.points, c.smooth_degree
+            )
+        })
+        .collect();
+    if !short.is_empty() {
+        notes.push(format!(
+            "few points on {}: the smooth basis that measures the noise is of lower degree there, \
+             so a waviness shorter than about a third of the curve counts as noise",
+            short.join(", ")
+        ));
+    }
+    let no_whiteness: Vec<&str> = curves
+        .iter()
+        .filter(|c| c.points < LJUNG_BOX_LAGS + 3)
+        .map(|c| c.curve.as_str())
+        .collect();
+    if !no_whiteness.is_empty() {
+        notes.push(format!(
+            "no whiteness test on {} (fewer than {} points)",
+            no_whiteness.join(", "),
+            LJUNG_BOX_LAGS + 3
+        ));
+    }
+    if !invisible.is_empty() && !full {
+        let ids: Vec<&str> = invisible.iter().map(|e| e.id()).collect();
+        notes.push(format!(
+            "cannot be detected on these points at any size (the location errors absorb them): {}",
+            ids.join(", ")
+        ));
+    }
+    Layout {
+        points: points.len(),
+        curves,
+        not_measured,
+        invisible,
+        full,
+        notes,
+    }
+}
+
+/// One sentence for the report; `None` for a full layout.
+pub fn sentence(l: &Layout) -> Option<String> {
+    (!l.full).then(|| {
+        let counts: Vec<String> = l
+            .curves
+            .iter()
+            .map(|c| format!("{} {}", c.curve, c.points))
+            .collect();
+        format!(
+            "Layout: {} points ({}); {}.",
+            l.points,
+            counts.join(", "),
+            l.notes.join("; ")
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn degree_leaves_half_the_points_free() {
+        assert_eq!(curve_degree(25, 5), 5);
+        assert_eq!(curve_degree(12, 5), 5);
+        assert_eq!(curve_degree(11, 5), 4);
+        assert_eq!(curve_degree(8, 5), 3);
+        assert_eq!(curve_degree(6, 5), 2);
+        assert_eq!(curve_degree(3, 5), 0);
+        for m in 2..60 {
+            assert!(curve_degree(m, 5) < m.div_ceil(2).max(1), "{m}");
+        }
+    }
+}
