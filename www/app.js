@@ -28,6 +28,7 @@ const st = {
   comparison: { a: null, b: null, result: null, error: null },
   select(i) { st.current = i; render(); },
   runPool: () => runPool().then(render),
+  runRepeats: () => runRepeats().then(render),
   runCompare: (a, b) => runCompare(a, b).then(render),
   clearFiles() { st.files = []; st.current = 0; st.pool = { names: new Set(), result: null, error: null }; st.comparison = { a: null, b: null, result: null, error: null }; render(); },
   excludeAndRetry() { $('exclude').checked = true; readSettings(); analyseAll(); },
@@ -75,7 +76,11 @@ async function withProgress(text, fn) {
 async function analyseFile(f) {
   f.error = null;
   try {
-    f.analysis = await withProgress(`Analysing ${f.name}…`, () => call('analyse', f.bytes, f.name, st.settings));
+    f.analysis = f.repeats
+      // the mean of repeat measurements: σ comes from their differences, not from the settings
+      ? await withProgress(`Analysing ${f.name}…`, () => call('analyseRepeats', f.repeats,
+        { ...st.settings, noise_sigma: null, noise_mpe: undefined }))
+      : await withProgress(`Analysing ${f.name}…`, () => call('analyse', f.bytes, f.name, st.settings));
   } catch (e) {
     f.analysis = null;
     f.error = e.message === 'cancelled' ? 'The computation was cancelled: change a setting or choose the file again to compute it.' : e.message;
@@ -99,13 +104,29 @@ async function analyseAll() {
 
 // ---------------------------------------------------------------- several parts
 async function runPool() {
-  const files = st.files.filter((f) => f.analysis && st.pool.names.has(f.name));
+  const files = st.files.filter((f) => f.analysis && !f.repeats && st.pool.names.has(f.name));
   st.pool.result = null; st.pool.error = null;
   if (files.length < 2) { st.pool.error = 'Check at least two analysed parts to pool.'; return; }
   try {
     st.pool.result = await withProgress(`Pooling ${files.length} parts…`, () => call('analysePooled',
       files.map((f) => ({ name: f.name, bytes: f.bytes })), { ...st.settings, setup_per_part: st.setupPerPart }));
   } catch (e) { st.pool.error = e.message; }
+}
+
+/** The checked parts as repeat measurements of one part: a new entry, the analysis of their mean. */
+async function runRepeats() {
+  const files = st.files.filter((f) => f.analysis && !f.repeats && st.pool.names.has(f.name));
+  st.pool.repeatError = null;
+  if (files.length < 2) { st.pool.repeatError = 'Check at least two measurements of the same part.'; return; }
+  const entry = {
+    name: `mean of ${files.length} repeats (${files.map((f) => f.name).join(' + ')})`,
+    bytes: files[0].bytes,
+    repeats: files.map((f) => ({ name: f.name, bytes: f.bytes })),
+  };
+  await analyseFile(entry);
+  if (entry.error) { st.pool.repeatError = entry.error; return; }
+  st.files = st.files.filter((f) => f.name !== entry.name).concat([entry]);
+  st.current = st.files.length - 1;
 }
 
 const paramList = (f) => Object.entries(f.analysis.identification.parameters).map(([name, p]) => ({ name, value: p.value, std: p.std ?? null, unit: p.unit }));
@@ -119,7 +140,7 @@ async function runCompare(a, b) {
 
 /** With two or more analysed parts: pool them all and compare the first two (or the chosen pair). */
 async function severalParts() {
-  const ok = st.files.filter((f) => f.analysis);
+  const ok = st.files.filter((f) => f.analysis && !f.repeats);
   if (ok.length < 2) { st.pool.result = null; st.comparison.result = null; return; }
   for (const f of ok) if (!st.pool.known?.has(f.name)) st.pool.names.add(f.name);
   st.pool.known = new Set(ok.map((f) => f.name));

@@ -16,7 +16,8 @@ export function partsView(root, st) {
     h('p', {}, 'Choose several files at once (or add more with the file picker): all are read with the same settings. ',
       'Pool them to identify one machine from all their points (repeated measurements or several parts cut on the same machine), ',
       'or compare two of them side by side (before and after compensation, two machines, two dates).'));
-  const ok = st.files.map((f, i) => ({ f, i })).filter((x) => x.f.analysis);
+  // the mean of repeats (an entry made here) is one part, not a file to pool again
+  const ok = st.files.map((f, i) => ({ f, i })).filter((x) => x.f.analysis && !x.f.repeats);
   if (ok.length < 2) {
     root.append(h('p', { id: 'parts-need', class: 'warn' }, `${ok.length} analysed part${ok.length === 1 ? '' : 's'} loaded: load at least two measured parts to pool or compare them.`));
     return;
@@ -33,6 +34,10 @@ export function partsView(root, st) {
   root.append(picks, h('div', { class: 'bar' },
     h('button', { type: 'button', id: 'pool-run', onclick: () => st.runPool() }, 'Identify one machine from the checked parts'),
     h('button', { type: 'button', id: 'clear-files', onclick: () => st.clearFiles() }, 'Remove all files')));
+  root.append(h('p', {}, 'Or, when the checked files are the same part measured again (the same point ids): ',
+    h('button', { type: 'button', id: 'repeat-run', onclick: () => st.runRepeats() }, 'Analyse the checked files as repeats of one part'),
+    ' — σ is then measured from their differences (pure error) instead of estimated, and the mean of the measurements is analysed as a new part in the list.'));
+  if (st.pool.repeatError) root.append(h('pre', { class: 'error', id: 'repeat-error' }, st.pool.repeatError));
   const p = st.pool.result;
   if (st.pool.error) root.append(h('pre', { class: 'error', id: 'pool-error' }, st.pool.error));
   if (p) {

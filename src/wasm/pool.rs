@@ -8,7 +8,7 @@ use crate::pool::{identify_pooled, PoolOptions};
 
 /// `[{name, bytes: Uint8Array | number[]}]` → (name, bytes), read field by field (the bytes are
 /// not passed through JSON).
-fn files_from_js(files: &JsValue) -> Result<Vec<(String, Vec<u8>)>, String> {
+pub(super) fn files_from_js(files: &JsValue) -> Result<Vec<(String, Vec<u8>)>, String> {
     if !js_sys::Array::is_array(files) {
         return Err("not an array".into());
     }
