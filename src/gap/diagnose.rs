@@ -6,10 +6,14 @@ use nalgebra::DVector;
 use super::data::GapInput;
 use super::equivalence::near_equivalent_pairs;
 use super::folds::{build_folds, withheld_sets};
+use super::layout::curve_degree;
 use super::location::curve_sequences;
 use super::location::{locate, DETECT_FACTOR};
 use super::lsq::{max_abs, rms, Factor};
-use super::noise::second_difference_sigma;
+use super::noise::{
+    periodogram_sigma, projected_whiteness, second_difference_sigma, sinusoid_free_sigma,
+    SmoothResidual, LJUNG_BOX_LAGS,
+};
 use super::pairs::best_pair;
 use super::report::{summary, BaselineReport, DiagnosisReport};
 use super::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
@@ -17,7 +21,7 @@ use super::verdict::{decide, pair_verdict, DecisionInput, Finding, ALPHA};
 use super::which::{
     cross_validate, cv_score, estimates, fit_candidate, per_curve, BaselineFit, Context, SmoothFit,
 };
-use super::GapError;
+use super::{Effect, GapError};
 
 /// Options of a diagnosis (defaults: α = 0.05 family-wise, 2.5 σ).
 #[derive(Debug, Clone, Copy)]
@@ -74,12 +78,44 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let basis = smooth_basis(&input.points, SMOOTH_DEGREE);
     let (sfactor, sresid) = smooth_factor(&basis, a, &y);
     let (sm, sm_robust, sdof) = smooth_sigmas(&sfactor, &sresid);
-    let sm_d2 = {
-        let seqs: Vec<Vec<f64>> = curve_sequences(&input.points)
-            .into_iter()
-            .map(|(_, idx)| idx.iter().map(|&i| sresid[i]).collect())
-            .collect();
-        second_difference_sigma(&seqs) * (nf / sdof as f64).sqrt()
+    let smooth_seqs: Vec<Vec<f64>> = curve_sequences(&input.points)
+        .into_iter()
+        .map(|(_, idx)| idx.iter().map(|&i| sresid[i]).collect())
+        .collect();
+    let smooth_at: Vec<(Vec<f64>, Vec<f64>)> = curve_sequences(&input.points)
+        .into_iter()
+        .map(|(_, idx)| {
+            (
+                idx.iter().map(|&i| input.points[i].s).collect(),
+                idx.iter().map(|&i| sresid[i]).collect(),
+            )
+        })
+        .collect();
+    let smooth_residual = SmoothResidual {
+        sigma: sm,
+        robust: sm_robust,
+        second_difference: second_difference_sigma(&smooth_seqs) * (nf / sdof as f64).sqrt(),
+        // the frequencies the curve's smooth basis (degree d: d + 1 columns) removed
+        periodogram: periodogram_sigma(&smooth_at, |m| (curve_degree(m, SMOOTH_DEGREE) + 2) / 2),
+        sinusoid_free: sinusoid_free_sigma(
+            &curve_sequences(&input.points)
+                .into_iter()
+                .map(|(_, idx)| idx)
+                .collect::<Vec<_>>(),
+            &input.points.iter().map(|p| p.s).collect::<Vec<_>>(),
+            &sfactor.basis,
+            &sresid,
+        ),
+        whiteness_p: projected_whiteness(
+            &curve_sequences(&input.points)
+                .into_iter()
+                .map(|(_, idx)| idx)
+                .collect::<Vec<_>>(),
+            &sfactor.basis,
+            &sresid,
+            LJUNG_BOX_LAGS,
+        )
+        .map_or(1.0, |w| w.p_value),
     };
     let smooth = SmoothFit {
         factor: sfactor,
@@ -90,7 +126,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         &input.points,
         p,
         input.noise_sigma,
-        Some((sm, sm_robust, sm_d2)),
+        Some(smooth_residual),
         &input.reversals,
         opts.detect_factor,
     );
@@ -145,9 +181,28 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         baseline_per_curve: per_curve(&input.points, &r0, &r0, &baseline.cv, &baseline.cv),
     });
     // (d') a pair, when no single candidate is named.
+    // (d'') or a second effect on top of the named one: the single-candidate rule measures the
+    // structure left against the smooth-basis σ, which a smooth second effect inflates, so a
+    // second effect the named one leaves visible is searched for as the best addition to it.
     let mut pair = None;
-    if !matches!(verdict.finding, Finding::Named { .. }) {
+    let single = match &verdict.finding {
+        Finding::Named {
+            effect,
+            equivalent,
+            with: None,
+        } => Some((*effect, equivalent.clone())),
+        _ => None,
+    };
+    if single.is_none() || !matches!(verdict.finding, Finding::Named { .. }) {
         if let Some(pf) = best_pair(&ctx, &input.candidates, &fits, base_cv_score) {
+            verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
+            pair = Some(pf);
+        }
+    } else if let Some((named, equivalent)) = single {
+        let keeps_named = |e: Effect| e == named || equivalent.contains(&e);
+        if let Some(pf) = best_pair(&ctx, &input.candidates, &fits, base_cv_score)
+            .filter(|pf| keeps_named(pf.first) || keeps_named(pf.second))
+        {
             verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
             pair = Some(pf);
         }

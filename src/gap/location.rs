@@ -241,7 +241,7 @@ pub fn locate(
     points: &[PointMeta],
     rank: usize,
     given_sigma: Option<f64>,
-    smooth_sigma: Option<(f64, f64, f64)>,
+    smooth_sigma: Option<noise::SmoothResidual>,
     reversals: &[Reversal],
     detect_factor: f64,
 ) -> WhereReport {
@@ -353,6 +353,8 @@ pub fn locate(
         chi2_dof: dof,
         chi2_p: stats::chi2_sf(chi2, dof as f64),
         structure_rms,
+        // (σ is the periodogram's when the smooth-basis residual is not white, so a short wave
+        // that the difference-based estimates took for noise shows here as structure)
         structured: structure_rms > detect_factor * sigma,
     };
     // No verdict yet: a reversal is marked when the residual is concentrated near it.

@@ -80,8 +80,12 @@ fn stacked(first: &Candidate, second: &Candidate) -> Candidate {
     }
 }
 
-/// Most candidates paired (the most significant ones, by their F-test p-value): 15 pairs.
+/// Most candidates paired with each other (the most significant ones, by their F-test p-value):
+/// 15 pairs.
 pub const POOL: usize = 6;
+
+/// The most significant candidates also paired with every other candidate (forward selection).
+pub const ANCHORS: usize = 2;
 
 /// `(RSS_other − RSS_pair)`: F-test p-value (uncorrected) and the visible RMS of the member.
 fn added(rss_other: f64, rss_pair: f64, dq: usize, dof: f64, n: f64) -> (f64, f64, f64) {
@@ -107,14 +111,33 @@ pub fn best_pair(
         .collect();
     pool.sort_by(|a, b| a.evidence.p_value.total_cmp(&b.evidence.p_value));
     pool.truncate(POOL);
-    let mut pairs = Vec::new();
-    for (i, a) in pool.iter().enumerate() {
-        for b in &pool[i + 1..] {
-            let same = cos_to_span(&b.unabsorbed_effect, &a.unabsorbed_basis) >= EQUIVALENT_COS
-                || cos_to_span(&a.unabsorbed_effect, &b.unabsorbed_basis) >= EQUIVALENT_COS;
-            if !same {
-                pairs.push((*a, *b));
-            }
+    // Forward selection from the strongest candidates: a second effect that the first one's
+    // residual hides (not significant on its own, or crowded out of the pool by look-alikes of
+    // the first) is found as the best addition to it.
+    let partners: Vec<&CandidateFit> = fits.iter().filter(|f| f.evidence.added_rank > 0).collect();
+    let mut pairs: Vec<(&CandidateFit, &CandidateFit)> = Vec::new();
+    let candidates_pairs = pool
+        .iter()
+        .enumerate()
+        .flat_map(|(i, a)| pool[i + 1..].iter().map(move |b| (*a, *b)))
+        .chain(
+            pool.iter()
+                .take(ANCHORS)
+                .flat_map(|a| partners.iter().map(move |b| (*a, *b))),
+        );
+    for (a, b) in candidates_pairs {
+        if a.effect == b.effect
+            || pairs.iter().any(|(x, y)| {
+                (x.effect == a.effect && y.effect == b.effect)
+                    || (x.effect == b.effect && y.effect == a.effect)
+            })
+        {
+            continue;
+        }
+        let same = cos_to_span(&b.unabsorbed_effect, &a.unabsorbed_basis) >= EQUIVALENT_COS
+            || cos_to_span(&a.unabsorbed_effect, &b.unabsorbed_basis) >= EQUIVALENT_COS;
+        if !same {
+            pairs.push((a, b));
         }
     }
     let tries = pairs.len().max(1);

@@ -416,7 +416,13 @@ pub fn pair_verdict(
             .collect(),
         per_curve: f.per_curve.clone(),
         reason: format!(
-            "no single candidate explains the gap; `{}` together with `{}` does: `{}` adds {:.1} µm RMS beyond the baseline and `{}` (F-test p = {:.2e}, Bonferroni over the pairs tried), the pair predicts withheld points better than either alone, and the residual left is noise",
+            "{}; `{}` together with `{}` does: `{}` adds {:.1} µm RMS beyond the baseline and `{}` (F-test p = {:.2e}, Bonferroni over the pairs tried), the pair predicts withheld points better than either alone, and the residual left is noise",
+            match &before.finding {
+                Finding::Named { effect, with: None, .. } => format!(
+                    "`{effect}` alone leaves a second effect visible (more than {detect_factor} σ of it)"
+                ),
+                _ => "no single candidate explains the gap".to_string(),
+            },
             pair.first,
             pair.second,
             pair.second,

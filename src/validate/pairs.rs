@@ -14,7 +14,7 @@ use serde::Serialize;
 use super::single::{effect_parameters, machine_errors, ValidateOptions, ValidationModel};
 use crate::gap::data::GapInput;
 use crate::gap::diagnose::diagnose_with;
-use crate::gap::lsq::Factor;
+use crate::gap::lsq::{hstack, Factor};
 use crate::gap::verdict::VerdictId;
 use crate::gap::Effect;
 use crate::gap::GapError;
@@ -36,6 +36,11 @@ pub struct PairValidation {
     pub none: usize,
     /// `both_named / cases`.
     pub rate: f64,
+    /// Cases where each effect is visible beyond the baseline AND the other effect (joint ratio
+    /// above 1): only there can any rule name both.
+    pub jointly_visible: usize,
+    /// Of those, both named.
+    pub jointly_visible_both_named: usize,
     /// Per pair: `(first, second, both named?, verdict text)`.
     pub results: Vec<PairCase>,
 }
@@ -45,6 +50,9 @@ pub struct PairValidation {
 pub struct PairCase {
     pub effects: [Effect; 2],
     pub ratios: [f64; 2],
+    /// RMS of each effect's part that neither the baseline nor the other effect absorbs, over
+    /// k σ (Frisch–Waugh–Lovell: what a joint fit can see of it).
+    pub joint_ratios: [f64; 2],
     pub verdict: VerdictId,
     /// The pair's second effect when the verdict names a pair.
     pub with: Option<Effect>,
@@ -80,11 +88,19 @@ pub fn validate_pairs(
         let xi = machine_errors(&model.baseline.names, opts, &mut rng);
         let mut y = a * xi;
         let mut ratios = [0.0; 2];
+        let mut parts = Vec::with_capacity(2);
         for (k, c) in [c1, c2].iter().enumerate() {
             ratios[k] = rng.log_uniform(RATIO_MIN, RATIO_MAX);
             let theta = effect_parameters(c, &base, ratios[k] * limit, &mut rng);
-            y += &c.signature.matrix * theta;
+            let part = &c.signature.matrix * theta;
+            y += &part;
+            parts.push(part);
         }
+        let n = a.nrows() as f64;
+        let joint_ratios = [(0, c2), (1, c1)].map(|(k, other)| {
+            let f = Factor::new(&hstack(a, &other.signature.matrix), None);
+            f.unabsorbed_vec(&parts[k]).norm() / n.sqrt() / limit
+        });
         for v in y.iter_mut() {
             *v += opts.noise_sigma * rng.normal();
         }
@@ -114,6 +130,7 @@ pub fn validate_pairs(
         results.push(PairCase {
             effects: [c1.effect, c2.effect],
             ratios,
+            joint_ratios,
             verdict: f.id(),
             with: f.with().map(|w| w.effect),
             both_named: has(c1.effect) && has(c2.effect),
@@ -123,7 +140,10 @@ pub fn validate_pairs(
     let both_named = count(&|r| r.both_named);
     let none = count(&|r| r.verdict == VerdictId::Noise);
     let unexplained = count(&|r| r.verdict == VerdictId::Unexplained);
+    let visible = |r: &PairCase| r.joint_ratios.iter().all(|&j| j > 1.0);
     Ok(PairValidation {
+        jointly_visible: count(&visible),
+        jointly_visible_both_named: count(&|r| visible(r) && r.both_named),
         cases: results.len(),
         seed: opts.seed,
         both_named,
@@ -150,17 +170,27 @@ pub fn pairs_table(r: &PairValidation) -> String {
         r.unexplained,
         r.none
     );
+    s += &format!(
+        "both visible jointly (each beyond the baseline and the other effect, > k σ): {}/{}; both named there: {}/{} = {:.1} %\n",
+        r.jointly_visible,
+        r.cases,
+        r.jointly_visible_both_named,
+        r.jointly_visible,
+        100.0 * r.jointly_visible_both_named as f64 / r.jointly_visible.max(1) as f64
+    );
     let missed: Vec<&PairCase> = r.results.iter().filter(|c| !c.both_named).collect();
     if missed.len() > 20 {
         s += &format!("first 20 of {} misses:\n", missed.len());
     }
     for c in missed.into_iter().take(20) {
         s += &format!(
-            "  missed {} ({:.1}x) + {} ({:.1}x): verdict {}{}\n",
+            "  missed {} ({:.1}x, jointly {:.1}x) + {} ({:.1}x, jointly {:.1}x): verdict {}{}\n",
             c.effects[0],
             c.ratios[0],
+            c.joint_ratios[0],
             c.effects[1],
             c.ratios[1],
+            c.joint_ratios[1],
             c.verdict,
             c.with.map(|w| format!(" with {w}")).unwrap_or_default()
         );

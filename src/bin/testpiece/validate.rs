@@ -2,6 +2,7 @@
 //! benchmark of the gap diagnosis.
 
 use testpiece::part::{builtin_points, SShape};
+use testpiece::validate::shapes::Shape;
 use testpiece::validate::{
     conditions_table, exact_machine_part, pairs_table, run_conditions, table, validate,
     validate_pairs, validate_with, ValidateOptions, ValidationModel, CONDITIONS,
@@ -18,6 +19,9 @@ detection limit, or none, or an effect outside the list (waviness, local bump), 
 σ = 1.5 µm; diagnoses each with the effect withheld from the baseline; prints per-effect accuracy,
 the confusion matrix, detection limits and the shrink achieved versus achievable.
 
+--shapes standard|extended  the out-of-list shapes: waviness 150-600 mm and bump (standard), or
+               short waves 80-150 mm, a gouge, a quadratic straightness of one linear axis, a
+               cyclic C error of 2 periods a turn (extended).
 --known-sigma  give σ to the diagnosis as the CMM repeatability (default: estimated).
 --spikes       add a single-point spike of 25-40 µm (random sign) at a random point of every
                case; prints how often the spike is named as an outlier. Every case goes
@@ -48,7 +52,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     if crate::wants_help(rest, HELP) {
         return Ok(());
     }
-    let args = Args::parse(rest, &["cases", "seed", "conditions"])?;
+    let args = Args::parse(rest, &["cases", "seed", "conditions", "shapes"])?;
     let json = args.flag("json");
     let known = args.flag("known-sigma");
     let exact = args.flag("exact");
@@ -63,6 +67,16 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let cases = parse("cases", 200)? as usize;
     let seed = parse("seed", 1)?;
     let conditions = args.value("conditions").map(str::to_string);
+    let shapes: &'static [Shape] = match args.value("shapes").unwrap_or("standard") {
+        "standard" => &Shape::STANDARD,
+        "extended" => &Shape::EXTENDED,
+        other => {
+            return Err(format!(
+                "--shapes `{other}`: expected standard (waviness, bump) or extended (short wave, \
+                 gouge, straightness, cyclic C)"
+            ))
+        }
+    };
     args.reject_unknown("validate")?;
     let part = SShape::iso();
     let model = ValidationModel::at(&part, &builtin_points(&part)).map_err(|e| e.to_string())?;
@@ -95,7 +109,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         .with_cases(cases)
         .with_seed(seed)
         .with_known_sigma(known)
-        .with_spikes(spikes);
+        .with_spikes(spikes)
+        .with_shapes(shapes);
     if pairs {
         let r = validate_pairs(&model, &opts).map_err(|e| e.to_string())?;
         if json {
