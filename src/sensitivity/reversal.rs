@@ -292,6 +292,28 @@ pub fn passes(part: &SShape, opts: &SensitivityOptions) -> Result<[Pass; 2], Sen
     ])
 }
 
+/// The lagged offsets of a pass per unit lost motion ([`lagged_offset`]) for some axes, with the
+/// pass's `u` grid: all that [`backlash_signatures_lagged`] needs of a pass (it depends on the
+/// part, the chain and the branch, not on the points, so it can be kept for other points).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lag {
+    pub u: Vec<f64>,
+    pub axes: Vec<AxisName>,
+    /// One [`lagged_offset`] per axis of `axes`.
+    pub e: Vec<Vec<f64>>,
+}
+
+impl Lag {
+    /// The lag of `axes` on pass `p` (the lags of A and B given together must have the same axes).
+    pub fn of(p: &Pass, axes: &[AxisName]) -> Self {
+        Self {
+            u: p.u.clone(),
+            axes: axes.to_vec(),
+            e: axes.iter().map(|&a| lagged_offset(p, a)).collect(),
+        }
+    }
+}
+
 /// [`backlash_signatures`] on passes already computed by [`passes`] with the same `opts`.
 pub fn backlash_signatures_on(
     passes: &[Pass; 2],
@@ -300,8 +322,20 @@ pub fn backlash_signatures_on(
     axes: &[AxisName],
     opts: &SensitivityOptions,
 ) -> Result<Vec<Vec<f64>>, SensitivityError> {
-    let mut out = vec![vec![0.0; points.len()]; axes.len()];
-    for (surface, p) in Surface::BOTH.into_iter().zip(passes) {
+    let lags = [Lag::of(&passes[0], axes), Lag::of(&passes[1], axes)];
+    backlash_signatures_lagged(&lags, part, points, opts)
+}
+
+/// [`backlash_signatures`] on the lags of the passes of A and B ([`Lag::of`] with the axes wanted
+/// and the same `opts`): one vector per axis of the lags.
+pub fn backlash_signatures_lagged(
+    lags: &[Lag; 2],
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+) -> Result<Vec<Vec<f64>>, SensitivityError> {
+    let mut out = vec![vec![0.0; points.len()]; lags[0].axes.len()];
+    for (surface, p) in Surface::BOTH.into_iter().zip(lags) {
         let idx: Vec<usize> = (0..points.len())
             .filter(|&i| points[i].surface == surface)
             .collect();
@@ -310,8 +344,7 @@ pub fn backlash_signatures_on(
         }
         let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
         let poses = machine_path(part, &opts.chain, surface, opts.branch, &us)?;
-        for (a, &axis) in axes.iter().enumerate() {
-            let e = lagged_offset(p, axis);
+        for (a, (&axis, e)) in p.axes.iter().zip(&p.e).enumerate() {
             for (&i, pose) in idx.iter().zip(&poses) {
                 let pt = &points[i];
                 // Linear interpolation in u between the grid samples around the point (the
