@@ -253,11 +253,30 @@ pub fn reversal_count(p: &Pass, axis: AxisName) -> usize {
 
 /// Lagged offset `e` per unit lost motion (`b = 1`) at every grid sample.
 pub fn lagged_offset(p: &Pass, axis: AxisName) -> Vec<f64> {
-    let d = directions(p, axis);
-    let mut e = vec![-0.5 * d[0]; p.u.len()];
-    for k in 1..p.u.len() {
+    lag_on(&decays(p), &directions(p, axis))
+}
+
+/// The lag's decay over each grid step, `exp(−Δs/`[`LAG_LENGTH`]`)` (step `k − 1 → k` at index
+/// `k − 1`): the same for every axis.
+fn decays(p: &Pass) -> Vec<f64> {
+    (1..p.u.len())
+        .map(|k| (-(p.s[k] - p.s[k - 1]) / LAG_LENGTH).exp())
+        .collect()
+}
+
+/// `e_k = e* + (e_{k−1} − e*)·decay_k` from `e_0 = e*_0`, `e* = −d/2`. Once `e` has reached its
+/// target exactly (the difference rounds to 0 after ~75 mm of path), the step is `e* + 0·decay =
+/// e*`: it is written so, without the multiplication (the same bits).
+fn lag_on(decay: &[f64], d: &[f64]) -> Vec<f64> {
+    let mut e = vec![-0.5 * d[0]; d.len()];
+    for k in 1..d.len() {
         let target = -0.5 * d[k];
-        e[k] = target + (e[k - 1] - target) * (-(p.s[k] - p.s[k - 1]) / LAG_LENGTH).exp();
+        let prev = e[k - 1];
+        e[k] = if prev == target {
+            target
+        } else {
+            target + (prev - target) * decay[k - 1]
+        };
     }
     e
 }
@@ -306,10 +325,14 @@ pub struct Lag {
 impl Lag {
     /// The lag of `axes` on pass `p` (the lags of A and B given together must have the same axes).
     pub fn of(p: &Pass, axes: &[AxisName]) -> Self {
+        let decay = decays(p);
         Self {
             u: p.u.clone(),
             axes: axes.to_vec(),
-            e: axes.iter().map(|&a| lagged_offset(p, a)).collect(),
+            e: axes
+                .iter()
+                .map(|&a| lag_on(&decay, &directions(p, a)))
+                .collect(),
         }
     }
 }
@@ -382,4 +405,42 @@ fn axis_derivative(
     };
     let (j, _) = jacobian_body_point(&opts.chain, q, x, &MachineErrors::none(), &[param])?;
     Ok(j.column(0).into_owned())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_lag_is_the_recursion_of_its_definition_bit_for_bit() {
+        // The module's recursion written out (one exp per step and axis, no shortcut once
+        // settled): Lag::of shares the decay between axes and skips settled steps, same bits.
+        let part = SShape::iso();
+        let opts = SensitivityOptions::default();
+        let axes = [
+            AxisName::X,
+            AxisName::Y,
+            AxisName::Z,
+            AxisName::B,
+            AxisName::C,
+        ];
+        for p in passes(&part, &opts).unwrap() {
+            let lag = Lag::of(&p, &axes);
+            for (a, &axis) in axes.iter().enumerate() {
+                let d = directions(&p, axis);
+                let mut e = vec![-0.5 * d[0]; p.u.len()];
+                for k in 1..p.u.len() {
+                    let target = -0.5 * d[k];
+                    e[k] =
+                        target + (e[k - 1] - target) * (-(p.s[k] - p.s[k - 1]) / LAG_LENGTH).exp();
+                }
+                let same = e
+                    .iter()
+                    .zip(&lag.e[a])
+                    .all(|(x, y)| x.to_bits() == y.to_bits());
+                assert!(same, "{axis:?}");
+                assert_eq!(lagged_offset(&p, axis), e, "{axis:?}");
+            }
+        }
+    }
 }
