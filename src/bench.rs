@@ -16,9 +16,9 @@
 //! Those two are the *first file*: the models kept by [`crate::gap::effects::cache`] are
 //! forgotten before each call. `analyse_100_further` and `diagnose_100_further` are a *further
 //! file with the same settings* (other deviations, so other matched points): the settings' path
-//! model is kept, the part model of the points is not. `diagnose_100_again` is the same points
-//! again (a re-analysis after a change of σ, outliers or effects; several parts of one design):
-//! the whole part model is kept.
+//! model is kept, the part model of the points is not. `analyse_100_again` and
+//! `diagnose_100_again` are the same points again (a re-analysis after a change of σ, outliers
+//! or effects; several parts of one design): the whole part model is kept.
 
 use nalgebra::{DMatrix, Vector3};
 
@@ -29,7 +29,7 @@ use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{machine_path, sensitivity_matrix, SensitivityOptions};
 
 /// The stage names, in table order.
-pub const STAGES: [&str; 16] = [
+pub const STAGES: [&str; 17] = [
     "bspline_eval_1000",
     "builtin_points",
     "projection_100",
@@ -43,6 +43,7 @@ pub const STAGES: [&str; 16] = [
     "identify_100000",
     "analyse_100",
     "analyse_100_further",
+    "analyse_100_again",
     "diagnose_100",
     "diagnose_100_further",
     "diagnose_100_again",
@@ -172,6 +173,7 @@ impl Stage {
             }
             "analyse_100" => Stage::Analyse(cmm_text(100), Kept::Nothing),
             "analyse_100_further" => Stage::Analyse(cmm_text_with(100, 5), Kept::Paths),
+            "analyse_100_again" => Stage::Analyse(cmm_text_with(100, 5), Kept::Everything),
             "diagnose_100" => {
                 let devs = crate::cmm::read_cmm(cmm_text(100).as_bytes(), "bench.csv")
                     .map_err(|x| x.to_string())?

@@ -47,6 +47,7 @@ pub mod error;
 pub mod folds;
 pub mod location;
 pub mod lsq;
+pub mod memo;
 pub mod noise;
 pub mod outliers;
 pub mod pairs;

@@ -20,6 +20,7 @@ use std::rc::Rc;
 
 use super::builtin::PartModel;
 use super::path_model::PathModel;
+use crate::gap::memo::Memo;
 use crate::gap::GapError;
 use crate::machine::{Branch, Chain};
 use crate::part::{MeasurementPoint, SShape};
@@ -29,36 +30,6 @@ use crate::sensitivity::SensitivityOptions;
 pub const PATH_CAPACITY: usize = 4;
 /// Part models kept (each `points × ~40` numbers: 30 kB for 100 points, 6 MB for 20,000).
 pub const MODEL_CAPACITY: usize = 4;
-
-/// A bounded list of computed values, most recently used first.
-struct Memo<K, V> {
-    entries: Vec<(K, Rc<V>)>,
-    capacity: usize,
-}
-
-impl<K, V> Memo<K, V> {
-    const fn new(capacity: usize) -> Self {
-        Self {
-            entries: Vec::new(),
-            capacity,
-        }
-    }
-
-    /// The value whose key satisfies `is`, moved to the front.
-    fn find(&mut self, is: impl Fn(&K) -> bool) -> Option<Rc<V>> {
-        let i = self.entries.iter().position(|(k, _)| is(k))?;
-        let e = self.entries.remove(i);
-        let v = Rc::clone(&e.1);
-        self.entries.insert(0, e);
-        Some(v)
-    }
-
-    /// Keeps `value` in front, dropping the least recently used beyond the capacity.
-    fn insert(&mut self, key: K, value: Rc<V>) {
-        self.entries.insert(0, (key, value));
-        self.entries.truncate(self.capacity);
-    }
-}
 
 /// What a path model depends on.
 #[derive(Debug, Clone, PartialEq)]
@@ -138,24 +109,24 @@ pub fn part_model(
     Ok(m)
 }
 
-/// Forgets every kept model of this thread (the benchmark of a first file; tests).
+/// Forgets every kept model of this thread, and the decompositions kept by
+/// [`crate::gap::structure`] (the benchmark of a first file; tests).
 pub fn clear() {
-    PATHS.with_borrow_mut(|c| c.entries.clear());
-    MODELS.with_borrow_mut(|c| c.entries.clear());
+    PATHS.with_borrow_mut(Memo::clear);
+    clear_part_models();
 }
 
-/// Forgets the part models of this thread, keeps the path models (the benchmark of a further
-/// file with the same settings).
+/// Forgets the part models of this thread (and the decompositions of
+/// [`crate::gap::structure`], which belong to the points), keeps the path models (the benchmark
+/// of a further file with the same settings).
 pub fn clear_part_models() {
-    MODELS.with_borrow_mut(|c| c.entries.clear());
+    MODELS.with_borrow_mut(Memo::clear);
+    crate::gap::structure::clear_kept();
 }
 
 /// Number of (path, part) models kept by this thread.
 pub fn len() -> (usize, usize) {
-    (
-        PATHS.with_borrow(|c| c.entries.len()),
-        MODELS.with_borrow(|c| c.entries.len()),
-    )
+    (PATHS.with_borrow(Memo::len), MODELS.with_borrow(Memo::len))
 }
 
 #[cfg(test)]
@@ -193,17 +164,5 @@ mod tests {
         let positive = opts.clone().with_branch(Branch::Positive);
         part_model_on(&part, &pts, &positive).unwrap();
         assert_eq!(len(), (2, 2));
-    }
-
-    #[test]
-    fn the_memo_keeps_the_most_recent_up_to_its_capacity() {
-        let mut m: Memo<u32, u32> = Memo::new(2);
-        m.insert(1, Rc::new(10));
-        m.insert(2, Rc::new(20));
-        assert_eq!(m.find(|k| *k == 1).as_deref(), Some(&10));
-        m.insert(3, Rc::new(30));
-        // 2 was the least recently used.
-        assert!(m.find(|k| *k == 2).is_none());
-        assert_eq!(m.entries.iter().map(|e| e.0).collect::<Vec<_>>(), [3, 1]);
     }
 }
