@@ -28,8 +28,11 @@ use crate::sensitivity::SensitivityOptions;
 
 /// Path models kept (each ~2 MB: the lags of five axes on two 20,001-sample grids).
 pub const PATH_CAPACITY: usize = 4;
-/// Part models kept (each `points × ~40` numbers: 30 kB for 100 points, 6 MB for 20,000).
+/// Part models kept (each `points × ~40` numbers: 30 kB for 100 points).
 pub const MODEL_CAPACITY: usize = 4;
+/// Part models of more points are not kept (a dense scan's model, ~10 MB for 20,000 points,
+/// would stay in memory beside its copy in use; the path model is kept for it all the same).
+pub const MODEL_MAX_POINTS: usize = 2000;
 
 /// What a path model depends on.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,11 +104,13 @@ pub fn part_model(
         return Ok((*m).clone());
     }
     let m = compute()?;
-    let key = ModelKey {
-        settings,
-        points: points.to_vec(),
-    };
-    MODELS.with_borrow_mut(|c| c.insert(key, Rc::new(m.clone())));
+    if points.len() <= MODEL_MAX_POINTS {
+        let key = ModelKey {
+            settings,
+            points: points.to_vec(),
+        };
+        MODELS.with_borrow_mut(|c| c.insert(key, Rc::new(m.clone())));
+    }
     Ok(m)
 }
 
