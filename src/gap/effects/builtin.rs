@@ -8,6 +8,7 @@ use crate::gap::GapError;
 use crate::machine::{AxisName, Chain};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
+use crate::toolpath::envelope::{points_deviation_on, FlankPath};
 
 /// Effect points (point, normal, h, s) of measurement points.
 pub fn effect_points(part: &SShape, points: &[MeasurementPoint]) -> Vec<EffectPoint> {
@@ -180,7 +181,8 @@ fn compute_part_model(
     let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
     let path = super::cache::path_model(part, opts)?;
     let eps = effect_points_after(part, points, path.a_total);
-    let envelope: Vec<f64> = crate::toolpath::envelope::points_deviation(part, points, 0.0)
+    let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
+    let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)
         .map_err(|e| GapError::Model(e.to_string()))?
         .iter()
         .map(|d| d.deviation)

@@ -1,10 +1,11 @@
 //! What the diagnosis needs of the tool path that depends only on the settings (the part design,
 //! the machine's chain with its L0, the B branch), not on the measured points: the lag of every
 //! catalogue axis along the two reversal passes ([`crate::sensitivity::reversal`], the
-//! first-order lag of 2 mm of tool-tip path, paper 002 §4.3), where each axis reverses, and the
-//! tool-tip path lengths of the surfaces ([`super::path_length`]). It is the expensive part of a
-//! part model (two passes of 20,001 tool poses and ~3,000 inverse kinematics each): kept by
-//! [`super::cache`] for every later file with the same settings.
+//! first-order lag of 2 mm of tool-tip path, paper 002 §4.3), where each axis reverses, the
+//! tool-tip path lengths of the surfaces ([`super::path_length`]) and the envelope's tables of
+//! tool poses ([`crate::toolpath::envelope`]). It is the expensive part of a part model (two
+//! passes of 20,001 tool poses and ~3,000 inverse kinematics each): kept by [`super::cache`] for
+//! every later file with the same settings.
 //!
 //! Units: mm for path lengths, the lag per unit lost motion (mm/mm or rad/rad).
 
@@ -16,6 +17,8 @@ use crate::gap::GapError;
 use crate::part::{SShape, Surface};
 use crate::sensitivity::reversal::{passes, Lag};
 use crate::sensitivity::SensitivityOptions;
+use crate::toolpath::envelope::pose_table;
+use crate::toolpath::flank::ToolPose;
 
 /// The settings-only part of a part model.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,6 +31,8 @@ pub struct PathModel {
     pub a_total: f64,
     /// Tool-tip path length of A then B (mm).
     pub s_total: f64,
+    /// The envelope's pose tables of A and B ([`crate::toolpath::envelope::pose_table`]).
+    pub pose_tables: [Vec<ToolPose>; 2],
 }
 
 impl PathModel {
@@ -44,6 +49,7 @@ impl PathModel {
             reversals: reversals(&passes),
             a_total,
             s_total: a_total + surface_path_length(part, Surface::B, 1.0),
+            pose_tables: [pose_table(part, Surface::A), pose_table(part, Surface::B)],
         })
     }
 }
