@@ -29,7 +29,8 @@ function median(f) {
 const STAGES = [
   'bspline_eval_1000', 'builtin_points', 'projection_100', 'envelope_100', 'surface_max_overcut',
   'inverse_kinematics_path', 'figure19_matrix', 'read_cmm_100', 'read_cmm_100000', 'identify_100',
-  'identify_100000', 'analyse_100', 'diagnose_100',
+  'identify_100000', 'analyse_100', 'analyse_100_further', 'analyse_100_again',
+  'diagnose_100', 'diagnose_100_further', 'diagnose_100_again',
 ];
 let native = {};
 try {

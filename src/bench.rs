@@ -13,6 +13,12 @@
 //! `identify_100000` (the Figure-19 design with `dR`, the rows repeated, synthetic deviations),
 //! `analyse_100` (read, match, identify, refine and the full gap diagnosis of a 100-row file),
 //! `diagnose_100` (the gap diagnosis alone: part model with all candidates, cross-validation).
+//! Those two are the *first file*: the models kept by [`crate::gap::effects::cache`] are
+//! forgotten before each call. `analyse_100_further` and `diagnose_100_further` are a *further
+//! file with the same settings* (other deviations, so other matched points): the settings' path
+//! model is kept, the part model of the points is not. `analyse_100_again` and
+//! `diagnose_100_again` are the same points again (a re-analysis after a change of σ, outliers
+//! or effects; several parts of one design): the whole part model is kept.
 
 use nalgebra::{DMatrix, Vector3};
 
@@ -23,7 +29,7 @@ use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{machine_path, sensitivity_matrix, SensitivityOptions};
 
 /// The stage names, in table order.
-pub const STAGES: [&str; 13] = [
+pub const STAGES: [&str; 17] = [
     "bspline_eval_1000",
     "builtin_points",
     "projection_100",
@@ -36,12 +42,22 @@ pub const STAGES: [&str; 13] = [
     "identify_100",
     "identify_100000",
     "analyse_100",
+    "analyse_100_further",
+    "analyse_100_again",
     "diagnose_100",
+    "diagnose_100_further",
+    "diagnose_100_again",
 ];
 
 /// A canonical CMM file of `rows` rows: the 100 built-in points repeated with unique ids and a
 /// small deterministic deviation.
 pub fn cmm_text(rows: usize) -> String {
+    cmm_text_with(rows, 8)
+}
+
+/// [`cmm_text`] with another deviation pattern (`0.001·((i mod 17) − offset)` mm): another file
+/// of the same part, whose matched points differ from the first file's in the last digits.
+pub fn cmm_text_with(rows: usize, offset: usize) -> String {
     let part = SShape::iso();
     let pts = builtin_points(&part);
     let repeated: Vec<MeasurementPoint> = (0..rows)
@@ -54,7 +70,7 @@ pub fn cmm_text(rows: usize) -> String {
         repeated
             .iter()
             .enumerate()
-            .map(|(i, p)| (p, 0.001 * ((i % 17) as f64 - 8.0))),
+            .map(|(i, p)| (p, 0.001 * ((i % 17) as f64 - offset as f64))),
         Precision::Shortest,
         None,
     )
@@ -93,8 +109,40 @@ pub enum Stage {
     Matrix(SShape, Vec<MeasurementPoint>),
     Read(String),
     Identify(Design, Observations),
-    Analyse(String),
-    Diagnose(SShape, Vec<MeasurementPoint>, Vec<f64>),
+    Analyse(String, Kept),
+    Diagnose(SShape, Vec<MeasurementPoint>, Vec<f64>, Kept),
+}
+
+/// What a stage keeps of [`crate::gap::effects::cache`] between its calls.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Kept {
+    /// Nothing: every call is a first file.
+    Nothing,
+    /// The path models of the settings, not the part models of the points: a further file.
+    Paths,
+    /// Everything: the same points again.
+    Everything,
+}
+
+impl Kept {
+    fn apply(self) {
+        use crate::gap::effects::cache;
+        match self {
+            Kept::Nothing => cache::clear(),
+            Kept::Paths => cache::clear_part_models(),
+            Kept::Everything => {}
+        }
+    }
+}
+
+/// The deviations of a CMM text and the points matched to them (as `analyse` finds them).
+fn matched(part: &SShape, text: &str) -> Result<(Vec<MeasurementPoint>, Vec<f64>), String> {
+    let m = crate::cmm::read_and_match(text.as_bytes(), "bench.csv", &Default::default())
+        .map_err(|x| x.to_string())?;
+    Ok((
+        crate::analysis::measurement_points(part, &m),
+        m.deviations(),
+    ))
 }
 
 impl Stage {
@@ -123,7 +171,9 @@ impl Stage {
                 let (d, o) = identify_input(100_000)?;
                 Stage::Identify(d, o)
             }
-            "analyse_100" => Stage::Analyse(cmm_text(100)),
+            "analyse_100" => Stage::Analyse(cmm_text(100), Kept::Nothing),
+            "analyse_100_further" => Stage::Analyse(cmm_text_with(100, 5), Kept::Paths),
+            "analyse_100_again" => Stage::Analyse(cmm_text_with(100, 5), Kept::Everything),
             "diagnose_100" => {
                 let devs = crate::cmm::read_cmm(cmm_text(100).as_bytes(), "bench.csv")
                     .map_err(|x| x.to_string())?
@@ -131,7 +181,15 @@ impl Stage {
                     .iter()
                     .map(|p| p.deviation.unwrap_or(0.0))
                     .collect();
-                Stage::Diagnose(part, pts, devs)
+                Stage::Diagnose(part, pts, devs, Kept::Nothing)
+            }
+            "diagnose_100_further" => {
+                let (pts, devs) = matched(&part, &cmm_text_with(100, 5))?;
+                Stage::Diagnose(part, pts, devs, Kept::Paths)
+            }
+            "diagnose_100_again" => {
+                let (pts, devs) = matched(&part, &cmm_text_with(100, 5))?;
+                Stage::Diagnose(part, pts, devs, Kept::Everything)
             }
             _ => {
                 return Err(format!(
@@ -198,12 +256,14 @@ impl Stage {
                     .map_err(|x| e(&x))?
                     .rank as f64
             }
-            Stage::Analyse(text) => {
+            Stage::Analyse(text, kept) => {
+                kept.apply();
                 analyse(text.as_bytes(), "bench.csv", &AnalysisOptions::default())
                     .map_err(|x| e(&x))?;
                 1.0
             }
-            Stage::Diagnose(part, pts, devs) => {
+            Stage::Diagnose(part, pts, devs, kept) => {
+                kept.apply();
                 crate::analysis::diagnose_points(part, pts, devs, None)
                     .map_err(|x| e(&x))?
                     .baseline

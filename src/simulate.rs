@@ -17,7 +17,8 @@ use nalgebra::DMatrix;
 use crate::identify::{Design, IdentifyError, TOOL_RADIUS};
 use crate::machine::{Branch, ErrorParam, MachineErrors};
 use crate::part::{builtin_points, SShape};
-use crate::sensitivity::{defect, sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
+use crate::sensitivity::defect::DefectPoses;
+use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
 
 /// What can go wrong when simulating a part.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -82,9 +83,10 @@ pub fn builtin_design(
 /// errors is a central finite difference of the exact defect (steps 1e-7 rad, 1e-5 mm; eq. 12 is
 /// smooth and nearly linear at these magnitudes); that of a linear column is the column.
 pub struct ExactDefectModel {
-    part: SShape,
-    points: Vec<crate::part::MeasurementPoint>,
-    opts: SensitivityOptions,
+    /// The points' poses on the flank path, solved once (or why they could not be: reported by
+    /// every evaluation, as when they were solved at each one).
+    poses: Result<DefectPoses, String>,
+    points: usize,
     params: Vec<ExactColumn>,
     steps: Vec<f64>,
 }
@@ -128,10 +130,10 @@ impl ExactDefectModel {
             .iter()
             .map(|p| if p.unit == "rad" { 1e-7 } else { 1e-5 })
             .collect();
+        let poses = DefectPoses::new(&SShape::iso(), &points, &opts).map_err(|e| e.to_string());
         Ok(ExactDefectModel {
-            part: SShape::iso(),
-            points,
-            opts,
+            poses,
+            points: points.len(),
             params,
             steps,
         })
@@ -141,7 +143,7 @@ impl ExactDefectModel {
 impl crate::identify::refine::ExactModel for ExactDefectModel {
     fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
         let mut e = MachineErrors::none();
-        let mut linear = vec![0.0; self.points.len()];
+        let mut linear = vec![0.0; self.points];
         for (p, v) in self.params.iter().zip(x) {
             match p {
                 ExactColumn::Location(p) => e = e.with(*p, *v),
@@ -152,12 +154,17 @@ impl crate::identify::refine::ExactModel for ExactDefectModel {
                 }
             }
         }
-        let d = defect(&self.part, &self.points, &e, &self.opts).map_err(|e| e.to_string())?;
+        let d = self
+            .poses
+            .as_ref()
+            .map_err(Clone::clone)?
+            .defect(&e)
+            .map_err(|e| e.to_string())?;
         Ok(d.into_iter().zip(linear).map(|(v, l)| v + l).collect())
     }
 
     fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String> {
-        let mut j = DMatrix::zeros(self.points.len(), x.len());
+        let mut j = DMatrix::zeros(self.points, x.len());
         for c in 0..x.len() {
             if let ExactColumn::Linear(col) = &self.params[c] {
                 for (i, v) in col.iter().enumerate() {

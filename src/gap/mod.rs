@@ -48,6 +48,7 @@ pub mod folds;
 pub mod layout;
 pub mod location;
 pub mod lsq;
+pub mod memo;
 pub mod noise;
 pub mod outliers;
 pub mod pairs;

@@ -30,11 +30,15 @@
 //! shape: a structure whose shape happens to equal a location error's signature exactly cannot
 //! be told from that error by any method, and the std then says how large such a confusion can be.
 
+use std::cell::RefCell;
+use std::rc::Rc;
+
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use super::data::PointMeta;
 use super::lsq::Factor;
+use super::memo::Memo;
 
 /// Number of correlation lengths tried, geometric between the point spacing and the path.
 pub const LENGTH_GRID: usize = 14;
@@ -66,6 +70,59 @@ pub fn correlation(points: &[PointMeta], length: f64) -> DMatrix<f64> {
     })
 }
 
+/// The eigen-decomposition of [`correlation`] at one length: eigenvalues clamped at 0, and the
+/// eigenvectors (columns).
+struct Decomposition {
+    lambda: Vec<f64>,
+    q: DMatrix<f64>,
+}
+
+/// Decompositions kept: they depend only on the points' path positions `s` (the part design and
+/// the settings), not on the deviations, so a re-analysis of the same points reuses them.
+const KEPT: usize = 2;
+/// Larger point sets are not kept (14 matrices of `n²` numbers each: 18 MB at 400 points).
+const KEPT_MAX_POINTS: usize = 400;
+
+thread_local! {
+    static DECOMPOSITIONS: RefCell<Memo<Vec<u64>, Vec<Decomposition>>> =
+        const { RefCell::new(Memo::new(KEPT)) };
+}
+
+/// Forgets the decompositions kept by this thread.
+pub fn clear_kept() {
+    DECOMPOSITIONS.with_borrow_mut(Memo::clear);
+}
+
+/// The decompositions of `K_ℓ` at every length of the grid over `(lo, hi)` (the lengths follow
+/// from the `s`, so the `s` bits are the key).
+fn decompositions(points: &[PointMeta], (lo, hi): (f64, f64)) -> Rc<Vec<Decomposition>> {
+    let key: Vec<u64> = points.iter().map(|p| p.s.to_bits()).collect();
+    if let Some(d) = DECOMPOSITIONS.with_borrow_mut(|m| m.find(|k| *k == key)) {
+        return d;
+    }
+    let d: Rc<Vec<Decomposition>> = Rc::new(
+        (0..LENGTH_GRID)
+            .map(|k| {
+                let eig =
+                    nalgebra::SymmetricEigen::new(correlation(points, grid_length(lo, hi, k)));
+                Decomposition {
+                    lambda: eig.eigenvalues.iter().map(|l| l.max(0.0)).collect(),
+                    q: eig.eigenvectors,
+                }
+            })
+            .collect(),
+    );
+    if points.len() <= KEPT_MAX_POINTS {
+        DECOMPOSITIONS.with_borrow_mut(|m| m.insert(key, Rc::clone(&d)));
+    }
+    d
+}
+
+/// The `k`-th length of the geometric grid of [`LENGTH_GRID`] lengths from `lo` to `hi` (mm).
+fn grid_length(lo: f64, hi: f64, k: usize) -> f64 {
+    lo * (hi / lo).powf(k as f64 / (LENGTH_GRID - 1) as f64)
+}
+
 /// The REML estimate of the structure's covariance for the residual of `design` on `y`, the
 /// white σ (mm) being fixed. `None` without a positive σ or with fewer points than two more than
 /// the design's rank.
@@ -87,14 +144,12 @@ pub fn estimate(
     let (lo, hi) = length_range(points);
     let s2 = white_sigma * white_sigma;
     let mut best: Option<(f64, f64, f64)> = None; // (loglik, tau2, length)
-    for k in 0..LENGTH_GRID {
-        let length = lo * (hi / lo).powf(k as f64 / (LENGTH_GRID - 1) as f64);
-        let eig = nalgebra::SymmetricEigen::new(correlation(points, length));
-        let q = &eig.eigenvectors;
-        let lambda: Vec<f64> = eig.eigenvalues.iter().map(|l| l.max(0.0)).collect();
+    let decompositions = decompositions(points, (lo, hi));
+    for (k, Decomposition { lambda, q }) in decompositions.iter().enumerate() {
+        let length = grid_length(lo, hi, k);
         let bt = q.transpose() * &basis;
         let yt = q.transpose() * &y;
-        let loglik = |tau2: f64| restricted_log_likelihood(&lambda, &bt, &yt, s2, tau2);
+        let loglik = |tau2: f64| restricted_log_likelihood(lambda, &bt, &yt, s2, tau2);
         // golden section on ln τ² over [ln 1e-4 σ², ln 1e4 σ²]
         let (mut a, mut b) = (libm::log(1e-4 * s2), libm::log(1e4 * s2));
         let g = 0.5 * (5f64.sqrt() - 1.0);
@@ -248,5 +303,28 @@ mod tests {
         let s = estimate(&p, &a, &y, 0.0015).unwrap();
         assert!((0.002..0.008).contains(&s.amplitude), "τ = {}", s.amplitude);
         assert!((30.0..300.0).contains(&s.length), "ℓ = {}", s.length);
+    }
+
+    /// The decompositions kept for the points give the estimate computed without them, bit for
+    /// bit (another deviation vector of the same points reuses them).
+    #[test]
+    fn kept_decompositions_give_the_same_estimate() {
+        let p = points(60, 20.0);
+        let mut rng = Sampler::new(7);
+        let a = DMatrix::from_element(60, 1, 1.0);
+        let ys: Vec<Vec<f64>> = (0..2)
+            .map(|_| (0..60).map(|_| 0.0015 * rng.normal()).collect())
+            .collect();
+        let mut fresh = Vec::new();
+        for y in &ys {
+            clear_kept();
+            fresh.push(estimate(&p, &a, y, 0.0015).unwrap());
+        }
+        for (y, f) in ys.iter().zip(&fresh) {
+            let kept = estimate(&p, &a, y, 0.0015).unwrap();
+            assert_eq!(kept.amplitude.to_bits(), f.amplitude.to_bits());
+            assert_eq!(kept.length.to_bits(), f.length.to_bits());
+            assert_eq!(kept.matrix, f.matrix);
+        }
     }
 }

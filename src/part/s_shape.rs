@@ -114,7 +114,7 @@ fn curve(xy: &[(f64, f64); 16], z: f64) -> Result<BSplineCurve, GeometryError> {
 }
 
 /// The two ruled surfaces of the S-shape, as the four boundary curves.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SShape {
     /// `C0` (bottom, Z = 0) and `C1` (top, Z = 30) of surface A.
     pub a: [BSplineCurve; 2],

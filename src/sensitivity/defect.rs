@@ -205,20 +205,64 @@ pub fn defect(
     opts: &SensitivityOptions,
 ) -> Result<Vec<f64>, SensitivityError> {
     errors.validate(&opts.chain)?;
-    let poses = point_poses(part, points, opts)?;
-    let none = MachineErrors::none();
-    let c = &opts.chain;
-    let q_ref = reference_pose(opts)?;
-    let d_ref =
-        tool_point(c, &q_ref, 0.0, errors)?.point - tool_point(c, &q_ref, 0.0, &none)?.point;
-    poses
-        .iter()
-        .map(|pp| {
-            let d = tool_point(c, &pp.q, pp.h, errors)?.point
-                - tool_point(c, &pp.q, pp.h, &none)?.point;
-            Ok((d - d_ref).dot(&pp.n))
+    DefectPoses::new(part, points, opts)?.defect(errors)
+}
+
+/// What [`defect`] needs of the points that does not depend on the errors: the axis values of
+/// the flank path at each point (inverse kinematics, eq. 8-10), the tool point and the reference
+/// tool point of the error-free chain (`p(q, h, 0)`, `p(q_ref, 0, 0)` of eq. 12). Built once, it
+/// evaluates eq. 12 for any errors with the same arithmetic as [`defect`] (an iterative
+/// refinement evaluates it ~2p times per step: the path is solved once, not each time).
+pub struct DefectPoses {
+    chain: Chain,
+    poses: Vec<PointPose>,
+    /// `p(q, h, 0)` per point (mm).
+    nominal: Vec<Vector3<f64>>,
+    q_ref: AxisValues,
+    /// `p(q_ref, 0, 0)` (mm).
+    nominal_ref: Vector3<f64>,
+}
+
+impl DefectPoses {
+    /// The poses of `points` on the flank path of `opts` (chain, branch, mode).
+    pub fn new(
+        part: &SShape,
+        points: &[MeasurementPoint],
+        opts: &SensitivityOptions,
+    ) -> Result<Self, SensitivityError> {
+        let poses = point_poses(part, points, opts)?;
+        let none = MachineErrors::none();
+        let c = &opts.chain;
+        let q_ref = reference_pose(opts)?;
+        let nominal_ref = tool_point(c, &q_ref, 0.0, &none)?.point;
+        let nominal = poses
+            .iter()
+            .map(|pp| Ok(tool_point(c, &pp.q, pp.h, &none)?.point))
+            .collect::<Result<Vec<_>, SensitivityError>>()?;
+        Ok(Self {
+            chain: c.clone(),
+            poses,
+            nominal,
+            q_ref,
+            nominal_ref,
         })
-        .collect()
+    }
+
+    /// Exact machined defect (eq. 12, mm) at the points for `errors` (validated against the
+    /// chain).
+    pub fn defect(&self, errors: &MachineErrors) -> Result<Vec<f64>, SensitivityError> {
+        errors.validate(&self.chain)?;
+        let c = &self.chain;
+        let d_ref = tool_point(c, &self.q_ref, 0.0, errors)?.point - self.nominal_ref;
+        self.poses
+            .iter()
+            .zip(&self.nominal)
+            .map(|(pp, p0)| {
+                let d = tool_point(c, &pp.q, pp.h, errors)?.point - p0;
+                Ok((d - d_ref).dot(&pp.n))
+            })
+            .collect()
+    }
 }
 
 /// Linearised machined defect (eq. 14, mm): the Jacobian at ξ = 0 times the error values.

@@ -253,11 +253,30 @@ pub fn reversal_count(p: &Pass, axis: AxisName) -> usize {
 
 /// Lagged offset `e` per unit lost motion (`b = 1`) at every grid sample.
 pub fn lagged_offset(p: &Pass, axis: AxisName) -> Vec<f64> {
-    let d = directions(p, axis);
-    let mut e = vec![-0.5 * d[0]; p.u.len()];
-    for k in 1..p.u.len() {
+    lag_on(&decays(p), &directions(p, axis))
+}
+
+/// The lag's decay over each grid step, `exp(−Δs/`[`LAG_LENGTH`]`)` (step `k − 1 → k` at index
+/// `k − 1`): the same for every axis.
+fn decays(p: &Pass) -> Vec<f64> {
+    (1..p.u.len())
+        .map(|k| (-(p.s[k] - p.s[k - 1]) / LAG_LENGTH).exp())
+        .collect()
+}
+
+/// `e_k = e* + (e_{k−1} − e*)·decay_k` from `e_0 = e*_0`, `e* = −d/2`. Once `e` has reached its
+/// target exactly (the difference rounds to 0 after ~75 mm of path), the step is `e* + 0·decay =
+/// e*`: it is written so, without the multiplication (the same bits).
+fn lag_on(decay: &[f64], d: &[f64]) -> Vec<f64> {
+    let mut e = vec![-0.5 * d[0]; d.len()];
+    for k in 1..d.len() {
         let target = -0.5 * d[k];
-        e[k] = target + (e[k - 1] - target) * (-(p.s[k] - p.s[k - 1]) / LAG_LENGTH).exp();
+        let prev = e[k - 1];
+        e[k] = if prev == target {
+            target
+        } else {
+            target + (prev - target) * decay[k - 1]
+        };
     }
     e
 }
@@ -292,6 +311,32 @@ pub fn passes(part: &SShape, opts: &SensitivityOptions) -> Result<[Pass; 2], Sen
     ])
 }
 
+/// The lagged offsets of a pass per unit lost motion ([`lagged_offset`]) for some axes, with the
+/// pass's `u` grid: all that [`backlash_signatures_lagged`] needs of a pass (it depends on the
+/// part, the chain and the branch, not on the points, so it can be kept for other points).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lag {
+    pub u: Vec<f64>,
+    pub axes: Vec<AxisName>,
+    /// One [`lagged_offset`] per axis of `axes`.
+    pub e: Vec<Vec<f64>>,
+}
+
+impl Lag {
+    /// The lag of `axes` on pass `p` (the lags of A and B given together must have the same axes).
+    pub fn of(p: &Pass, axes: &[AxisName]) -> Self {
+        let decay = decays(p);
+        Self {
+            u: p.u.clone(),
+            axes: axes.to_vec(),
+            e: axes
+                .iter()
+                .map(|&a| lag_on(&decay, &directions(p, a)))
+                .collect(),
+        }
+    }
+}
+
 /// [`backlash_signatures`] on passes already computed by [`passes`] with the same `opts`.
 pub fn backlash_signatures_on(
     passes: &[Pass; 2],
@@ -300,8 +345,20 @@ pub fn backlash_signatures_on(
     axes: &[AxisName],
     opts: &SensitivityOptions,
 ) -> Result<Vec<Vec<f64>>, SensitivityError> {
-    let mut out = vec![vec![0.0; points.len()]; axes.len()];
-    for (surface, p) in Surface::BOTH.into_iter().zip(passes) {
+    let lags = [Lag::of(&passes[0], axes), Lag::of(&passes[1], axes)];
+    backlash_signatures_lagged(&lags, part, points, opts)
+}
+
+/// [`backlash_signatures`] on the lags of the passes of A and B ([`Lag::of`] with the axes wanted
+/// and the same `opts`): one vector per axis of the lags.
+pub fn backlash_signatures_lagged(
+    lags: &[Lag; 2],
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+) -> Result<Vec<Vec<f64>>, SensitivityError> {
+    let mut out = vec![vec![0.0; points.len()]; lags[0].axes.len()];
+    for (surface, p) in Surface::BOTH.into_iter().zip(lags) {
         let idx: Vec<usize> = (0..points.len())
             .filter(|&i| points[i].surface == surface)
             .collect();
@@ -310,8 +367,7 @@ pub fn backlash_signatures_on(
         }
         let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
         let poses = machine_path(part, &opts.chain, surface, opts.branch, &us)?;
-        for (a, &axis) in axes.iter().enumerate() {
-            let e = lagged_offset(p, axis);
+        for (a, (&axis, e)) in p.axes.iter().zip(&p.e).enumerate() {
             for (&i, pose) in idx.iter().zip(&poses) {
                 let pt = &points[i];
                 // Linear interpolation in u between the grid samples around the point (the
@@ -349,4 +405,42 @@ fn axis_derivative(
     };
     let (j, _) = jacobian_body_point(&opts.chain, q, x, &MachineErrors::none(), &[param])?;
     Ok(j.column(0).into_owned())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_lag_is_the_recursion_of_its_definition_bit_for_bit() {
+        // The module's recursion written out (one exp per step and axis, no shortcut once
+        // settled): Lag::of shares the decay between axes and skips settled steps, same bits.
+        let part = SShape::iso();
+        let opts = SensitivityOptions::default();
+        let axes = [
+            AxisName::X,
+            AxisName::Y,
+            AxisName::Z,
+            AxisName::B,
+            AxisName::C,
+        ];
+        for p in passes(&part, &opts).unwrap() {
+            let lag = Lag::of(&p, &axes);
+            for (a, &axis) in axes.iter().enumerate() {
+                let d = directions(&p, axis);
+                let mut e = vec![-0.5 * d[0]; p.u.len()];
+                for k in 1..p.u.len() {
+                    let target = -0.5 * d[k];
+                    e[k] =
+                        target + (e[k - 1] - target) * (-(p.s[k] - p.s[k - 1]) / LAG_LENGTH).exp();
+                }
+                let same = e
+                    .iter()
+                    .zip(&lag.e[a])
+                    .all(|(x, y)| x.to_bits() == y.to_bits());
+                assert!(same, "{axis:?}");
+                assert_eq!(lagged_offset(&p, axis), e, "{axis:?}");
+            }
+        }
+    }
 }

@@ -95,12 +95,20 @@ pub fn line_entry(pose: &ToolPose, radius: f64, p: &Vector3<f64>, n: &Vector3<f6
     (lo <= hi && lo.is_finite()).then_some(lo)
 }
 
+/// The tool poses at `u' = i/`[`TABLE_STEPS`], `i = 0..=TABLE_STEPS` (eq. 2): the scan table of
+/// a [`FlankPath`].
+pub fn pose_table(part: &dyn RuledPart, s: Surface) -> Vec<ToolPose> {
+    (0..=TABLE_STEPS)
+        .map(|i| tool_pose(part, s, i as f64 / TABLE_STEPS as f64))
+        .collect()
+}
+
 /// The flank path of one surface with a table of poses for the scan.
 #[derive(Debug, Clone)]
 pub struct FlankPath<'a> {
     part: &'a dyn RuledPart,
     surface: Surface,
-    table: Vec<ToolPose>,
+    table: std::borrow::Cow<'a, [ToolPose]>,
 }
 
 /// The deepest cut at a point and the tool position that makes it.
@@ -117,13 +125,20 @@ pub struct EnvelopeHit {
 impl<'a> FlankPath<'a> {
     /// The eq. 2 path of surface `s` (the S-shape's, or any other [`RuledPart`]'s).
     pub fn new(part: &'a dyn RuledPart, s: Surface) -> Self {
-        let table = (0..=TABLE_STEPS)
-            .map(|i| tool_pose(part, s, i as f64 / TABLE_STEPS as f64))
-            .collect();
         Self {
             part,
             surface: s,
-            table,
+            table: pose_table(part, s).into(),
+        }
+    }
+
+    /// The path with its table already computed: `table` must be [`pose_table`] of the same
+    /// part and surface (it depends on nothing else, so it can be kept between files).
+    pub fn with_table(part: &'a dyn RuledPart, s: Surface, table: &'a [ToolPose]) -> Self {
+        Self {
+            part,
+            surface: s,
+            table: table.into(),
         }
     }
 
@@ -298,6 +313,15 @@ pub fn points_deviation(
         FlankPath::new(part, Surface::A),
         FlankPath::new(part, Surface::B),
     ];
+    points_deviation_on(&paths, points, d_r)
+}
+
+/// [`points_deviation`] on the flank paths of A and B (in that order).
+pub fn points_deviation_on(
+    paths: &[FlankPath; 2],
+    points: &[MeasurementPoint],
+    d_r: f64,
+) -> Result<Vec<PointDeviation>, ToolpathError> {
     points
         .iter()
         .map(|p| {

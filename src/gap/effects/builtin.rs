@@ -1,6 +1,6 @@
 //! The signatures and point metadata of the built-in S-shape points, from the geometry.
 
-use super::path_length::{surface_path_length, surface_path_lengths, total_path_length};
+use super::path_length::{surface_path_length, surface_path_lengths};
 use super::EffectPoint;
 use crate::gap::data::{Candidate, NamedColumns, PointMeta};
 use crate::gap::effect::{Effect, SignatureModel, BACKLASH_AXES};
@@ -8,11 +8,20 @@ use crate::gap::GapError;
 use crate::machine::{AxisName, Chain};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
+use crate::toolpath::envelope::{points_deviation_on, FlankPath};
 
 /// Effect points (point, normal, h, s) of measurement points.
 pub fn effect_points(part: &SShape, points: &[MeasurementPoint]) -> Vec<EffectPoint> {
+    effect_points_after(part, points, surface_path_length(part, Surface::A, 1.0))
+}
+
+/// [`effect_points`] with the tool-tip path length of surface A (mm) already computed.
+fn effect_points_after(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    a_total: f64,
+) -> Vec<EffectPoint> {
     let mut s = vec![0.0; points.len()];
-    let a_total = surface_path_length(part, Surface::A, 1.0);
     for (surface, offset) in [(Surface::A, 0.0), (Surface::B, a_total)] {
         let idx: Vec<usize> = (0..points.len())
             .filter(|&i| points[i].surface == surface)
@@ -65,7 +74,7 @@ pub fn point_meta(points: &[MeasurementPoint], eps: &[EffectPoint]) -> Vec<Point
 /// Everything a diagnosis of measured points of the S-shape needs from the models: point
 /// metadata, the baseline (the 8 location errors, `physical` mode, signed B), all the candidates
 /// of effects.md, and the axis reversals along the path.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct PartModel {
     pub points: Vec<PointMeta>,
     pub baseline: NamedColumns,
@@ -150,26 +159,38 @@ pub fn part_model_on(
     points: &[MeasurementPoint],
     opts: &crate::sensitivity::SensitivityOptions,
 ) -> Result<PartModel, GapError> {
-    use super::machine::{backlash_columns, reversals, scale_signatures};
     if let Some(axis) = missing_catalogue_axis(&opts.chain) {
         return Err(GapError::MissingAxis(axis));
     }
     let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
+    super::cache::part_model(part, points, opts, || {
+        compute_part_model(part, points, opts)
+    })
+}
+
+/// [`part_model_on`] computed (not taken from [`super::cache`]), on the path model of the
+/// settings (from the cache), `opts` in `physical` mode.
+fn compute_part_model(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &crate::sensitivity::SensitivityOptions,
+) -> Result<PartModel, GapError> {
+    use super::machine::{backlash_columns, scale_signatures};
     let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)
         .map_err(|e| GapError::Model(e.to_string()))?;
     let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
-    let eps = effect_points(part, points);
-    let envelope: Vec<f64> = crate::toolpath::envelope::points_deviation(part, points, 0.0)
+    let path = super::cache::path_model(part, opts)?;
+    let eps = effect_points_after(part, points, path.a_total);
+    let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
+    let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)
         .map_err(|e| GapError::Model(e.to_string()))?
         .iter()
         .map(|d| d.deviation)
         .collect();
-    let passes = crate::sensitivity::reversal::passes(part, opts)
-        .map_err(|e| GapError::Model(e.to_string()))?;
     let model = SignatureModel {
-        s_total: total_path_length(part),
+        s_total: path.s_total,
         envelope,
-        backlash: backlash_columns(&passes, part, points, opts)?,
+        backlash: backlash_columns(&path.lags, part, points, opts)?,
         scale: scale_signatures(part, points, opts)?,
         points: eps,
     };
@@ -181,7 +202,7 @@ pub fn part_model_on(
         points: point_meta(points, &model.points),
         baseline,
         candidates,
-        reversals: reversals(&passes),
+        reversals: path.reversals.clone(),
     })
 }
 

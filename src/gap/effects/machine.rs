@@ -14,7 +14,7 @@ use crate::gap::GapError;
 use crate::machine::{AxisName, ErrorParam};
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::defect::jacobian_rows;
-use crate::sensitivity::reversal::{backlash_signatures_on, directions, Pass};
+use crate::sensitivity::reversal::{backlash_signatures_lagged, directions, Lag, Pass};
 use crate::sensitivity::SensitivityOptions;
 
 fn model_err(e: impl std::fmt::Display) -> GapError {
@@ -43,17 +43,17 @@ pub fn scale_signatures(
         .collect())
 }
 
-/// `backlash_<axis>.b` columns (mm/mm or mm/rad), axes of [`BACKLASH_AXES`], on the passes of
-/// [`crate::sensitivity::reversal::passes`].
+/// `backlash_<axis>.b` columns (mm/mm or mm/rad), axes of the lags, on the lags of the passes
+/// of [`crate::sensitivity::reversal::passes`] ([`super::path_model::PathModel::lags`]: the
+/// axes of [`BACKLASH_AXES`]).
 pub fn backlash_columns(
-    passes: &[Pass; 2],
+    lags: &[Lag; 2],
     part: &SShape,
     points: &[MeasurementPoint],
     opts: &SensitivityOptions,
 ) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
-    let cols =
-        backlash_signatures_on(passes, part, points, &BACKLASH_AXES, opts).map_err(model_err)?;
-    Ok(BACKLASH_AXES.into_iter().zip(cols).collect())
+    let cols = backlash_signatures_lagged(lags, part, points, opts).map_err(model_err)?;
+    Ok(lags[0].axes.iter().copied().zip(cols).collect())
 }
 
 /// Where each axis reverses along the passes (A then B): tool-tip path length from the start of

@@ -1,0 +1,55 @@
+//! What the diagnosis needs of the tool path that depends only on the settings (the part design,
+//! the machine's chain with its L0, the B branch), not on the measured points: the lag of every
+//! catalogue axis along the two reversal passes ([`crate::sensitivity::reversal`], the
+//! first-order lag of 2 mm of tool-tip path, paper 002 §4.3), where each axis reverses, the
+//! tool-tip path lengths of the surfaces ([`super::path_length`]) and the envelope's tables of
+//! tool poses ([`crate::toolpath::envelope`]). It is the expensive part of a part model (two
+//! passes of 20,001 tool poses and ~3,000 inverse kinematics each): kept by [`super::cache`] for
+//! every later file with the same settings.
+//!
+//! Units: mm for path lengths, the lag per unit lost motion (mm/mm or rad/rad).
+
+use super::machine::reversals;
+use super::path_length::surface_path_length;
+use crate::gap::data::Reversal;
+use crate::gap::effect::BACKLASH_AXES;
+use crate::gap::GapError;
+use crate::part::{SShape, Surface};
+use crate::sensitivity::reversal::{passes, Lag};
+use crate::sensitivity::SensitivityOptions;
+use crate::toolpath::envelope::pose_table;
+use crate::toolpath::flank::ToolPose;
+
+/// The settings-only part of a part model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathModel {
+    /// The lags of [`BACKLASH_AXES`] on the passes of A and B.
+    pub lags: [Lag; 2],
+    /// Where each axis reverses, by tool-tip path length from the start of A (mm).
+    pub reversals: Vec<Reversal>,
+    /// Tool-tip path length of surface A (mm).
+    pub a_total: f64,
+    /// Tool-tip path length of A then B (mm).
+    pub s_total: f64,
+    /// The envelope's pose tables of A and B ([`crate::toolpath::envelope::pose_table`]).
+    pub pose_tables: [Vec<ToolPose>; 2],
+}
+
+impl PathModel {
+    /// Computes the path model of `part` on the chain and branch of `opts` (its mode is not
+    /// used: the passes follow the tool, not a displaced point).
+    pub fn new(part: &SShape, opts: &SensitivityOptions) -> Result<Self, GapError> {
+        let passes = passes(part, opts).map_err(|e| GapError::Model(e.to_string()))?;
+        let a_total = surface_path_length(part, Surface::A, 1.0);
+        Ok(Self {
+            lags: [
+                Lag::of(&passes[0], &BACKLASH_AXES),
+                Lag::of(&passes[1], &BACKLASH_AXES),
+            ],
+            reversals: reversals(&passes),
+            a_total,
+            s_total: a_total + surface_path_length(part, Surface::B, 1.0),
+            pose_tables: [pose_table(part, Surface::A), pose_table(part, Surface::B)],
+        })
+    }
+}
