@@ -28,6 +28,16 @@
 //!   (K = [`LJUNG_BOX_LAGS`]); it does not depend on σ, so it tells structure from noise even when
 //!   a stated CMM repeatability is wrong.
 //! - Size: `χ² = RSS / σ²` against `n − rank` degrees of freedom.
+//! - Short-scale structure (issue 18): every estimate above is inflated by a waviness shorter
+//!   than the smooth basis follows (80-150 mm of tool path, three to six points a period), which
+//!   the verdict then took for noise. The smooth-basis residual's whiteness is therefore tested
+//!   calibrated for the projection that made it ([`projected_whiteness`]: an uncalibrated
+//!   Ljung–Box test rejects one clean part in ten); when it fails (p < [`NOT_WHITE_P`]), σ is
+//!   also estimated with each curve's strongest sinusoid along the tool path fitted
+//!   ([`sinusoid_free_sigma`], the pre-whitening of spectral analysis) and from the lower quartile
+//!   of a tapered Lomb–Scargle periodogram along the path ([`periodogram_sigma`]), and the
+//!   smallest estimate is used: the wave is then structure beyond noise, and the verdict
+//!   `unexplained`. On white residuals nothing changes.
 
 use serde::Serialize;
 
@@ -76,7 +86,8 @@ pub struct NoiseEstimate {
     /// The σ the decisions use (mm): the given value, else the smallest of the smooth-basis
     /// estimates and the variogram nugget (each is consistent for white noise and inflated by a
     /// different kind of structure: waves shorter than the smooth basis follows, a few large
-    /// points, short waves), else the second-difference estimate of the residual itself.
+    /// points, short waves) and, when the smooth-basis residual is not white, the sinusoid-free
+    /// and periodogram estimates; else the second-difference estimate of the residual itself.
     pub used: f64,
 }
 

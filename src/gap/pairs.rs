@@ -5,10 +5,16 @@
 //! of [`super::verdict`] says `unexplained` (or even `none`, when the estimated noise absorbs the
 //! second effect).
 //!
-//! This step runs when the single-candidate verdict names no effect. The candidates that are
-//! significant on their own (F-test with Bonferroni), at most [`POOL`] of them by p-value (not
-//! by `cv_score`: with a second effect unmodelled, a step-like signature such as a backlash
-//! predicts withheld curves badly although it fits well), are paired; pairs that the part cannot tell apart from one candidate (cosine ≥
+//! This step runs when the single-candidate verdict names no effect, and when it names one (a
+//! second effect on top of it: the single rule measures the structure left against the
+//! smooth-basis σ, which a smooth second effect inflates; the pair then has to keep the named
+//! effect or an equivalent). The candidates that are significant on their own (F-test with
+//! Bonferroni), at most [`POOL`] of them by p-value (not by `cv_score`: with a second effect
+//! unmodelled, a step-like signature such as a backlash predicts withheld curves badly although
+//! it fits well), are paired, and the [`ANCHORS`] most significant are also paired with every
+//! other candidate (forward selection: the second effect of a part is often not significant on
+//! its own, its F-test's denominator holding the first effect, or is crowded out of the pool by
+//! look-alikes of the first); pairs that the part cannot tell apart from one candidate (cosine ≥
 //! [`EQUIVALENT_COS`] between their unabsorbed spans) are skipped. Each pair `{c₁, c₂}` is
 //! refitted jointly with the baseline ([`fit_candidate`] on the stacked signature `[S₁ | S₂]`),
 //! and accepted when, with `RSS₁`, `RSS₂`, `RSS₁₂` the residual sums of squares of `c₁` alone,

@@ -25,8 +25,14 @@ at the matched points.
              diagnosed with σ/√k, and the lack of fit of the location errors (F against the pure
              error) is reported: `repeat` {pure_error {sigma, dof, sigma_mean, largest},
              lack_of_fit {f, dof_fit, dof_pure, p_value}, summary}. Not with --sigma or --mpe.
---sigma MM   CMM repeatability (1σ, mm); default: estimated from the data (an estimate above
-             3 µm is questioned in the report: give the CMM's figure or a repeat).
+--sigma MM   CMM repeatability (1σ, mm); default: estimated from the data: the smallest of
+             estimates each blind to another kind of structure (fit plus a smooth basis per
+             curve, its robust and second-difference versions, the variogram nugget) and, when
+             that fit's residual is not white (a test calibrated for the fit, p < 1e-4), with
+             each curve's strongest sinusoid along the tool path removed and from a tapered
+             periodogram, so a short waviness is structure, not noise (JSON
+             structure.noise: every estimate, smooth_whiteness_p, not_white). An estimate above
+             3 µm is questioned in the report: give the CMM's figure or a repeat.
 --mpe A,K[,R0]  the CMM's MPE_E = A + L/K µm (L = distance from the part origin, mm; R0 the
              repeatability range, µm): σ_i = max(MPE_E/√3, R0/1.693), the median used; not
              with --sigma. `noise` in the JSON says which σ and where from.

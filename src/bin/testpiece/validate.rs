@@ -30,7 +30,9 @@ the confusion matrix, detection limits and the shrink achieved versus achievable
                the linear baseline); default: the linear twin.
 --pairs        instead: N parts with TWO effects each (every pair of candidates the part can tell
                apart, in turn, each at 1.5..6 x its detection limit); prints how often both are
-               named (the verdict's effect, its `with` and their equivalents).
+               named (the verdict's effect, its `with` and their equivalents), and how often
+               among the parts where each effect is visible beyond the baseline and the other
+               (joint ratio > 1: only there can any rule name both).
 --json         the report as JSON.
 
 Each part is also identified as `identify` would answer, on the linear design (no exact-model
