@@ -25,6 +25,7 @@ pub mod geometry;
 pub mod identify;
 pub mod machine;
 pub mod part;
+pub mod plan;
 pub mod pool;
 pub mod random;
 pub mod sensitivity;

@@ -9,6 +9,7 @@ mod envelope;
 mod forward;
 mod identify;
 mod info;
+mod plan;
 mod points;
 mod sensitivity;
 mod simulate;
@@ -33,6 +34,7 @@ Commands:
   compare     differences of two parts' parameters with σ_d = √(σa²+σb²), flagged at 2 and 3 σ
   budget      error budget per point: design, CAM path (--cl), NC trace, machine, tool, CMM
   validate    the withheld-effect benchmark of the gap diagnosis [--cases N] [--seed S] [--json]
+  plan        the measurement plan: points, predicted std, groups, detection limits; DMIS, CSV
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
 Options for all: --version prints the version.
@@ -65,6 +67,7 @@ fn main() -> ExitCode {
         "validate" => validate::run(rest),
         "budget" => budget::run(rest),
         "compare" => compare::run(rest),
+        "plan" => plan::run(rest),
         other => Err(format!(
             "unknown command `{other}`; run `testpiece --help` for the list"
         )),
