@@ -7,6 +7,7 @@ import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
 import { h, dataView, fig19View, identifyView, gapView, reportView, diagnosisOf, machines, machineName, fittedWith } from './views.js';
 import { setupBudget } from './budget.js';
+import { setupPlan } from './plan.js';
 
 const $ = (id) => document.getElementById(id);
 const mark = (name) => { try { performance.mark(name); } catch { /* no User Timing */ } };
@@ -275,6 +276,7 @@ async function main() {
   setupTabs();
   setupInputs();
   setupBudget($('view-budget'), { call, st, withProgress }); // issue 10
+  setupPlan($('view-plan'), { call, st }); // issue 19
   readSettings();
   const runner = await coreStarted;
   $('runner').textContent = runner;

@@ -252,6 +252,22 @@ pub fn plan(opts: &PlanOptions) -> Result<Plan, PlanError> {
     })
 }
 
+impl Plan {
+    /// The DMIS program of the plan ([`write_dmis`]), its header naming the software version,
+    /// the points per curve, the σ and the machine.
+    pub fn dmis(&self) -> String {
+        let header = format!(
+            "testpiece {} measurement plan: {} points ({} per curve A_Z11, A_Z25, B_Z11, B_Z25)\n{}\nmachine: {}",
+            self.version,
+            self.points.len(),
+            self.settings.per_curve.map(|n| n.to_string()).join(", "),
+            self.noise.summary,
+            self.settings.machine.describe()
+        );
+        write_dmis(&self.points, &header)
+    }
+}
+
 /// The nominal table for a CMM: `id,curve,x,y,z,nx,ny,nz` (mm, outward unit normal), the
 /// columns of `shared/spec/cmm-csv.md` without a deviation.
 pub fn nominal_csv(points: &[MeasurementPoint]) -> String {

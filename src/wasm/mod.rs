@@ -15,6 +15,7 @@ pub mod gap;
 pub mod geometry;
 pub mod identify;
 pub mod machine;
+pub mod plan;
 pub mod pool;
 pub mod settings;
 

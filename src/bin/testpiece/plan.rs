@@ -4,7 +4,7 @@
 use crate::args::Args;
 use crate::identify::{machine_and_l0, parse_mpe};
 use testpiece::machine::Branch;
-use testpiece::plan::{nominal_csv, plan, split_total, write_dmis, Plan, PlanOptions};
+use testpiece::plan::{nominal_csv, plan, split_total, Plan, PlanOptions};
 use testpiece::sensitivity::Mode;
 
 const HELP: &str = "\
@@ -109,8 +109,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     };
     let p = plan(&opts).map_err(|e| e.to_string())?;
     if let Some(path) = dmis {
-        std::fs::write(&path, write_dmis(&p.points, &header(&p)))
-            .map_err(|e| format!("{path}: {e}"))?;
+        std::fs::write(&path, p.dmis()).map_err(|e| format!("{path}: {e}"))?;
     }
     if let Some(path) = csv {
         std::fs::write(&path, nominal_csv(&p.points)).map_err(|e| format!("{path}: {e}"))?;
@@ -124,21 +123,6 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         print_text(&p);
     }
     Ok(())
-}
-
-/// The comment lines of the DMIS program: software, points, σ, machine.
-fn header(p: &Plan) -> String {
-    format!(
-        "testpiece {} measurement plan: {} points ({} per curve A_Z11, A_Z25, B_Z11, B_Z25)\n{}\nmachine: {}",
-        p.version,
-        p.points.len(),
-        p.settings
-            .per_curve
-            .map(|n| n.to_string())
-            .join(", "),
-        p.noise.summary,
-        p.settings.machine.describe()
-    )
 }
 
 fn print_text(p: &Plan) {
