@@ -27,6 +27,7 @@ pub mod machine;
 pub mod part;
 pub mod plan;
 pub mod pool;
+pub mod program;
 pub mod random;
 pub mod sensitivity;
 pub mod simulate;

@@ -11,6 +11,7 @@ mod identify;
 mod info;
 mod plan;
 mod points;
+mod program;
 mod sensitivity;
 mod simulate;
 mod validate;
@@ -35,6 +36,7 @@ Commands:
   budget      error budget per point: design, CAM path (--cl), NC trace, machine, tool, CMM
   validate    the withheld-effect benchmark of the gap diagnosis [--cases N] [--seed S] [--json]
   plan        the measurement plan: points, predicted std, groups, detection limits; DMIS, CSV
+  program     the finishing flank pass as a CL file (budget --cl) or ISO G-code in machine axes
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
 Options for all: --version prints the version.
@@ -68,6 +70,7 @@ fn main() -> ExitCode {
         "budget" => budget::run(rest),
         "compare" => compare::run(rest),
         "plan" => plan::run(rest),
+        "program" => program::run(rest),
         other => Err(format!(
             "unknown command `{other}`; run `testpiece --help` for the list"
         )),
