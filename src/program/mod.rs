@@ -176,7 +176,33 @@ pub fn program(opts: &ProgramOptions) -> Result<Program, ProgramError> {
     })
 }
 
+/// What a program guarantees, without its positions (for the page).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PassSummary {
+    pub surface: Surface,
+    pub positions: usize,
+    pub singular_positions: usize,
+    pub max_interval_error: f64,
+    pub max_step: f64,
+    pub max_scallop: f64,
+}
+
 impl Program {
+    /// Per pass: positions (in the singular zone too), largest interval error, step, scallop.
+    pub fn summary(&self) -> Vec<PassSummary> {
+        self.passes
+            .iter()
+            .map(|p| PassSummary {
+                surface: p.surface,
+                positions: p.positions.len(),
+                singular_positions: p.positions.iter().filter(|q| q.singular).count(),
+                max_interval_error: p.max_interval_error,
+                max_step: p.max_step,
+                max_scallop: p.max_scallop,
+            })
+            .collect()
+    }
+
     /// The header comment lines every output carries: software version, machine, L0, tool,
     /// branch, tolerance, feed, and that roughing is not included.
     pub fn header(&self) -> String {

@@ -17,6 +17,7 @@ pub mod identify;
 pub mod machine;
 pub mod plan;
 pub mod pool;
+pub mod program;
 pub mod settings;
 
 /// Converts a core result to a plain JS object (maps as objects, not `Map`): serialised to JSON
