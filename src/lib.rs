@@ -19,6 +19,7 @@ pub mod bench;
 pub mod budget;
 pub mod cmm;
 pub mod compare;
+pub mod compensation;
 pub mod examples;
 pub mod gap;
 pub mod geometry;

@@ -4,6 +4,7 @@
 mod args;
 mod budget;
 mod compare;
+mod compensation;
 mod diagnose;
 mod envelope;
 mod forward;
