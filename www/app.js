@@ -9,6 +9,7 @@ import { h, dataView, fig19View, identifyView, gapView, reportView, diagnosisOf,
 import { setupBudget } from './budget.js';
 import { setupPlan } from './plan.js';
 import { setupProgram } from './program.js';
+import { setupCompensation } from './compensation.js';
 
 const $ = (id) => document.getElementById(id);
 const mark = (name) => { try { performance.mark(name); } catch { /* no User Timing */ } };
@@ -279,6 +280,7 @@ async function main() {
   setupBudget($('view-budget'), { call, st, withProgress }); // issue 10
   setupPlan($('view-plan'), { call, st }); // issue 19
   setupProgram($('view-program'), { call, st, withProgress }); // issue 19
+  setupCompensation($('view-compensation'), { call, st, withProgress }); // issue 19
   readSettings();
   const runner = await coreStarted;
   $('runner').textContent = runner;

@@ -9,6 +9,7 @@ pub mod analysis;
 pub mod bench;
 pub mod budget;
 pub mod cmm;
+pub mod compensation;
 pub mod curves;
 pub mod examples;
 pub mod gap;
