@@ -15,9 +15,7 @@ use testpiece::analysis::{analyse, AnalysisOptions};
 use testpiece::compensation::compensation;
 use testpiece::machine::AxisName;
 use testpiece::simulate::simulate_exact;
-
-/// Predicted part after compensation against the exact simulation of the compensated machine.
-const AFTER_MM: f64 = 5e-4;
+use testpiece::tolerance::COMPENSATED_PART_MM as AFTER_MM;
 
 #[test]
 fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {

@@ -13,11 +13,7 @@ use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::identify::Status;
 use testpiece::part::SShape;
 use testpiece::plan::{plan, read_dmis_points, PlanOptions};
-use testpiece::tolerance::POINTS_MM;
-
-/// Relative agreement of a predicted std with the identification's (the design is rebuilt
-/// from the file's points by closest-point projection, which recovers `u` to ~1e-12).
-const STD_REL: f64 = 1e-9;
+use testpiece::tolerance::{PLAN_STD_REL as STD_REL, POINTS_MM};
 
 /// A part measured at the points of a 13-per-curve plan with σ = 2 µm, deviations from known
 /// errors plus a fixed ±1.5 µm pattern (the std does not depend on them: σ is a priori),

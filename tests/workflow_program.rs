@@ -15,10 +15,7 @@ use testpiece::budget::{read_trace, TraceMachine};
 use testpiece::machine::description::AngleUnit;
 use testpiece::machine::Branch;
 use testpiece::program::{program, read_gcode, ProgramOptions};
-
-/// Tool tips of the replayed G-code against the CL (mm): the G-code writes mm with 7 decimals
-/// and degrees with 8 (rounding ≤ 1e-7 mm + L0·1e-10 rad).
-const REPLAY_MM: f64 = 1e-6;
+use testpiece::tolerance::GCODE_REPLAY_MM as REPLAY_MM;
 
 fn budget_cam(cl: &str, tolerance: f64) -> (f64, f64) {
     let dir = std::env::temp_dir().join(format!(

@@ -19,7 +19,8 @@ export function setupPlan(root, ctx) {
     input('plan-per-curve', 'Points per curve', { min: 1, max: 1000, step: 1, value: 25 }),
     input('plan-sigma', 'CMM σ (µm)', { min: 0, step: 0.1, placeholder: 'from the MPE' }),
     input('plan-mpe-a', 'or MPE A (µm)', { min: 0, step: 0.1, value: 3 }),
-    input('plan-mpe-k', 'K (mm/µm)', { min: 1, step: 1, value: 75 }));
+    input('plan-mpe-k', 'K (mm/µm)', { min: 1, step: 1, value: 75 }),
+    input('plan-mpe-r0', 'R0 (µm)', { min: 0, step: 0.1, value: 3 }));
   const downloads = h('div', { class: 'bar' },
     h('button', { type: 'button', id: 'plan-dmis', onclick: () => last && download('testpiece-plan.dms', last.dmis, 'text/plain') }, 'Download DMIS program (ISO 22093)'),
     h('button', { type: 'button', id: 'plan-csv', onclick: () => last && download('testpiece-plan.csv', last.csv, 'text/csv') }, 'Download nominal table (CSV)'));
@@ -32,11 +33,11 @@ export function setupPlan(root, ctx) {
   async function refresh() {
     const n = Math.round(value('plan-per-curve'));
     const sigmaUm = value('plan-sigma');
-    const a = value('plan-mpe-a'), k = value('plan-mpe-k');
+    const a = value('plan-mpe-a'), k = value('plan-mpe-k'), r0 = value('plan-mpe-r0');
     const s = ctx.st.settings;
     const options = { per_curve: [n, n, n, n], machine: s.machine, mode: s.mode, branch: s.branch, l0: s.l0, tool_radius: s.tool_radius };
     if (Number.isFinite(sigmaUm) && sigmaUm > 0) options.sigma = sigmaUm / 1000;
-    else if (Number.isFinite(a) && Number.isFinite(k)) options.mpe = { a_um: a, k_mm: k, r0_um: 3 };
+    else if (Number.isFinite(a) && Number.isFinite(k)) options.mpe = { a_um: a, k_mm: k, r0_um: Number.isFinite(r0) ? r0 : 0 };
     const mine = ++seq;
     try {
       const r = await ctx.call('measurementPlan', options);

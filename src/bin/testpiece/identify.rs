@@ -162,6 +162,13 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         if export_fmt.is_some() || runs.is_some() {
             return Err("--export and --monte-carlo take one FILE, not a pool".to_string());
         }
+        if with_compensation {
+            return Err(
+                "--compensation takes one FILE: a pool is not diagnosed, so what the correction \
+                 leaves on a part is not known (identify the parts one by one)"
+                    .to_string(),
+            );
+        }
         if settings.noise_mpe.is_some() || settings.keep_outliers {
             return Err(
                 "--mpe and --keep-outliers take one FILE: a pool is not tested for outliers \
