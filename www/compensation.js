@@ -50,6 +50,9 @@ function render(out, c, name) {
   rows.push(['tool tip', 'reference pose', ...c.before.tool_tip.map(f6), '', '', '', ...c.after.tool_tip.map(f6), '', '', '', '']);
   out.append(table('compensation-axes', `Kinematic description (${c.before.code}): rotary lines by their point nearest the machine origin (mm) and unit direction; linear axes by their direction`,
     ['axis', 'kind', 'before x', 'before y', 'before z', 'before i', 'before j', 'before k', 'after x', 'after y', 'after z', 'after i', 'after j', 'after k', 'tilt (rad)'], rows));
+  out.append(table('compensation-offsets', 'Offset vectors as a five-axis controller chains them: machine zero → rotation centres (common perpendicular of a head\'s or a table\'s two rotary axes, else the foot from the tool tip or the origin) → tool tip (mm)',
+    ['from', 'to', 'before x', 'before y', 'before z', 'after x', 'after y', 'after z'],
+    c.before.offsets.map((o, i) => [o.from, o.to, ...o.vector.map(f6), ...c.after.offsets[i].vector.map(f6)])));
   out.append(table('compensation-entered', 'Location errors entered (the final answer)', ['error', 'value', 'unit', 'std', 'status'],
     c.entered.map((e) => [e.name, { text: e.value.toExponential(4), num: true, value: e.value }, e.unit, { text: e.std === null ? '—' : e.std.toExponential(2), num: true, value: e.std ?? '' }, e.status.replace('_', ' ')])));
   const pts = c.part.points;

@@ -11,6 +11,15 @@
 //! descriptions compare point by point). The tool tip at the reference pose is
 //! `Π_tool F_j(0) · (o_tool, 1)`. With the location errors `D_i` of paper 000 eq. 11 (exact),
 //! the description is the real machine's; without, the nominal one. Units: mm, unit vectors.
+//!
+//! **Offset vectors** ([`OffsetVector`]), the form a five-axis controller's kinematic
+//! transformation chains them (machine zero → rotation centres → tool tip): on each side, the
+//! rotation centre of a rotary axis is the foot of the common perpendicular with the other
+//! rotary axis of the same side (two axes: a head's or a table's pair), else, alone on its
+//! side, the foot of the perpendicular from the tool tip (tool side) or from the machine origin
+//! (workpiece side). The vectors run machine zero → first centre → second centre (→ tool tip
+//! on the tool side). Parallel lines have no common perpendicular: their points nearest the
+//! origin are used.
 
 use nalgebra::{Matrix4, Vector3, Vector4};
 use serde::Serialize;
@@ -32,6 +41,15 @@ pub struct AxisLine {
     pub direction: [f64; 3],
 }
 
+/// One offset vector of the description (mm, machine frame): from a reference point to the
+/// next (`machine zero`, `<axis> centre`, `tool tip`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OffsetVector {
+    pub from: String,
+    pub to: String,
+    pub vector: [f64; 3],
+}
+
 /// The kinematic description of a chain.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct KinematicDescription {
@@ -40,6 +58,67 @@ pub struct KinematicDescription {
     pub axes: Vec<AxisLine>,
     /// Tool tip at the reference pose (all axes 0), machine frame (mm).
     pub tool_tip: [f64; 3],
+    /// Machine zero → rotation centres (→ tool tip), per side (module docs).
+    pub offsets: Vec<OffsetVector>,
+}
+
+/// The feet on lines `(p, d)` and `(q, e)` (unit directions) of their common perpendicular;
+/// `None` for parallel lines.
+pub fn common_perpendicular(
+    (p, d): (Vector3<f64>, Vector3<f64>),
+    (q, e): (Vector3<f64>, Vector3<f64>),
+) -> Option<(Vector3<f64>, Vector3<f64>)> {
+    let b = d.dot(&e);
+    let den = 1.0 - b * b;
+    if den < 1e-12 {
+        return None;
+    }
+    let w = p - q;
+    let (dw, ew) = (d.dot(&w), e.dot(&w));
+    let s = (b * ew - dw) / den;
+    let t = (ew - b * dw) / den;
+    Some((p + d * s, q + e * t))
+}
+
+/// The foot of the perpendicular from `x` on the line `(p, d)` (unit `d`).
+fn foot(x: &Vector3<f64>, (p, d): (Vector3<f64>, Vector3<f64>)) -> Vector3<f64> {
+    p + d * (x - p).dot(&d)
+}
+
+/// The offset vectors of one side's rotary lines (module docs); `tip` on the tool side.
+fn side_offsets(lines: &[&AxisLine], tip: Option<Vector3<f64>>) -> Vec<OffsetVector> {
+    let line = |l: &AxisLine| {
+        (
+            Vector3::from(l.point.unwrap_or([0.0; 3])),
+            Vector3::from(l.direction),
+        )
+    };
+    let centres: Vec<Vector3<f64>> = match lines {
+        [a, b] => match common_perpendicular(line(a), line(b)) {
+            Some((x, y)) => vec![x, y],
+            None => vec![line(a).0, line(b).0],
+        },
+        [a] => vec![match tip {
+            Some(t) => foot(&t, line(a)),
+            None => line(a).0,
+        }],
+        _ => lines.iter().map(|l| line(l).0).collect(),
+    };
+    let mut names: Vec<String> = vec!["machine zero".to_string()];
+    names.extend(lines.iter().map(|l| format!("{} centre", l.axis)));
+    let mut pts = vec![Vector3::zeros()];
+    pts.extend(centres);
+    if let Some(t) = tip {
+        names.push("tool tip".to_string());
+        pts.push(t);
+    }
+    (1..pts.len())
+        .map(|k| OffsetVector {
+            from: names[k - 1].clone(),
+            to: names[k].clone(),
+            vector: arr(&(pts[k] - pts[k - 1])),
+        })
+        .collect()
 }
 
 /// The location-error vector `(X, Y, Z, A, B, C)` of `axis` in `errors` (mm, rad).
@@ -94,10 +173,16 @@ pub fn kinematic_description(chain: &Chain, errors: &MachineErrors) -> Kinematic
     axes.extend(tool);
     let o = chain.tool_offset();
     let tip: Vector3<f64> = (t * Vector4::new(o.x, o.y, o.z, 1.0)).xyz();
+    let rotary_on = |side: Side| -> Vec<&AxisLine> {
+        axes.iter().filter(|a| a.rotary && a.side == side).collect()
+    };
+    let mut offsets = side_offsets(&rotary_on(Side::Workpiece), None);
+    offsets.extend(side_offsets(&rotary_on(Side::Tool), Some(tip)));
     KinematicDescription {
         code: chain.code().to_string(),
-        axes,
         tool_tip: arr(&tip),
+        offsets,
+        axes,
     }
 }
 
@@ -142,5 +227,42 @@ mod tests {
         assert_near!(b.direction[2], 3e-4, 1e-12);
         assert_near!(b.direction[1], (1.0 - 9e-8f64).sqrt(), 1e-12);
         assert_near!(real.tool_tip[0], 0.03, 1e-12);
+        // Offsets: machine zero → C centre (workpiece side), machine zero → B centre → tip.
+        let names: Vec<(&str, &str)> = real
+            .offsets
+            .iter()
+            .map(|o| (o.from.as_str(), o.to.as_str()))
+            .collect();
+        assert_eq!(
+            names,
+            [
+                ("machine zero", "C centre"),
+                ("machine zero", "B centre"),
+                ("B centre", "tool tip")
+            ]
+        );
+        // B centre → tip is perpendicular to the B line and L0 long (the tip is on the tool
+        // axis, L0 from the pivot, 1e-9 mm).
+        let v = Vector3::from(real.offsets[2].vector);
+        assert_near!(v.norm(), PAPER000_L0, 1e-9);
+        assert_near!(v.dot(&Vector3::from(b.direction)), 0.0, 1e-9);
+    }
+
+    /// Two skew lines: x-axis and the line through (0, 0, 1) along y: feet (0,0,0), (0,0,1);
+    /// parallel lines: none (closed form, 1e-15).
+    #[test]
+    fn common_perpendicular_of_skew_lines() {
+        let (x, y) = common_perpendicular(
+            (Vector3::new(5.0, 0.0, 0.0), Vector3::x()),
+            (Vector3::new(0.0, -3.0, 1.0), Vector3::y()),
+        )
+        .unwrap();
+        assert_near!((x - Vector3::zeros()).norm(), 0.0, 1e-15);
+        assert_near!((y - Vector3::new(0.0, 0.0, 1.0)).norm(), 0.0, 1e-15);
+        assert!(common_perpendicular(
+            (Vector3::zeros(), Vector3::x()),
+            (Vector3::y(), Vector3::x())
+        )
+        .is_none());
     }
 }

@@ -1,7 +1,8 @@
 // Browser end-to-end test of the Correction view (issue 19, step 3): on the example part the page
 // opens with (C-axis backlash, synthetic), the kinematic description after correction and the
 // predicted part after compensation equal the native CLI's `testpiece identify FILE
-// --compensation --json`, and the notes say that the backlash is left in.
+// --compensation --json` (the B line and the offset vector to the tool tip after correction), and
+// the notes say that the backlash is left in.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
@@ -35,6 +36,10 @@ test('the Correction view equals identify --compensation on the example part', a
   const shownX = Number(await bRow.locator('td').nth(8).getAttribute('data-value'));
   const wantX = native.after.axes.find((a) => a.axis === 'B').point[0];
   assert.ok(Math.abs(shownX - wantX) <= 1e-9, `B line x after: page ${shownX} mm vs CLI ${wantX} mm`);
+  const tipRow = page.locator('[data-table="compensation-offsets"] tbody tr', { hasText: 'tool tip' }).first();
+  const shownTip = Number(await tipRow.locator('td').nth(7).getAttribute('data-value'));
+  const wantTip = native.after.offsets.find((o) => o.to === 'tool tip').vector[2];
+  assert.ok(Math.abs(shownTip - wantTip) <= 1e-9, `offset to the tool tip, z after: page ${shownTip} vs CLI ${wantTip}`);
   const summary = await page.locator('#compensation-summary').textContent();
   assert.ok(summary.includes(`${(native.part.after.rms * 1000).toFixed(2)} µm`), `${summary} vs after RMS ${native.part.after.rms}`);
   const notes = await page.locator('#compensation-notes').textContent();

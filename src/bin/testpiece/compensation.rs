@@ -22,6 +22,9 @@ fn description(title: &str, d: &KinematicDescription) {
         }
     }
     println!("  tool tip at the reference pose {} mm", vec3(d.tool_tip));
+    for o in &d.offsets {
+        println!("  offset {} -> {}: {} mm", o.from, o.to, vec3(o.vector));
+    }
 }
 
 /// The text report.

@@ -47,9 +47,9 @@ One answer per part: after this baseline identification the sim-to-real gap is d
                   verdict, correction, groups, rank, condition, residual, points_used,
                   points_excluded, ...}
 --compensation    the correction in the controller's terms: each axis's line (rotary: point
-                  and direction; linear: direction) and the tool tip at the reference pose in
-                  the machine frame, before (nominal) and after entering the identified location
-                  errors, and the predicted part after compensation (measured minus the location
+                  and direction; linear: direction), the tool tip at the reference pose and the
+                  offset vectors machine zero -> rotation centres -> tool tip, in the machine
+                  frame, before (nominal) and after entering the identified location errors, and the predicted part after compensation (measured minus the location
                   errors' part: a named effect or dR is not a location error and stays, said
                   in the notes); with --json the field `compensation`
 --export csv|json the compensation table of the final answer: name, iso_230_1, value, unit, std,
