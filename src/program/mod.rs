@@ -232,7 +232,7 @@ impl Program {
             2.0 * TOOL_RADIUS,
             o.tolerance,
             o.feed,
-            self.passes[0].positions.len(),
+            self.passes.first().map_or(0, |p| p.positions.len()),
             self.passes.get(1).map_or(0, |p| p.positions.len()),
         )
     }

@@ -152,6 +152,7 @@ pub fn sample_surface(
         message: e.to_string(),
     };
     let mut us = crate::budget::synthetic::equal_steps(part, s, max_step(tolerance, TOOL_RADIUS));
+    let mut last = (f64::NAN, 0.0, 1.0);
     for _ in 0..MAX_ROUNDS {
         let mids: Vec<f64> = us.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
         let path = machine_path(part, chain, s, branch, &us).map_err(kin)?;
@@ -178,6 +179,7 @@ pub fn sample_surface(
         if split.is_empty() {
             return Ok((path, worst.0, worst_scallop));
         }
+        last = (worst.0, us[worst.1], us[worst.1 + 1]);
         if us.len() + split.len() > crate::budget::MAX_POSITIONS / 2 {
             return Err(ProgramError::NotConverged {
                 surface: letter,
@@ -191,14 +193,13 @@ pub fn sample_surface(
         us.extend(split);
         us.sort_by(f64::total_cmp);
     }
-    let path = machine_path(part, chain, s, branch, &us).map_err(kin)?;
     Err(ProgramError::NotConverged {
         surface: letter,
-        positions: path.len(),
-        error: f64::NAN,
+        positions: us.len(),
+        error: last.0,
         tolerance,
-        u0: 0.0,
-        u1: 1.0,
+        u0: last.1,
+        u1: last.2,
     })
 }
 
