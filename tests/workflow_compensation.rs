@@ -89,6 +89,11 @@ fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
         "{:?}",
         c.notes
     );
+    assert_eq!(c.effects_left.len(), 1);
+    assert!(
+        c.effects_left[0].remedy.machine_error,
+        "backlash is a machine error"
+    );
     // The B line moves by the identified EX0B along x and turns by the identified tilts.
     let ex0b = c.entered.iter().find(|e| e.name == "EX0B").unwrap().value;
     let b = c.changes.iter().find(|ch| ch.axis == AxisName::B).unwrap();

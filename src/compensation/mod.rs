@@ -12,10 +12,12 @@
 //! Units: mm, rad; deviations `(measured − nominal)·N`, + = material left.
 
 pub mod part;
+pub mod remedy;
 
 use serde::Serialize;
 
 pub use part::{predicted_part, LeftIn, PredictedPart, PredictedPoint, Spread};
+pub use remedy::{remedy, Remedy};
 
 use crate::analysis::Analysis;
 use crate::identify::Status;
@@ -53,7 +55,20 @@ pub struct Compensation {
     pub tool_tip_shift: [f64; 3],
     pub entered: Vec<EnteredError>,
     pub part: PredictedPart,
+    /// The named effects left on the part, with what corrects them.
+    pub effects_left: Vec<EffectLeft>,
     pub notes: Vec<String>,
+}
+
+/// A named effect the kinematic compensation leaves on the part.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EffectLeft {
+    pub effect: crate::gap::Effect,
+    pub plain_name: &'static str,
+    #[serde(flatten)]
+    pub remedy: Remedy,
+    /// RMS of its fitted part over the used points (mm; the largest of its parameters' parts).
+    pub rms: f64,
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -123,7 +138,23 @@ pub fn compensation(a: &Analysis) -> Compensation {
         &values,
         &is_location,
     );
-    let notes = notes(a, &entered, &part);
+    let effects_left: Vec<EffectLeft> = a
+        .correction
+        .effects_included
+        .iter()
+        .map(|&e| EffectLeft {
+            effect: e,
+            plain_name: e.plain_name(),
+            remedy: remedy(e),
+            rms: part
+                .left_in
+                .iter()
+                .filter(|l| l.parameter.starts_with(&format!("{}.", e.id())))
+                .map(|l| l.rms)
+                .fold(0.0, f64::max),
+        })
+        .collect();
+    let notes = notes(a, &entered, &part, &effects_left);
     Compensation {
         machine: a.settings.machine.describe(),
         tool_tip_shift: sub(after.tool_tip, before.tool_tip),
@@ -132,12 +163,18 @@ pub fn compensation(a: &Analysis) -> Compensation {
         changes,
         entered,
         part,
+        effects_left,
         notes,
     }
 }
 
 /// What the compensation does and does not correct, in sentences.
-fn notes(a: &Analysis, entered: &[EnteredError], part: &PredictedPart) -> Vec<String> {
+fn notes(
+    a: &Analysis,
+    entered: &[EnteredError],
+    part: &PredictedPart,
+    effects_left: &[EffectLeft],
+) -> Vec<String> {
     let mut notes = vec![format!(
         "Enter the \"after\" description in the controller's kinematic transformation (each \
          axis's line and the tool tip at the reference pose, machine frame, all axes at 0): its \
@@ -161,19 +198,19 @@ fn notes(a: &Analysis, entered: &[EnteredError], part: &PredictedPart) -> Vec<St
             convention.join(", ")
         ));
     }
-    for e in &a.correction.effects_included {
-        let rms: f64 = part
-            .left_in
-            .iter()
-            .filter(|l| l.parameter.starts_with(&format!("{}.", e.id())))
-            .map(|l| l.rms)
-            .fold(0.0, f64::max);
+    for e in effects_left {
         notes.push(format!(
-            "Left in: the {} ({}) is not a location error of the kinematic description, so this \
-             compensation does not remove it (its part: {:.2} µm RMS); correct it at its source.",
-            e.plain_name(),
-            e.id(),
-            rms * 1e3
+            "Left in: the {} ({}) is {}, so this compensation does not remove it (its part: \
+             {:.2} µm RMS); corrected by {}.",
+            e.plain_name,
+            e.effect.id(),
+            if e.remedy.machine_error {
+                "a machine error but not a location error of the kinematic description"
+            } else {
+                "not an error of the machine"
+            },
+            e.rms * 1e3,
+            e.remedy.corrected_by
         ));
     }
     if let Some(l) = part
