@@ -45,7 +45,7 @@ const read = (f) => fs.readFileSync(path.join(WWW, f), 'utf8');
 const wasm = fs.readFileSync(path.join(WWW, 'pkg', 'testpiece_bg.wasm'));
 const glue = foldGlue(read('pkg/testpiece.js'));
 // Dependency order: each module after the ones it imports.
-const modules = ['pkg/build', 'plot', 'export', 'core', 'views', 'parts', 'curves', 'budget', 'app'].filter((m) => fs.existsSync(path.join(WWW, `${m}.js`)));
+const modules = ['pkg/build', 'plot', 'export', 'core', 'views', 'parts', 'curves', 'budget', 'plan', 'program', 'compensation', 'app'].filter((m) => fs.existsSync(path.join(WWW, `${m}.js`)));
 let app = modules.map((m) => fold(m, read(`${m}.js`))).join('\n');
 // The worker's source: the glue, then the message handler. `</script` cannot occur in it.
 // (The glue's default init resolves the wasm next to `import.meta.url`; only initSync is used

@@ -7,6 +7,9 @@ import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
 import { h, dataView, fig19View, identifyView, gapView, reportView, diagnosisOf, machines, machineName, fittedWith } from './views.js';
 import { setupBudget } from './budget.js';
+import { setupPlan } from './plan.js';
+import { setupProgram } from './program.js';
+import { setupCompensation } from './compensation.js';
 
 const $ = (id) => document.getElementById(id);
 const mark = (name) => { try { performance.mark(name); } catch { /* no User Timing */ } };
@@ -296,6 +299,9 @@ async function main() {
   setupTabs();
   setupInputs();
   setupBudget($('view-budget'), { call, st, withProgress }); // issue 10
+  setupPlan($('view-plan'), { call, st }); // issue 19
+  setupProgram($('view-program'), { call, st, withProgress }); // issue 19
+  setupCompensation($('view-compensation'), { call, st, withProgress }); // issue 19
   readSettings();
   const runner = await coreStarted;
   $('runner').textContent = runner;

@@ -5,7 +5,7 @@
 const BUILD = new URL(self.location.href).searchParams.get('build') || 'dev';
 const CACHE = `testpiece-${BUILD}`;
 const ASSETS = [
-  './', 'index.html', 'style.css', 'app.js', 'core.js', 'worker.js', 'plot.js', 'views.js', 'budget.js',
+  './', 'index.html', 'style.css', 'app.js', 'core.js', 'worker.js', 'plot.js', 'views.js', 'budget.js', 'plan.js', 'program.js', 'compensation.js',
   'export.js', 'parts.js', 'curves.js', 'pkg/testpiece.js', 'pkg/testpiece_bg.wasm', 'pkg/build.js',
 ];
 

@@ -21,6 +21,7 @@
 //! Units: mm and rad (the CLI converts degrees at its boundary). Positions are the tool point in
 //! the workpiece frame; the tool direction points from the tip up the tool, towards the spindle.
 
+pub mod axis_lines;
 pub mod chain;
 pub mod description;
 pub mod direct;

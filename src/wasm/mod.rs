@@ -9,13 +9,16 @@ pub mod analysis;
 pub mod bench;
 pub mod budget;
 pub mod cmm;
+pub mod compensation;
 pub mod curves;
 pub mod examples;
 pub mod gap;
 pub mod geometry;
 pub mod identify;
 pub mod machine;
+pub mod plan;
 pub mod pool;
+pub mod program;
 pub mod settings;
 
 /// Converts a core result to a plain JS object (maps as objects, not `Map`): serialised to JSON

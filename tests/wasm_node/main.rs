@@ -11,3 +11,4 @@ mod identify;
 mod machine;
 mod parity;
 mod summary;
+mod workflow;

@@ -46,6 +46,12 @@ One answer per part: after this baseline identification the sim-to-real gap is d
 --json            {parameters (the final answer), baseline_parameters, effects_included, shift,
                   verdict, correction, groups, rank, condition, residual, points_used,
                   points_excluded, ...}
+--compensation    the correction in the controller's terms: each axis's line (rotary: point
+                  and direction; linear: direction), the tool tip at the reference pose and the
+                  offset vectors machine zero -> rotation centres -> tool tip, in the machine
+                  frame, before (nominal) and after entering the identified location errors, and the predicted part after compensation (measured minus the location
+                  errors' part: a named effect or dR is not a location error and stays, said
+                  in the notes); with --json the field `compensation`
 --export csv|json the compensation table of the final answer: name, iso_230_1, value, unit, std,
                   status, fitted_with (effect ids joined by +, structure, or none)
 --repeat FILE2    the same part measured again (same point ids; once per repeat): the mean
@@ -109,6 +115,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let tool_radius = args.flag("tool-radius");
     let json = args.flag("json");
     let no_refine = args.flag("no-refine");
+    let with_compensation = args.flag("compensation");
     let exclude_bad_rows = args.flag("exclude-bad-rows");
     let export_fmt = args.value("export").map(str::to_string);
     let sigma = match args.value("sigma") {
@@ -169,6 +176,13 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         }
         if export_fmt.is_some() || runs.is_some() {
             return Err("--export and --monte-carlo take one FILE, not a pool".to_string());
+        }
+        if with_compensation {
+            return Err(
+                "--compensation takes one FILE: a pool is not diagnosed, so what the correction \
+                 leaves on a part is not known (identify the parts one by one)"
+                    .to_string(),
+            );
         }
         if settings.noise_mpe.is_some() || settings.keep_outliers {
             return Err(
@@ -260,6 +274,11 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         if let Some(mc) = mc {
             v["monte_carlo"] = serde_json::to_value(mc).map_err(|e| e.to_string())?;
         }
+        if with_compensation {
+            v["compensation"] =
+                serde_json::to_value(testpiece::compensation::compensation(&analysis))
+                    .map_err(|e| e.to_string())?;
+        }
         println!(
             "{}",
             serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
@@ -340,6 +359,9 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         }
     }
     println!("{}", analysis.noise.summary);
+    if with_compensation {
+        crate::compensation::print(&testpiece::compensation::compensation(&analysis));
+    }
     if let Some(mc) = mc {
         println!(
             "Monte Carlo ({} runs, seed {}, σ {:.2e}..{:.2e} mm):",

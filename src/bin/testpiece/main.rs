@@ -4,12 +4,15 @@
 mod args;
 mod budget;
 mod compare;
+mod compensation;
 mod diagnose;
 mod envelope;
 mod forward;
 mod identify;
 mod info;
+mod plan;
 mod points;
+mod program;
 mod sensitivity;
 mod simulate;
 mod validate;
@@ -28,11 +31,18 @@ Commands:
   points      the 100 built-in measurement points: id,curve,u,v,x,y,z,nx,ny,nz,h
   envelope    flank-path deviation at the points (id,curve,deviation); --surface-max per surface
   simulate    a synthetic measured part for given errors: id,curve,x,y,z,nx,ny,nz,deviation
-  identify    the machine errors, groups, uncertainty and residuals from a measured part
+  identify    the machine errors, groups, uncertainty and residuals; --compensation: the
+              errors as the controller's kinematic description and the part after correction
   diagnose    the sim-to-real gap of a measured part: where, which effect, how far [--json]
   compare     differences of two parts' parameters with σ_d = √(σa²+σb²), flagged at 2 and 3 σ
   budget      error budget per point: design, CAM path (--cl), NC trace, machine, tool, CMM
   validate    the withheld-effect benchmark of the gap diagnosis [--cases N] [--seed S] [--json]
+  plan        the measurement plan: points, predicted std, groups, detection limits; DMIS, CSV
+  program     the finishing flank pass as a CL file (budget --cl) or ISO G-code in machine axes
+
+The whole test, in order: plan (where to probe, what it will tell; DMIS for the CMM) -> program
+(the finishing pass) -> machine and measure -> identify / diagnose / budget -> identify
+--compensation (the errors in the controller's terms, the part after correction).
 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
 Options for all: --version prints the version.
@@ -65,6 +75,8 @@ fn main() -> ExitCode {
         "validate" => validate::run(rest),
         "budget" => budget::run(rest),
         "compare" => compare::run(rest),
+        "plan" => plan::run(rest),
+        "program" => program::run(rest),
         other => Err(format!(
             "unknown command `{other}`; run `testpiece --help` for the list"
         )),

@@ -1,0 +1,34 @@
+//! The errors of a measurement plan, each with the offending values.
+
+/// Why a measurement plan could not be made.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum PlanError {
+    #[error(
+        "{per_curve} points per curve: expected 1 to {max} (4 curves: A_Z11, A_Z25, B_Z11, B_Z25)"
+    )]
+    PointsPerCurve { per_curve: usize, max: usize },
+    #[error("{total} points in all: expected 4 to {max} (spread over the 4 curves)")]
+    TotalPoints { total: usize, max: usize },
+    #[error("CMM uncertainty σ = {0} mm is not a positive finite number")]
+    BadSigma(f64),
+    #[error(
+        "the CMM noise is given twice: σ = {sigma} mm and MPE = {a} + L/{k} µm; give one of them"
+    )]
+    SigmaAndMpe { sigma: f64, a: f64, k: f64 },
+    #[error("CMM MPE: {0}")]
+    BadMpe(String),
+    #[error("L0 = {0} mm is not a positive finite length")]
+    BadL0(f64),
+    #[error("design at the plan's points: {0}")]
+    Design(String),
+    #[error("predicted identification: {0}")]
+    Identify(String),
+    #[error("effect signatures at the plan's points: {0}")]
+    Effects(String),
+    #[error("DMIS line {line}: {message} (found `{text}`)")]
+    Dmis {
+        line: usize,
+        message: &'static str,
+        text: String,
+    },
+}

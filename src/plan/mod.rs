@@ -1,0 +1,282 @@
+//! The measurement plan (issue 19, step 1): before a part is machined, where to probe it and
+//! what the identification and the gap diagnosis will then be able to tell.
+//!
+//! Pipeline position: part geometry → **plan** → (machining, CMM) → identify → gap. A plan is
+//! - the points ([`layout`]): `n` per curve at equal arc length, ids, curve, position, outward
+//!   normal (mm);
+//! - the predicted std of every location error and the groups the part cannot separate
+//!   ([`predict`]: the identification itself on the plan's design with an a priori σ, so the
+//!   figures equal those of `identify --sigma σ --effects none` on a part measured there);
+//! - the detection limit of every effect of `shared/spec/effects.md` ([`detection`]: the size
+//!   whose unabsorbed part reaches the `2.5 σ` rule);
+//! - the CMM program ([`dmis`], ISO 22093) and the nominal table ([`nominal_csv`]).
+//!
+//! σ is the CMM's standard uncertainty of one deviation: given (mm), or from its MPE
+//! `A + L/K` µm by the analysis's own rule ([`crate::analysis::noise_from_mpe`]: the median over
+//! the plan's points of `max(MPE_E(L)/√3, R0/1.693)`), by default the CMM of paper 000 §6
+//! (`3 + L/75` µm, `R0` = 3 µm). Units: mm and rad.
+
+pub mod detection;
+pub mod dmis;
+mod error;
+pub mod layout;
+pub mod predict;
+
+use serde::ser::SerializeMap;
+use serde::{Deserialize, Serialize, Serializer};
+
+pub use detection::{detection_limits, DetectionLimit, DetectionLimits, ParameterLimit};
+pub use dmis::{read_dmis_points, write_dmis, DmisPoint};
+pub use error::PlanError;
+pub use layout::{plan_points, split_total, MAX_PER_CURVE};
+pub use predict::{predicted_identification, PredictedParameter, Prediction};
+
+use crate::analysis::{noise_from_mpe, AnalysisOptions, MachineChoice};
+use crate::gap::effects::builtin::{missing_catalogue_axis, part_model_on};
+use crate::gap::DiagnoseOptions;
+use crate::identify::monte_carlo::CmmMpe;
+use crate::identify::Group;
+use crate::machine::chain::PAPER000_L0;
+use crate::machine::Branch;
+use crate::part::{MeasurementPoint, SShape};
+use crate::sensitivity::Mode;
+
+/// Settings of a plan; `Default`: 25 points per curve, the CMM of paper 000 (MPE `3 + L/75` µm,
+/// `R0` 3 µm), paper 000's machine with L0 = 499.889 mm, `physical` mode, signed B, no `dR`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct PlanOptions {
+    /// Points on each curve `A_Z11, A_Z25, B_Z11, B_Z25` (each 1..=1000).
+    pub per_curve: [usize; 4],
+    /// CMM σ of one deviation (mm); `None`: from `mpe`.
+    pub sigma: Option<f64>,
+    /// CMM MPE (used when `sigma` is `None`; absent: paper 000's CMM).
+    pub mpe: Option<CmmMpe>,
+    pub machine: MachineChoice,
+    pub mode: Mode,
+    pub branch: Branch,
+    /// Pivot-to-tip length (mm).
+    pub l0: f64,
+    /// Include the tool-radius term `dR` (mm) in the predicted identification.
+    pub tool_radius: bool,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        PlanOptions {
+            per_curve: [25; 4],
+            sigma: None,
+            mpe: None,
+            machine: MachineChoice::Paper000,
+            mode: Mode::Physical,
+            branch: Branch::Signed,
+            l0: PAPER000_L0,
+            tool_radius: false,
+        }
+    }
+}
+
+impl PlanOptions {
+    /// The analysis settings an identification of the planned part uses (σ given).
+    pub fn analysis(&self, sigma: f64) -> AnalysisOptions {
+        AnalysisOptions {
+            machine: self.machine,
+            mode: self.mode,
+            branch: self.branch,
+            l0: self.l0,
+            tool_radius: self.tool_radius,
+            noise_sigma: Some(sigma),
+            effects: crate::gap::correct::EffectsChoice::None,
+            ..AnalysisOptions::default()
+        }
+    }
+}
+
+/// The σ a plan uses and where it comes from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlanNoise {
+    /// `given` or `mpe`.
+    pub source: &'static str,
+    /// σ of one deviation (mm).
+    pub sigma: f64,
+    /// The MPE it came from (source `mpe`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mpe: Option<CmmMpe>,
+    pub summary: String,
+}
+
+/// A measurement plan (`testpiece plan --json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Plan {
+    pub version: &'static str,
+    pub settings: PlanOptions,
+    pub noise: PlanNoise,
+    /// The points to measure (`id, curve, surface, u, v, x, y, z, nx, ny, nz, h`).
+    pub points: Vec<MeasurementPoint>,
+    /// `{NAME: {std, status, unit}}`, predicted, in design order.
+    pub parameters: PredictedMap,
+    /// The groups the part cannot separate (and the weak ones), as `identify` reports them.
+    pub groups: Vec<Group>,
+    /// Numerical rank and condition number of the unit-scaled design.
+    pub rank: usize,
+    pub condition: f64,
+    /// `{effect id: {parameter: smallest visible size}}` (the parameter's unit; null: never).
+    pub detection_limits: DetectionLimits,
+    /// The same with units, absorbed fractions and plain names, for reports.
+    pub detection_detail: Vec<DetectionLimit>,
+    /// `k` of the `k σ` rule (2.5).
+    pub detect_factor: f64,
+    pub notes: Vec<String>,
+}
+
+/// Predicted parameters in design order, serialised as `{name: {std, status, unit}}`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PredictedMap(pub Vec<(String, PredictedParameter)>);
+
+impl Serialize for PredictedMap {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_map(Some(self.0.len()))?;
+        for (n, p) in &self.0 {
+            m.serialize_entry(n, p)?;
+        }
+        m.end()
+    }
+}
+
+impl PredictedMap {
+    /// The prediction of a parameter by name.
+    pub fn get(&self, name: &str) -> Option<&PredictedParameter> {
+        self.0.iter().find(|(n, _)| n == name).map(|(_, p)| p)
+    }
+}
+
+/// The σ of `opts` at `points` (checked).
+pub fn plan_noise(opts: &PlanOptions, points: &[MeasurementPoint]) -> Result<PlanNoise, PlanError> {
+    match (opts.sigma, opts.mpe) {
+        (Some(sigma), Some(m)) => Err(PlanError::SigmaAndMpe {
+            sigma,
+            a: m.a_um,
+            k: m.k_mm,
+        }),
+        (Some(s), None) if !(s.is_finite() && s > 0.0) => Err(PlanError::BadSigma(s)),
+        (Some(sigma), None) => Ok(PlanNoise {
+            source: "given",
+            sigma,
+            mpe: None,
+            summary: format!("CMM σ = {:.2} µm, as given.", sigma * 1e3),
+        }),
+        (None, m) => {
+            let m = m.unwrap_or_else(CmmMpe::paper000);
+            let m = CmmMpe::try_new(m.a_um, m.k_mm, m.r0_um)
+                .map_err(|e| PlanError::BadMpe(e.to_string()))?;
+            let lengths: Vec<f64> = points.iter().map(|p| p.point.norm()).collect();
+            let (sigma, lo, hi) = noise_from_mpe(&m, &lengths);
+            Ok(PlanNoise {
+                source: "mpe",
+                sigma,
+                mpe: Some(m),
+                summary: format!(
+                    "CMM σ = {:.2} µm from MPE_E = {} + L/{} µm (R0 = {} µm): \
+                     max(MPE_E(L)/√3, R0/1.693) = {:.2}..{:.2} µm over the points, median used.",
+                    sigma * 1e3,
+                    m.a_um,
+                    m.k_mm,
+                    m.r0_um,
+                    lo * 1e3,
+                    hi * 1e3
+                ),
+            })
+        }
+    }
+}
+
+/// The measurement plan of `opts`.
+pub fn plan(opts: &PlanOptions) -> Result<Plan, PlanError> {
+    if !(opts.l0.is_finite() && opts.l0 > 0.0) {
+        return Err(PlanError::BadL0(opts.l0));
+    }
+    let part = SShape::iso();
+    let points = plan_points(&part, opts.per_curve)?;
+    let noise = plan_noise(opts, &points)?;
+    let id = predicted_identification(&part, &points, &opts.analysis(noise.sigma), noise.sigma)?;
+    let pred = Prediction::of(&id);
+    let mut notes = vec![format!(
+        "Predicted with σ = {:.3} µm for `testpiece identify FILE --sigma {} --effects none` on a \
+         part measured at these {} points (the same design: {} mode, {} B branch).",
+        noise.sigma * 1e3,
+        noise.sigma,
+        points.len(),
+        match opts.mode {
+            Mode::Physical => "physical",
+            Mode::Paper => "paper",
+        },
+        match opts.branch {
+            Branch::Signed => "signed",
+            Branch::Positive => "positive",
+        }
+    )];
+    // The diagnosis's catalogue needs X, Y, Z, B, C; paper 001's A-B head is diagnosed on paper
+    // 000's machine (as the analysis does), said in a note.
+    let mut sens = crate::analysis::sensitivity_options(&opts.analysis(noise.sigma));
+    if let Some(axis) = missing_catalogue_axis(&sens.chain) {
+        notes.push(format!(
+            "{} has no {axis:?} axis for the catalogue of effects.md: the detection limits are on \
+             paper 000's B head / C table.",
+            opts.machine.describe()
+        ));
+        sens = sens.with_chain(MachineChoice::Paper000.chain(opts.l0));
+    }
+    let model =
+        part_model_on(&part, &points, &sens).map_err(|e| PlanError::Effects(e.to_string()))?;
+    let k = DiagnoseOptions::default().detect_factor;
+    let limits = detection_limits(&model, noise.sigma, k);
+    notes.push(format!(
+        "Detection limit: the size of each effect whose part the location errors cannot absorb \
+         has an RMS of {k} σ = {:.2} µm over the points (effects.md decision rule); null: the \
+         location errors absorb it entirely on this plan.",
+        k * noise.sigma * 1e3
+    ));
+    Ok(Plan {
+        version: crate::VERSION,
+        settings: opts.clone(),
+        noise,
+        parameters: PredictedMap(pred.names.into_iter().zip(pred.parameters).collect()),
+        groups: pred.groups,
+        rank: pred.rank,
+        condition: pred.condition,
+        detection_detail: limits.0.clone(),
+        detection_limits: limits,
+        detect_factor: k,
+        points,
+        notes,
+    })
+}
+
+impl Plan {
+    /// The DMIS program of the plan ([`write_dmis`]), its header naming the software version,
+    /// the points per curve, the σ and the machine.
+    pub fn dmis(&self) -> String {
+        let header = format!(
+            "testpiece {} measurement plan: {} points ({} per curve A_Z11, A_Z25, B_Z11, B_Z25)\n{}\nmachine: {}",
+            self.version,
+            self.points.len(),
+            self.settings.per_curve.map(|n| n.to_string()).join(", "),
+            self.noise.summary,
+            self.settings.machine.describe()
+        );
+        write_dmis(&self.points, &header)
+    }
+}
+
+/// The nominal table for a CMM: `id,curve,x,y,z,nx,ny,nz` (mm, outward unit normal), the
+/// columns of `shared/spec/cmm-csv.md` without a deviation.
+pub fn nominal_csv(points: &[MeasurementPoint]) -> String {
+    let mut s = String::from("id,curve,x,y,z,nx,ny,nz\n");
+    for p in points {
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{}\n",
+            p.id, p.curve, p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z
+        ));
+    }
+    s
+}

@@ -1,0 +1,32 @@
+//! The errors of a part program, each with the offending values.
+
+/// Why a part program could not be made or read back.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ProgramError {
+    #[error("chord tolerance {0} mm: expected a finite number in [1e-5, 1] mm")]
+    BadTolerance(f64),
+    #[error("feed {0} mm/min: expected a positive finite number")]
+    BadFeed(f64),
+    #[error("L0 = {0} mm is not a positive finite length")]
+    BadL0(f64),
+    #[error("inverse kinematics of surface {surface}: {message}")]
+    Kinematics { surface: char, message: String },
+    #[error(
+        "surface {surface}: {positions} positions and the chord error is still {error:e} mm > \
+         {tolerance} mm between u = {u0} and u = {u1} (the axes turn too fast there)"
+    )]
+    NotConverged {
+        surface: char,
+        positions: usize,
+        error: f64,
+        tolerance: f64,
+        u0: f64,
+        u1: f64,
+    },
+    #[error("G-code line {line}: {message} (found `{text}`)")]
+    GCode {
+        line: usize,
+        message: &'static str,
+        text: String,
+    },
+}

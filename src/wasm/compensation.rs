@@ -1,0 +1,23 @@
+//! Compensation in the controller's terms (issue 19, step 3) for the page: one call when the
+//! Correction view is opened for a file (stateless: the file is analysed again with the same
+//! settings, as `testpiece identify FILE --compensation` does).
+
+use wasm_bindgen::prelude::*;
+
+use crate::analysis::{analyse, AnalysisOptions};
+use crate::compensation::compensation;
+
+/// The compensation of one CMM file's final answer: `options` as for `analyse`. Returns the
+/// [`crate::compensation::Compensation`] (`{machine, before, after, changes, tool_tip_shift,
+/// entered, part: {points: [{id, curve, measured, machine, left_model, residual, after, used}],
+/// before, after, machine, left_in}, notes}`, mm, rad).
+#[wasm_bindgen]
+pub fn compensate(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, JsError> {
+    let opts: AnalysisOptions = if options.is_undefined() || options.is_null() {
+        AnalysisOptions::default()
+    } else {
+        super::from_js(options).map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))?
+    };
+    let a = analyse(bytes, name, &opts).map_err(|e| JsError::new(&e.to_string()))?;
+    super::to_js(&compensation(&a))
+}

@@ -1,0 +1,24 @@
+//! The measurement plan (issue 19, step 1) for the page: one call per change of the plan's
+//! settings, returning the figures and the two CMM programs as text (downloads need no second
+//! call).
+
+use wasm_bindgen::prelude::*;
+
+use crate::plan::{nominal_csv, plan, PlanOptions};
+
+/// The plan of `options`, a [`PlanOptions`] object (`{per_curve: [n, n, n, n], sigma (mm) |
+/// mpe: {a_um, k_mm, r0_um}, machine, mode, branch, l0, tool_radius}`, any part absent:
+/// defaults). Returns `{plan, dmis, csv}`: the [`crate::plan::Plan`] (JSON of `testpiece plan
+/// --json`), the DMIS program and the nominal table of `testpiece plan --dmis / --csv`.
+#[wasm_bindgen(js_name = measurementPlan)]
+pub fn measurement_plan(options: JsValue) -> Result<JsValue, JsError> {
+    let opts: PlanOptions = if options.is_undefined() || options.is_null() {
+        PlanOptions::default()
+    } else {
+        super::from_js(options).map_err(|e| JsError::new(&format!("bad plan settings: {e}")))?
+    };
+    let p = plan(&opts).map_err(|e| JsError::new(&e.to_string()))?;
+    let dmis = p.dmis();
+    let csv = nominal_csv(&p.points);
+    super::to_js(&serde_json::json!({ "plan": p, "dmis": dmis, "csv": csv }))
+}

@@ -1,0 +1,31 @@
+//! The part program (issue 19, step 2) for the page: one call per "make the program" action,
+//! returning what it guarantees and the two files as text.
+
+use wasm_bindgen::prelude::*;
+
+use crate::program::{program, ProgramOptions};
+
+/// The program of `options`, a [`ProgramOptions`] object (`{machine, l0, branch, tolerance
+/// (mm), feed (mm/min)}`, any part absent: defaults). Returns `{settings, machine, header,
+/// passes: [{surface, positions, singular_positions, max_interval_error, max_step,
+/// max_scallop}], notes, cl, gcode}` (mm); `cl` and `gcode` are the texts of `testpiece program
+/// --format cl|gcode`.
+#[wasm_bindgen(js_name = partProgram)]
+pub fn part_program(options: JsValue) -> Result<JsValue, JsError> {
+    let opts: ProgramOptions = if options.is_undefined() || options.is_null() {
+        ProgramOptions::default()
+    } else {
+        super::from_js(options).map_err(|e| JsError::new(&format!("bad program settings: {e}")))?
+    };
+    let p = program(&opts).map_err(|e| JsError::new(&e.to_string()))?;
+    let gcode = p.gcode().map_err(|e| JsError::new(&e.to_string()))?;
+    super::to_js(&serde_json::json!({
+        "settings": p.settings,
+        "machine": p.machine,
+        "header": p.header(),
+        "passes": p.summary(),
+        "notes": p.notes,
+        "cl": p.cl_apt(),
+        "gcode": gcode,
+    }))
+}

@@ -1,0 +1,56 @@
+// Browser end-to-end test of the Program view (issue 19, step 2): the program made by the wasm
+// core has the positions of the native CLI's `testpiece program` (both passes), its CL download
+// holds the same GOTO positions to 1e-9 mm, and the G-code download has one G01 block per
+// position and the header that says roughing is not included.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import { openBrowser, ROOT } from './browser.mjs';
+
+let browser, url, context;
+
+before(async () => {
+  browser = await openBrowser('program', { acceptDownloads: true });
+  ({ url, context } = browser);
+});
+
+after(async () => {
+  await browser?.close();
+});
+
+const cli = (...args) => execFileSync('cargo', ['run', '--quiet', '--bin', 'testpiece', '--', 'program', ...args], { cwd: ROOT, encoding: 'utf8', maxBuffer: 64 << 20 });
+const gotos = (text) => text.split('\n').filter((l) => l.startsWith('GOTO/')).map((l) => l.slice(5).split(',').map(Number));
+
+test('the Program view equals the CLI and its files download', async () => {
+  const page = await context.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  await page.goto(url);
+  await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+  await page.click('#tab-program');
+  await page.waitForSelector('[data-table="program-passes"]', { timeout: 60000 });
+  const native = gotos(cli());
+  const shown = Number(await page.locator('#program-out').getAttribute('data-positions'));
+  assert.equal(shown, native.length, `positions page ${shown} vs CLI ${native.length}`);
+  const [clDownload] = await Promise.all([page.waitForEvent('download'), page.click('#program-cl')]);
+  const cl = fs.readFileSync(await clDownload.path(), 'utf8');
+  assert.ok(cl.includes('ROUGHING NOT INCLUDED'));
+  const page6 = gotos(cl);
+  assert.equal(page6.length, native.length);
+  let worst = 0;
+  page6.forEach((r, i) => r.forEach((v, k) => { worst = Math.max(worst, Math.abs(v - native[i][k])); }));
+  assert.ok(worst <= 1e-9, `CL positions differ from the CLI by ${worst}`);
+  const [gDownload] = await Promise.all([page.waitForEvent('download'), page.click('#program-gcode')]);
+  const gcode = fs.readFileSync(await gDownload.path(), 'utf8');
+  assert.equal(gcode.split('\n').filter((l) => l.startsWith('G01 ')).length, native.length);
+  assert.ok(gcode.includes('(ROUGHING NOT INCLUDED'));
+  // A coarser tolerance: fewer positions, at once.
+  await page.fill('#program-tolerance', '5');
+  await page.dispatchEvent('#program-tolerance', 'change');
+  const coarse = gotos(cli('--tolerance', '0.005')).length;
+  await page.waitForFunction((n) => document.querySelector('#program-out')?.dataset.positions === String(n), coarse, { timeout: 60000 });
+  console.log(`program view: ${native.length} positions at 1 µm, ${coarse} at 5 µm; CL equal to the CLI within ${worst.toExponential(1)} mm`);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
