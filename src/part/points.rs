@@ -184,9 +184,20 @@ pub fn curve_points(part: &SShape, curve: Curve, first_id: usize) -> Vec<Measure
     curve_points_n(part, curve, first_id, POINTS_PER_CURVE)
 }
 
-/// `count ≥ 2` points of one curve at equal arc length over the built-in layout's range of the
-/// curve (another layout than the standard's 25, e.g. for a measurement plan or a validation),
-/// ids starting at `first_id`.
+/// The arc-length fraction of point `k` of `n` on a curve: `5 % + k·90 %/(n − 1)` (the
+/// built-in layout's range), or 50 % for a single point.
+pub fn arc_fraction(k: usize, n: usize) -> f64 {
+    let (f0, f1) = ARC_FRACTION_RANGE;
+    if n <= 1 {
+        0.5 * (f0 + f1)
+    } else {
+        f0 + (f1 - f0) * k as f64 / (n - 1) as f64
+    }
+}
+
+/// `count` points of one curve at equal arc length over the built-in layout's range of the
+/// curve ([`arc_fraction`]; another layout than the standard's 25, for a measurement plan or a
+/// validation), ids starting at `first_id`.
 pub fn curve_points_n(
     part: &SShape,
     curve: Curve,
@@ -195,11 +206,9 @@ pub fn curve_points_n(
 ) -> Vec<MeasurementPoint> {
     let v = curve.v();
     let table = arc_length_table(part, curve.surface(), v);
-    let (f0, f1) = ARC_FRACTION_RANGE;
-    let steps = count.max(2) - 1;
     (0..count)
         .map(|k| {
-            let frac = f0 + (f1 - f0) * k as f64 / steps as f64;
+            let frac = arc_fraction(k, count);
             // The fraction is inside [0, 1], so the length is in range: param_at cannot fail.
             let u = table
                 .param_at(frac * table.total())

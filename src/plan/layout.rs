@@ -6,7 +6,8 @@
 //! fractions). Units: mm.
 
 use super::PlanError;
-use crate::part::points::{arc_length_table, Curve, ARC_FRACTION_RANGE};
+pub use crate::part::points::arc_fraction;
+use crate::part::points::{curve_points_n, Curve};
 use crate::part::{MeasurementPoint, SShape};
 
 /// Most points per curve a plan places (a CMM program of 4 × 1000 points is already long).
@@ -23,17 +24,6 @@ pub fn split_total(total: usize) -> Result<[usize; 4], PlanError> {
     }
     let (q, r) = (total / 4, total % 4);
     Ok([0, 1, 2, 3].map(|k| q + usize::from(k < r)))
-}
-
-/// The arc-length fraction of point `k` of `n` on a curve: `5 % + k·90 %/(n − 1)`, or 50 % for
-/// a single point.
-pub fn arc_fraction(k: usize, n: usize) -> f64 {
-    let (f0, f1) = ARC_FRACTION_RANGE;
-    if n <= 1 {
-        0.5 * (f0 + f1)
-    } else {
-        f0 + (f1 - f0) * k as f64 / (n - 1) as f64
-    }
 }
 
 /// The points of a plan with `per_curve[c]` points on curve `Curve::ALL[c]` (each in
@@ -53,17 +43,7 @@ pub fn plan_points(
     }
     let mut out = Vec::with_capacity(per_curve.iter().sum());
     for (curve, &n) in Curve::ALL.iter().zip(&per_curve) {
-        let v = curve.v();
-        let table = arc_length_table(part, curve.surface(), v);
-        for k in 0..n {
-            let frac = arc_fraction(k, n);
-            // The fraction is inside [0, 1], so the length is in range: param_at cannot fail.
-            let u = table
-                .param_at(frac * table.total())
-                .unwrap_or(frac)
-                .clamp(0.0, 1.0);
-            out.push(MeasurementPoint::at(part, out.len() + 1, *curve, u, v));
-        }
+        out.extend(curve_points_n(part, *curve, out.len() + 1, n));
     }
     Ok(out)
 }
