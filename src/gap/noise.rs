@@ -42,6 +42,7 @@
 use serde::Serialize;
 
 use super::stats;
+use crate::toolpath::envelope::golden_min;
 
 /// Largest σ (mm) an estimate may have before the report questions it: a CMM measuring a
 /// flank-milled wall repeats within 1-2 µm (paper 000 §6: R0 = 3 µm over 3 repeats, σ ≈ 1.8 µm);
@@ -419,14 +420,14 @@ pub fn sinusoid_free_sigma(
             })
             .max_by(|a, b| a.1.total_cmp(&b.1));
         if let Some((om, _)) = best {
-            // refine between the neighbouring grid frequencies (golden section, 30 steps: a
+            // refine between the neighbouring grid frequencies (golden section to 1e-6 step: a
             // frequency error of 1/20 cycle over the span would leave ~1 % of a wave's variance)
             let step = (hi - lo) / steps as f64;
             let f = |w: f64| {
                 let (u, v) = wave(w);
                 -reduction(&u, &v)
             };
-            let om = golden_min(f, om - step, om + step, 30);
+            let om = golden_min(&f, om - step, om + step, 1e-6 * step).0;
             let (u, v) = wave(om);
             columns.push(u);
             columns.push(v);
@@ -442,29 +443,6 @@ pub fn sinusoid_free_sigma(
     let w = DMatrix::from_columns(&columns);
     let left = crate::gap::lsq::Factor::new(&w, None).unabsorbed_vec(r);
     Some((left.norm_squared() / dof as f64).sqrt())
-}
-
-/// The minimum of `f` on `[a, b]` by golden-section search (`steps` reductions).
-fn golden_min(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, steps: usize) -> f64 {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..steps {
-        if fc <= fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = f(d);
-        }
-    }
-    0.5 * (a + b)
 }
 
 /// The quantile of the periodogram ordinates [`periodogram_sigma`] reads: the lower quartile, so

@@ -196,6 +196,19 @@ pub fn jacobian_rows(
     Ok(m)
 }
 
+/// The axis values of the flank path at each point (in the points' order), by the chain and
+/// branch of `opts`.
+pub fn axis_values(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+) -> Result<Vec<AxisValues>, SensitivityError> {
+    Ok(point_poses(part, points, opts)?
+        .into_iter()
+        .map(|p| p.q)
+        .collect())
+}
+
 /// Exact machined defect (eq. 12, mm) at the points for the errors `errors` (any location errors
 /// and error motions of the chain; unlisted ones are 0).
 pub fn defect(

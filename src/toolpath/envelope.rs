@@ -264,7 +264,7 @@ impl<'a> FlankPath<'a> {
 }
 
 /// Golden-section minimum of `f` on `[a, b]`: `(argmin, min)`; the ends are candidates too.
-fn golden_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
+pub(crate) fn golden_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let (fa0, fb0, a0, b0) = (f(a), f(b), a, b);
     let mut c = b - g * (b - a);

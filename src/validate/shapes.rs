@@ -20,10 +20,9 @@ use nalgebra::DVector;
 
 use crate::gap::GapError;
 use crate::machine::{AxisName, ErrorParam};
-use crate::part::{MeasurementPoint, SShape, Surface};
+use crate::part::{MeasurementPoint, SShape};
 use crate::random::Sampler;
-use crate::sensitivity::defect::jacobian_rows;
-use crate::sensitivity::path::machine_path;
+use crate::sensitivity::defect::{axis_values, jacobian_rows};
 use crate::sensitivity::SensitivityOptions;
 
 /// Shortest simulated waviness wavelength of the standard set (mm of tool path).
@@ -115,20 +114,11 @@ impl ShapeColumns {
                 power: 0,
             };
             let col = jacobian_rows(part, points, opts, &[ecc]).map_err(err)?;
-            let mut c = vec![0.0; points.len()];
-            for s in Surface::BOTH {
-                let idx: Vec<usize> = (0..points.len())
-                    .filter(|&i| points[i].surface == s)
-                    .collect();
-                if idx.is_empty() {
-                    continue;
-                }
-                let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
-                let path = machine_path(part, &opts.chain, s, opts.branch, &us).map_err(err)?;
-                for (&i, sample) in idx.iter().zip(path) {
-                    c[i] = sample.values.c;
-                }
-            }
+            let c: Vec<f64> = axis_values(part, points, opts)
+                .map_err(err)?
+                .iter()
+                .map(|q| q.c)
+                .collect();
             let n = points.len();
             Some([
                 DVector::from_iterator(n, (0..n).map(|i| col[(i, 0)] * (2.0 * c[i]).sin())),

@@ -97,14 +97,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         let exact = exact_machine_part(&model.baseline.names).map_err(|e| e.to_string())?;
         let r = run_conditions(&part, &model, exact.as_ref(), &which, cases, seed)
             .map_err(|e| e.to_string())?;
-        if json {
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
-            );
-        } else {
-            print!("{}", conditions_table(&r));
-        }
+        show(json, &r, conditions_table)?;
         return Ok(());
     }
     let opts = ValidateOptions::default()
@@ -115,14 +108,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         .with_shapes(shapes);
     if pairs {
         let r = validate_pairs(&model, &opts).map_err(|e| e.to_string())?;
-        if json {
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
-            );
-        } else {
-            print!("{}", pairs_table(&r));
-        }
+        show(json, &r, pairs_table)?;
         return Ok(());
     }
     let r = if exact {
@@ -132,13 +118,19 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         validate(&model, &opts)
     }
     .map_err(|e| e.to_string())?;
+    show(json, &r, table)?;
+    Ok(())
+}
+
+/// The report as JSON, or as the plain-text table `table` makes of it.
+fn show<T: serde::Serialize>(json: bool, r: &T, table: fn(&T) -> String) -> Result<(), String> {
     if json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
+            serde_json::to_string_pretty(r).map_err(|e| e.to_string())?
         );
     } else {
-        print!("{}", table(&r));
+        print!("{}", table(r));
     }
     Ok(())
 }
