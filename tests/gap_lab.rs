@@ -1,8 +1,8 @@
 //! What a real lab sends (issue 18 items 2, 3, 5 and 7): repeat measurements (σ from their
 //! differences), an implausible noise estimate, other point layouts, and the per-condition floors
 //! of `testpiece validate --conditions` on a fixed seed.
+#![cfg(not(target_arch = "wasm32"))]
 
-#[cfg(not(target_arch = "wasm32"))]
 mod cli_common;
 
 use testpiece::analysis::{analyse, analyse_repeats, AnalysisOptions, Diagnosis};
