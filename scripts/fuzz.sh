@@ -10,7 +10,7 @@
 # tests/data/cmm/{formats,broken,fuzz} and tests/data/reference/examples/*.csv, copied into
 # fuzz/corpus/<target>/ (kept between runs, not committed); fuzz/cmm.dict gives header words.
 # Crashes and hangs (-timeout, FUZZ_TIMEOUT) are written to fuzz/artifacts/<target>/;
-# each one becomes a file in tests/data/cmm/fuzz/ and a test in tests/edge_fuzz_regressions.rs.
+# each one becomes a file in tests/data/cmm/fuzz/ and a test in tests/it/edge_fuzz_regressions.rs.
 # The final libFuzzer stats (executions, cov, ft) are in fuzz/logs/<target>.log.
 # Env: FUZZ_SANITIZER (default `none`: safe Rust, 2-3x more executions than `address`),
 # FUZZ_TIMEOUT (seconds per input, default 600: on a shared, loaded machine a 1.5 s input took 121 s of wall time under nice 19).

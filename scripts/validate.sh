@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `npm run validate [-- CASES]`: the large withheld-effect benchmarks that `cargo test` only
-# samples (tests/gap_lab.rs and tests/gap_validate.rs assert floors on small fixed-seed samples):
+# samples (tests/it/gap_lab.rs and tests/it/gap_validate.rs assert floors on small fixed-seed samples):
 # the lab's conditions (`testpiece validate --conditions all`) on seed 1, the seed the methods
 # were chosen on, and on seeds 2-5, which no one tuned on; then the standard table on seed 1.
 # Default 418 parts per condition and seed (~1 minute each on 2 cores).

@@ -7,7 +7,7 @@
 //! positions to 6 decimals, normals to 9, mm); only the deviation differs. To keep the wasm
 //! small, only the deviation columns are embedded (`examples/*.deviation`, one value per line as
 //! written in the file) and [`example_text`] rebuilds each file byte for byte from
-//! [`crate::part::builtin_points`] (checked against the files in tests/wasm_examples.rs).
+//! [`crate::part::builtin_points`] (checked against the files in tests/it/wasm_examples.rs).
 
 /// (file name, what it is, deviation column), menu order.
 pub const EXAMPLES: [(&str, &str, &str); 3] = [

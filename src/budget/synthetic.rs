@@ -173,7 +173,7 @@ pub fn write_trace_csv(
 /// eq. 2 every 1 mm as APT; its NC trace on paper 000's machine with a following error of 4 µm
 /// on X and 0.003° on C; and the measured part = the trace's deviation + machine defect
 /// (EX0B = 0.01 mm, EA0B = 1.2e-4 rad) + a 5 µm oversize tool + CMM noise σ = 1 µm (seed 10).
-/// `(file name, content)`; tests/budget_examples.rs checks the files on disk are exactly these.
+/// `(file name, content)`; tests/it/budget_examples.rs checks the files on disk are exactly these.
 pub fn example_files() -> Result<Vec<(&'static str, String)>, super::BudgetError> {
     use crate::cmm::write::{canonical_csv, Precision};
     use crate::machine::AxisName;

@@ -128,7 +128,7 @@ pub struct ConventionShare {
 
 /// Smallest [`ConventionShare::share`] reported (3 % of the unit vector). In paper mode the
 /// `EA0Z, EA0C` direction has a share of 4 % on EX0B (the backlash example); over random error
-/// vectors (tests/proptest_identify.rs) that moved EX0B by up to 0.24 of the vector's largest
+/// vectors (tests/it/proptest_identify.rs) that moved EX0B by up to 0.24 of the vector's largest
 /// component in typical units (1e-4 rad, 0.01 mm), since EX0B's column scale is small.
 pub const CONVENTION_SHARE_FLOOR: f64 = 0.03;
 

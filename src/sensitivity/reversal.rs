@@ -82,7 +82,7 @@ pub struct Pass {
 /// stop lies in one of the two). The inverse kinematics
 /// at a given `u` does not depend on the other samples requested ([`machine_path`]), so the
 /// directions are those of the full fine solution (checked against it in
-/// tests/sensitivity_reversal.rs for the three chains and both branches).
+/// tests/it/sensitivity_reversal.rs for the three chains and both branches).
 pub fn pass(
     part: &SShape,
     surface: Surface,

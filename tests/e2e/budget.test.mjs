@@ -2,7 +2,7 @@
 // tests/data/budget/ uploaded as the CMM file, its CL file (APT) and NC trace chosen in the
 // Budget view, the budget computed by the wasm core; the min/max table appears with every source
 // and its numbers equal the native CLI's `testpiece budget --json`. The files are made by
-// tests/budget_examples.rs (README in tests/data/budget/).
+// tests/it/budget_examples.rs (README in tests/data/budget/).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';

@@ -1,5 +1,5 @@
 // Browser end-to-end test of the pair step of the gap diagnosis (src/gap/pairs.rs): the
-// two-effect part of tests/data/gap/ (made by tests/gap_pairs.rs: backlash of Y and a tool
+// two-effect part of tests/data/gap/ (made by tests/it/gap_pairs.rs: backlash of Y and a tool
 // radius error at 4x the detection limit) uploaded; the verdict line names both effects, the
 // pair table appears, and the verdict equals the native CLI's `testpiece diagnose --json`.
 import { test, before, after } from 'node:test';

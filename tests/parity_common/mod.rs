@@ -1,9 +1,9 @@
-//! Native/wasm parity data (tests/data/parity/), shared by the native test `edge_parity.rs`
-//! and the wasm test `wasm_node/parity.rs` (included there with `#[path]`).
+//! Native/wasm parity data (tests/data/parity/), shared by the native test `it/edge_parity.rs`
+//! and the wasm test `wasm_node/parity.rs` (both include it with `#[path]`).
 //!
 //! Approach: the native build writes its results with full precision (serde_json writes the
 //! shortest decimal that round-trips each f64, so the file holds the exact native doubles) to
-//! `tests/data/parity/*.json` (`TESTPIECE_WRITE_PARITY=1 cargo test --test edge_parity`); the
+//! `tests/data/parity/*.json` (`TESTPIECE_WRITE_PARITY=1 cargo test --test it edge_parity::`); the
 //! native test checks the committed file still equals what the native build computes, and the
 //! wasm test recomputes the same results under Node and compares them with [`compare`].
 #![allow(dead_code)]

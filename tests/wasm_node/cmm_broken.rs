@@ -1,6 +1,6 @@
 //! Every file of the reader's broken corpus (tests/data/cmm/broken) through the wasm export
 //! `matchCmm` under Node: each must be an `Err` (never a panic across the boundary) whose
-//! message is the native one, as recorded by the native test `edge_parity.rs` in
+//! message is the native one, as recorded by the native test `it/edge_parity.rs` in
 //! tests/data/parity/broken_messages.json (which also checks this list names every file).
 
 use wasm_bindgen::JsCast;

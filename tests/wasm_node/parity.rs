@@ -2,7 +2,7 @@
 //! (`parity_common::STRICT`: design, points, identified parameters, refined values, verdict)
 //! to 1e-12 relative, every other number to 1e-9 relative + 1e-15 absolute (statistics formed
 //! by cancellation; see `parity_common::LOOSE_REL`). The native numbers are in tests/data/parity/analysis_examples.json, written at
-//! full precision by the native test `edge_parity.rs` (which also keeps the file equal to the
+//! full precision by the native test `it/edge_parity.rs` (which also keeps the file equal to the
 //! native results); here the same analyses run in wasm and every number of the serialised
 //! `Analysis` is compared (`parity_common::compare`). The page's export `analyse` is called
 //! too and must succeed.

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes tests/data/cmm/broken/: one file per error kind of shared/spec/cmm-csv.md (plus
 truncated rows, mixed separators, wrong units, ...), each derived from example_clean.csv with
-one defect at a known line. tests/cmm_broken.rs asserts the key words and line of each message.
+one defect at a known line. tests/it/cmm_broken.rs asserts the key words and line of each message.
 
 Run from the repository root: python3 tests/data/cmm/make_broken.py
 """

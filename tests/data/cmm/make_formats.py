@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes tests/data/cmm/formats/: example_clean.csv (tests/data/reference/examples/) rewritten in
 every format of shared/spec/cmm-csv.md. Independent of the Rust reader (plain Python, decimal
-text manipulation), so that `tests/cmm_formats.rs` checks the reader against it.
+text manipulation), so that `tests/it/cmm_formats.rs` checks the reader against it.
 
 Numbers: where a format keeps the canonical text (6 decimals for positions and deviations, 9 for
 normals) the text is copied or its decimal point shifted exactly (mm -> um: Decimal * 1000).

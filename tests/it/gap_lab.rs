@@ -1,0 +1,225 @@
+//! What a real lab sends (issue 18 items 2, 3, 5 and 7): repeat measurements (σ from their
+//! differences), an implausible noise estimate, other point layouts, and the per-condition floors
+//! of `testpiece validate --conditions` on a fixed seed.
+
+use crate::cli_common;
+
+use testpiece::analysis::{analyse, analyse_repeats, AnalysisOptions, Diagnosis};
+use testpiece::part::{builtin_points, SShape};
+use testpiece::validate::conditions::layout_points;
+use testpiece::validate::{exact_machine_part, run_conditions, ValidationModel, CONDITIONS};
+
+/// A simulated part (canonical CSV) of the CLI, `testpiece simulate ARGS`.
+fn simulate(args: &[&str]) -> String {
+    cli_common::testpiece_ok(&[&["simulate"], args].concat())
+}
+
+const ERRORS: &str = "EX0B=0.02,EA0B=2e-4,EB0C=1e-4,EC0Y=-1e-4";
+
+fn verdict(a: &testpiece::analysis::Analysis) -> String {
+    match &a.diagnosis {
+        Diagnosis::Made { report, .. } => report.verdict.id().to_string(),
+        Diagnosis::NotMade { reason } => panic!("not diagnosed: {reason}"),
+    }
+}
+
+/// Three measurements of one part (the same errors and backlash, noise σ = 1.5 µm from three
+/// seeds): σ is the pure error of their differences, within its sampling error (200 dof:
+/// ±5 % a standard deviation; 20 % = 4 sd), the mean's σ is that over √3, and the diagnosis
+/// names the backlash with σ given by the repeats.
+#[test]
+fn repeats_give_sigma_from_their_differences() {
+    let parts: Vec<String> = ["3", "4", "5"]
+        .iter()
+        .map(|seed| {
+            simulate(&[
+                "--errors",
+                ERRORS,
+                "--effect",
+                "backlash_c=4e-4",
+                "--noise",
+                "0.0015",
+                "--seed",
+                seed,
+            ])
+        })
+        .collect();
+    let files: Vec<(&[u8], &str)> = parts
+        .iter()
+        .zip(["a.csv", "b.csv", "c.csv"])
+        .map(|(p, n)| (p.as_bytes(), n))
+        .collect();
+    let a = analyse_repeats(&files, &AnalysisOptions::default()).unwrap();
+    let r = a.repeat.as_ref().expect("a repeat report");
+    assert_eq!((r.pure_error.repeats, r.pure_error.dof), (3, 200));
+    assert!(
+        (r.pure_error.sigma / 0.0015 - 1.0).abs() < 0.2,
+        "{}",
+        r.pure_error.sigma
+    );
+    assert_eq!(a.noise.source, "repeat");
+    assert_eq!(a.noise.sigma, Some(r.pure_error.sigma / 3f64.sqrt()));
+    // the backlash leaves structure: lack of fit of the location errors alone
+    assert!(r.lack_of_fit.p_value < 1e-6, "{:?}", r.lack_of_fit);
+    assert_eq!(verdict(&a), "backlash_c");
+    // a clean part measured twice: no lack of fit at the 1 % level, verdict none
+    let clean: Vec<String> = ["6", "7"]
+        .iter()
+        .map(|seed| simulate(&["--errors", ERRORS, "--noise", "0.0015", "--seed", seed]))
+        .collect();
+    let files: Vec<(&[u8], &str)> = clean
+        .iter()
+        .zip(["a.csv", "b.csv"])
+        .map(|(p, n)| (p.as_bytes(), n))
+        .collect();
+    let a = analyse_repeats(&files, &AnalysisOptions::default()).unwrap();
+    assert!(a.repeat.as_ref().unwrap().lack_of_fit.p_value > 0.01);
+    assert_eq!(verdict(&a), "none");
+}
+
+#[test]
+fn repeats_on_the_command_line_and_their_refusals() {
+    let dir = std::env::temp_dir().join(format!("testpiece-repeat-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    };
+    let a = write(
+        "a.csv",
+        &simulate(&["--errors", ERRORS, "--noise", "0.0015", "--seed", "8"]),
+    );
+    let b_text = simulate(&["--errors", ERRORS, "--noise", "0.0015", "--seed", "9"]);
+    let b = write("b.csv", &b_text);
+    for cmd in ["diagnose", "identify"] {
+        let out = cli_common::testpiece_ok(&[cmd, &a, "--repeat", &b, "--json"]);
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["noise"]["source"], "repeat", "{cmd}");
+        assert_eq!(v["repeat"]["pure_error"]["dof"], 100, "{cmd}");
+        assert!(v["repeat"]["lack_of_fit"]["p_value"].as_f64().is_some());
+    }
+    let text = cli_common::testpiece_ok(&["diagnose", &a, "--repeat", &b]);
+    assert!(text.contains("from 2 repeat measurements"), "{text}");
+    // a point missing from the repeat is named
+    let short: String = b_text
+        .lines()
+        .filter(|l| !l.starts_with("37,"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let c = write("c.csv", &short);
+    let (ok, _, err) = cli_common::testpiece(&["diagnose", &a, "--repeat", &c]);
+    assert!(!ok && err.contains("c.csv") && err.contains("37"), "{err}");
+    // σ twice
+    let (ok, _, err) = cli_common::testpiece(&["identify", &a, "--repeat", &b, "--sigma", "0.001"]);
+    assert!(!ok && err.contains("given twice"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// An estimated σ above 3 µm is questioned and the report asks for the CMM's figure or a repeat.
+#[test]
+fn an_implausible_sigma_is_questioned() {
+    let noisy = simulate(&["--errors", ERRORS, "--noise", "0.005", "--seed", "3"]);
+    let a = analyse(noisy.as_bytes(), "noisy.csv", &AnalysisOptions::default()).unwrap();
+    let Diagnosis::Made { report, .. } = &a.diagnosis else {
+        panic!()
+    };
+    assert!(report.verdict.sigma > 0.003, "{}", report.verdict.sigma);
+    assert!(
+        report.summary.contains("--repeat") && report.summary.contains("--sigma"),
+        "{}",
+        report.summary
+    );
+    let clean = simulate(&["--errors", ERRORS, "--noise", "0.0015", "--seed", "3"]);
+    let a = analyse(clean.as_bytes(), "clean.csv", &AnalysisOptions::default()).unwrap();
+    let Diagnosis::Made { report, .. } = &a.diagnosis else {
+        panic!()
+    };
+    assert!(!report.summary.contains("--repeat"), "{}", report.summary);
+}
+
+/// Rows in any order, ids not 1-100, a third of the points, a curve not measured: diagnosed,
+/// and the layout says what it limits.
+#[test]
+fn other_layouts_are_diagnosed_and_described() {
+    let full = simulate(&["--errors", ERRORS, "--noise", "0.0015", "--seed", "5"]);
+    let lines: Vec<&str> = full.lines().collect();
+    let (header, rows) = (lines[0], &lines[1..]);
+    // every third point, ids + 1000, rows reversed
+    let mut every_third: Vec<String> = rows
+        .iter()
+        .step_by(3)
+        .map(|l| {
+            let (id, rest) = l.split_once(',').unwrap();
+            format!("{},{rest}", id.parse::<u32>().unwrap() + 1000)
+        })
+        .collect();
+    every_third.reverse();
+    let text = format!("{header}\n{}\n", every_third.join("\n"));
+    let a = analyse(text.as_bytes(), "third.csv", &AnalysisOptions::default()).unwrap();
+    let Diagnosis::Made { report, .. } = &a.diagnosis else {
+        panic!()
+    };
+    assert_eq!(report.layout.points, 34);
+    assert!(!report.layout.full);
+    assert!(report.layout.curves.iter().all(|c| c.smooth_degree == 3));
+    assert!(
+        report.summary.contains("Layout: 34 points"),
+        "{}",
+        report.summary
+    );
+    assert_eq!(report.verdict.id().to_string(), "none");
+    // without curve B_Z25
+    let three: Vec<&str> = rows
+        .iter()
+        .copied()
+        .filter(|l| !l.contains("B_Z25"))
+        .collect();
+    let text = format!("{header}\n{}\n", three.join("\n"));
+    let a = analyse(text.as_bytes(), "three.csv", &AnalysisOptions::default()).unwrap();
+    let Diagnosis::Made { report, .. } = &a.diagnosis else {
+        panic!()
+    };
+    assert_eq!(report.layout.not_measured, vec!["B_Z25".to_string()]);
+    // the built-in layout is full and says nothing
+    let a = analyse(full.as_bytes(), "full.csv", &AnalysisOptions::default()).unwrap();
+    let Diagnosis::Made { report, .. } = &a.diagnosis else {
+        panic!()
+    };
+    assert!(report.layout.full && !report.summary.contains("Layout:"));
+}
+
+/// `validate --conditions` on seed 1 (the seed the methods were chosen on), 60 parts per
+/// condition: floors below the 418-part figures of the issue's note (seed 1: 93.8-98.6 % per
+/// condition except pairs, 75.4 %), leaving room for the sampling error of 60 parts (±3 %).
+#[test]
+fn conditions_hold_their_floors_on_a_fixed_seed() {
+    let part = SShape::iso();
+    let model = ValidationModel::at(&part, &builtin_points(&part)).unwrap();
+    let exact = exact_machine_part(&model.baseline.names).unwrap();
+    // every condition but pairs (tests/it/gap_pairs.rs has their floor)
+    let which: Vec<&str> = CONDITIONS.into_iter().filter(|c| *c != "pairs").collect();
+    let r = run_conditions(&part, &model, exact.as_ref(), &which, 60, 1).unwrap();
+    assert_eq!(r.rows.len(), which.len());
+    for row in &r.rows {
+        assert_eq!(row.cases, 60, "{}", row.condition);
+        assert!(row.rate >= 0.85, "{}: {:.3}", row.condition, row.rate);
+    }
+    let spikes = r.rows.iter().find(|w| w.condition == "spikes").unwrap();
+    let (named, of) = spikes.none_spike_named.unwrap();
+    assert!(named as f64 >= 0.9 * of as f64, "{named}/{of}");
+    assert!(
+        r.overall.0 as f64 >= 0.92 * r.overall.1 as f64,
+        "{:?}",
+        r.overall
+    );
+}
+
+#[test]
+fn layout_points_leave_curves_out_in_order() {
+    let part = SShape::iso();
+    let p = layout_points(&part, 8, 3);
+    assert_eq!(p.len(), 24);
+    assert!(p.iter().all(|q| q.curve.name() != "B_Z25"));
+    assert_eq!(p.last().unwrap().id, 24);
+}

@@ -1,0 +1,234 @@
+//! The gap diagnosis on the machine the analysis identifies (`analysis::diagnose_on_machine`):
+//! paper 002's B-C tilting table gets its own location errors as the baseline and its own axes
+//! for the backlash, scale and reversal candidates; paper 001's A-B head (no C axis for the
+//! catalogue's `backlash_c` / `c_index`) is diagnosed on paper 000's machine, and says so.
+
+use crate::cli_common::{testpiece, testpiece_ok};
+use crate::edge_common::*;
+use testpiece::analysis::{analyse, diagnose_on_machine, AnalysisOptions, MachineChoice};
+use testpiece::gap::effects::builtin::{part_model, part_model_on, PartModel};
+use testpiece::gap::lsq::{rms, Factor};
+use testpiece::gap::verdict::VerdictId;
+use testpiece::gap::Effect;
+use testpiece::machine::chain::PAPER000_L0;
+use testpiece::machine::AxisName;
+use testpiece::part::SShape;
+use testpiece::random::Sampler;
+use testpiece::sensitivity::SensitivityOptions;
+
+fn options(machine: MachineChoice) -> AnalysisOptions {
+    AnalysisOptions {
+        machine,
+        ..AnalysisOptions::default()
+    }
+}
+
+/// example_clean.csv analysed on `machine`.
+fn analyse_clean(machine: MachineChoice) -> testpiece::analysis::Analysis {
+    let bytes = data("reference/examples/example_clean.csv");
+    analyse(&bytes, "clean.csv", &options(machine)).unwrap()
+}
+
+fn model_of(machine: MachineChoice) -> PartModel {
+    let sopts = SensitivityOptions::default().with_chain(machine.chain(PAPER000_L0));
+    part_model_on(&SShape::iso(), &builtin(), &sopts).unwrap()
+}
+
+fn column(m: &PartModel, effect: Effect) -> Vec<f64> {
+    let c = m.candidates.iter().find(|c| c.effect == effect).unwrap();
+    c.signature.matrix.column(0).iter().copied().collect()
+}
+
+/// The tilting table's baseline is the location errors its identification uses (same names).
+/// Its candidates are its own where the machine matters and paper 000's where it does not:
+/// - the geometric and process effects (tool, overcut, thermal drift, setup, C index, pivot)
+///   and the axes whose motion is the same on both machines (Y, C) are bit for bit paper 000's;
+/// - backlash of B differs by more than its own size (B tilts the part, not the tool), and
+///   backlash / scale of X differ;
+/// - backlash and scale of Z are exactly zero: the tool stays vertical, Z moves along the tool
+///   axis, which lies in the flank-milled wall (`INVISIBLE_SIGNATURE`).
+#[test]
+fn the_tilting_table_model_is_its_own() {
+    let tilt = model_of(MachineChoice::Paper002);
+    let a = analyse_clean(MachineChoice::Paper002);
+    assert_eq!(tilt.baseline.names, a.identification.names());
+    let p000 = part_model(&SShape::iso(), &builtin()).unwrap();
+    for c in &p000.candidates {
+        let own = column(&tilt, c.effect);
+        let other = column(&p000, c.effect);
+        let diff: Vec<f64> = own.iter().zip(&other).map(|(a, b)| a - b).collect();
+        let (r_own, r_other, r_diff) = (rms(&own), rms(&other), rms(&diff));
+        println!(
+            "{}: rms {r_own:.3e} (tilting table), {r_other:.3e} (paper 000), difference {r_diff:.3e}",
+            c.effect
+        );
+        match c.effect.id() {
+            "backlash_b" | "backlash_x" | "scale_x" => {
+                assert!(r_diff > 0.5 * r_other.min(r_own), "{}", c.effect)
+            }
+            "backlash_z" | "scale_z" => assert!(own.iter().all(|v| *v == 0.0), "{}", c.effect),
+            "backlash_c" | "scale_y" => assert!(r_diff <= 1e-12 * r_other, "{}", c.effect),
+            _ => assert_eq!(own, other, "{}", c.effect),
+        }
+    }
+}
+
+/// A simulated tilting-table part: the machine's own location errors (1e-4 rad, 0.01 mm) plus
+/// a backlash of its C axis whose visible (unabsorbed) part is 4× the detection limit 2.5σ,
+/// plus N(0, σ²) noise with σ = 1.5 µm. Diagnosed on the tilting table, the verdict is
+/// `backlash_c` or a candidate this part cannot tell from it.
+#[test]
+fn a_tilting_table_part_is_diagnosed_on_its_own_axes() {
+    let m = model_of(MachineChoice::Paper002);
+    let sigma = 0.0015;
+    let backlash_c = Effect::Backlash(AxisName::C);
+    let sig = column(&m, backlash_c);
+    let base = Factor::new(&m.baseline.matrix, None);
+    let sig_m = nalgebra::DMatrix::from_column_slice(sig.len(), 1, &sig);
+    let visible: Vec<f64> = base.unabsorbed(&sig_m).iter().copied().collect();
+    let b = 4.0 * 2.5 * sigma / rms(&visible);
+    let mut rng = Sampler::new(3);
+    let x: Vec<f64> = m
+        .baseline
+        .names
+        .iter()
+        .map(|n| if n == "EX0B" { 0.01 } else { 1e-4 } * rng.sign())
+        .collect();
+    let y: Vec<f64> = (0..sig.len())
+        .map(|i| {
+            let loc: f64 = (0..x.len()).map(|j| m.baseline.matrix[(i, j)] * x[j]).sum();
+            loc + b * sig[i] + sigma * rng.normal()
+        })
+        .collect();
+    let d = diagnose_on_machine(
+        &SShape::iso(),
+        &builtin(),
+        &y,
+        &options(MachineChoice::Paper002),
+    )
+    .into_report()
+    .unwrap();
+    println!("b = {b:.3e} rad\n{}", d.summary);
+    let v = &d.verdict;
+    assert!(
+        v.id() == VerdictId::Effect(backlash_c) || v.finding.equivalent().contains(&backlash_c),
+        "{}",
+        d.summary
+    );
+}
+
+/// Paper 001's A-B head has no C axis: the diagnosis is made on paper 000's machine and the
+/// summary's last line says which machine and why.
+#[test]
+fn the_a_b_head_is_diagnosed_on_paper_000s_machine_and_says_so() {
+    let a = analyse_clean(MachineChoice::Paper001);
+    let d = a.diagnosis.into_report().unwrap();
+    let last = d.summary.lines().last().unwrap();
+    assert!(
+        last.starts_with("Machine: the diagnosis used paper 000's B head / C table")
+            && last.contains("no C axis"),
+        "{last}"
+    );
+}
+
+/// The CLI: `diagnose --machine` gives the analysis' diagnosis on that machine (the same
+/// verdict line as `analyse`), and an unknown machine is refused with the accepted values.
+#[test]
+fn the_cli_diagnoses_on_the_chosen_machine() {
+    let file = format!(
+        "{}/tests/data/reference/examples/example_backlash_c.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    for (m, choice) in [
+        ("paper000", MachineChoice::Paper000),
+        ("paper002", MachineChoice::Paper002),
+        ("paper001", MachineChoice::Paper001),
+    ] {
+        let out = testpiece_ok(&["diagnose", &file, "--machine", m]);
+        let text = std::fs::read(&file).unwrap();
+        let a = analyse(&text, "b.csv", &options(choice)).unwrap();
+        let d = a.diagnosis.clone().into_report().unwrap();
+        assert_eq!(out.lines().next(), d.summary.lines().next(), "{m}");
+        let lines: Vec<&str> = out.lines().collect();
+        // the summary, then one line on the corrected identification (issue 17)
+        assert_eq!(
+            lines[lines.len() - 2],
+            d.summary.lines().last().unwrap(),
+            "{m}"
+        );
+        assert_eq!(
+            lines[lines.len() - 1],
+            format!("Corrected: {}", a.correction.summary),
+            "{m}"
+        );
+    }
+    let (ok, _, err) = testpiece(&["diagnose", &file, "--machine", "paper9"]);
+    assert!(!ok);
+    assert!(
+        err.contains("--machine `paper9`: expected paper000, paper001 or paper002"),
+        "{err}"
+    );
+}
+
+/// `simulate --effect` adds `value × signature` of effects.md (the columns `part_model` gives the
+/// diagnosis) to the simulated deviation, to rounding (the CSV holds the shortest round-trip
+/// decimal of each value: 1e-15 mm), and `diagnose` names a simulated backlash of C.
+#[test]
+fn simulate_adds_an_effects_signature_that_diagnose_names() {
+    let deviations = |csv: &str| -> Vec<f64> {
+        csv.lines()
+            .skip(1)
+            .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+            .collect()
+    };
+    let base = ["simulate", "--errors", "EX0B=0.01,EA0B=1e-4", "--seed", "3"];
+    let plain = deviations(&testpiece_ok(&base));
+    let with: Vec<&str> = base
+        .iter()
+        .copied()
+        .chain(["--effect", "backlash_c=6e-4,tool_taper.g=2e-4"])
+        .collect();
+    let both = deviations(&testpiece_ok(&with));
+    let m = part_model(&SShape::iso(), &builtin()).unwrap();
+    let sig = |e: Effect, j: usize| -> Vec<f64> {
+        let c = m.candidates.iter().find(|c| c.effect == e).unwrap();
+        c.signature.matrix.column(j).iter().copied().collect()
+    };
+    let (c, g) = (
+        sig(Effect::Backlash(AxisName::C), 0),
+        sig(Effect::ToolTaper, 1),
+    );
+    for i in 0..100 {
+        let want = 6e-4 * c[i] + 2e-4 * g[i];
+        assert!(
+            (both[i] - plain[i] - want).abs() < 1e-15,
+            "point {}: {} vs {want}",
+            i + 1,
+            both[i] - plain[i]
+        );
+    }
+    let noisy: Vec<&str> = with[..5]
+        .iter()
+        .copied()
+        .chain(["--effect", "backlash_c=6e-4", "--noise", "0.0015"])
+        .collect();
+    let path = std::env::temp_dir().join(format!("tp-sim-effect-{}.csv", std::process::id()));
+    std::fs::write(&path, testpiece_ok(&noisy)).unwrap();
+    let verdict = testpiece_ok(&["diagnose", path.to_str().unwrap()]);
+    std::fs::remove_file(&path).ok();
+    assert!(
+        verdict.starts_with("Verdict: backlash of the C axis (`backlash_c`)"),
+        "{verdict}"
+    );
+    let (ok, _, err) = testpiece(&[
+        "simulate",
+        "--errors",
+        "EX0B=0.01",
+        "--effect",
+        "setup_error=1e-4",
+    ]);
+    assert!(
+        !ok && err.contains("write `setup_error.<parameter>`"),
+        "{err}"
+    );
+}
