@@ -805,7 +805,8 @@ pub fn analyse_parts(
             source: "repeat",
             sigma: Some(pe.sigma_mean),
             mpe_range: None,
-            summary: repeat::sentence(pe, None),
+            // written with the lack of fit, once the baseline is fitted (below)
+            summary: String::new(),
         },
         None => noise_source(
             opts,
@@ -852,7 +853,7 @@ pub fn analyse_parts(
             .collect();
         let rss: f64 = used.iter().map(|r| r * r).sum();
         let lack_of_fit = repeat::lack_of_fit(&pe, rss, used.len(), identification.rank_used);
-        let summary = repeat::sentence(&pe, Some(&lack_of_fit));
+        let summary = repeat::sentence(&pe, &lack_of_fit);
         noise.summary = summary.clone();
         RepeatReport {
             pure_error: pe,

@@ -12,7 +12,7 @@ use super::location::{locate, DETECT_FACTOR};
 use super::lsq::{max_abs, rms, Factor};
 use super::noise::{
     periodogram_sigma, projected_whiteness, second_difference_sigma, sinusoid_free_sigma,
-    SmoothResidual, LJUNG_BOX_LAGS,
+    SmoothResidual, LJUNG_BOX_LAGS, NOT_WHITE_P,
 };
 use super::pairs::best_pair;
 use super::report::{summary, BaselineReport, DiagnosisReport};
@@ -21,7 +21,7 @@ use super::verdict::{decide, pair_verdict, DecisionInput, Finding, ALPHA};
 use super::which::{
     cross_validate, cv_score, estimates, fit_candidate, per_curve, BaselineFit, Context, SmoothFit,
 };
-use super::{Effect, GapError};
+use super::GapError;
 
 /// Options of a diagnosis (defaults: α = 0.05 family-wise, 2.5 σ).
 #[derive(Debug, Clone, Copy)]
@@ -78,44 +78,33 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let basis = smooth_basis(&input.points, SMOOTH_DEGREE);
     let (sfactor, sresid) = smooth_factor(&basis, a, &y);
     let (sm, sm_robust, sdof) = smooth_sigmas(&sfactor, &sresid);
-    let smooth_seqs: Vec<Vec<f64>> = curve_sequences(&input.points)
+    let curves: Vec<Vec<usize>> = curve_sequences(&input.points)
         .into_iter()
-        .map(|(_, idx)| idx.iter().map(|&i| sresid[i]).collect())
+        .map(|(_, idx)| idx)
         .collect();
-    let smooth_at: Vec<(Vec<f64>, Vec<f64>)> = curve_sequences(&input.points)
-        .into_iter()
-        .map(|(_, idx)| {
-            (
-                idx.iter().map(|&i| input.points[i].s).collect(),
-                idx.iter().map(|&i| sresid[i]).collect(),
-            )
-        })
+    let s_path: Vec<f64> = input.points.iter().map(|p| p.s).collect();
+    let smooth_seqs: Vec<Vec<f64>> = curves
+        .iter()
+        .map(|idx| idx.iter().map(|&i| sresid[i]).collect())
         .collect();
+    let smooth_at: Vec<(Vec<f64>, Vec<f64>)> = curves
+        .iter()
+        .zip(&smooth_seqs)
+        .map(|(idx, x)| (idx.iter().map(|&i| s_path[i]).collect(), x.clone()))
+        .collect();
+    let whiteness_p = projected_whiteness(&curves, &sfactor.basis, &sresid, LJUNG_BOX_LAGS)
+        .map_or(1.0, |w| w.p_value);
     let smooth_residual = SmoothResidual {
         sigma: sm,
         robust: sm_robust,
         second_difference: second_difference_sigma(&smooth_seqs) * (nf / sdof as f64).sqrt(),
         // the frequencies the curve's smooth basis (degree d: d + 1 columns) removed
         periodogram: periodogram_sigma(&smooth_at, |m| (curve_degree(m, SMOOTH_DEGREE) + 2) / 2),
-        sinusoid_free: sinusoid_free_sigma(
-            &curve_sequences(&input.points)
-                .into_iter()
-                .map(|(_, idx)| idx)
-                .collect::<Vec<_>>(),
-            &input.points.iter().map(|p| p.s).collect::<Vec<_>>(),
-            &sfactor.basis,
-            &sresid,
-        ),
-        whiteness_p: projected_whiteness(
-            &curve_sequences(&input.points)
-                .into_iter()
-                .map(|(_, idx)| idx)
-                .collect::<Vec<_>>(),
-            &sfactor.basis,
-            &sresid,
-            LJUNG_BOX_LAGS,
-        )
-        .map_or(1.0, |w| w.p_value),
+        // only read when the residual is not white (the frequency search costs a few ms)
+        sinusoid_free: (whiteness_p < NOT_WHITE_P)
+            .then(|| sinusoid_free_sigma(&curves, &s_path, &sfactor.basis, &sresid))
+            .flatten(),
+        whiteness_p,
     };
     let smooth = SmoothFit {
         factor: sfactor,
@@ -185,7 +174,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     // structure left against the smooth-basis σ, which a smooth second effect inflates, so a
     // second effect the named one leaves visible is searched for as the best addition to it.
     let mut pair = None;
-    let single = match &verdict.finding {
+    let named_single = match &verdict.finding {
         Finding::Named {
             effect,
             equivalent,
@@ -193,19 +182,19 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         } => Some((*effect, equivalent.clone())),
         _ => None,
     };
-    if single.is_none() || !matches!(verdict.finding, Finding::Named { .. }) {
-        if let Some(pf) = best_pair(&ctx, &input.candidates, &fits, base_cv_score) {
-            verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
-            pair = Some(pf);
-        }
-    } else if let Some((named, equivalent)) = single {
-        let keeps_named = |e: Effect| e == named || equivalent.contains(&e);
-        if let Some(pf) = best_pair(&ctx, &input.candidates, &fits, base_cv_score)
-            .filter(|pf| keeps_named(pf.first) || keeps_named(pf.second))
-        {
-            verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
-            pair = Some(pf);
-        }
+    // on top of a named effect, the pair must keep it (or an equivalent)
+    let keeps_named = |pf: &super::pairs::PairFit| {
+        named_single.as_ref().is_none_or(|(named, equivalent)| {
+            [pf.first, pf.second]
+                .iter()
+                .any(|e| e == named || equivalent.contains(e))
+        })
+    };
+    if let Some(pf) =
+        best_pair(&ctx, &input.candidates, &fits, base_cv_score).filter(|pf| keeps_named(pf))
+    {
+        verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
+        pair = Some(pf);
     }
     let backlash_axes: Vec<_> = verdict
         .finding

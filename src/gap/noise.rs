@@ -516,6 +516,7 @@ pub fn projected_whiteness(
     };
     let mut z = Vec::with_capacity(lags);
     let mut col = vec![0.0; n];
+    let rv: Vec<f64> = r.iter().copied().collect();
     for k in 1..=lags {
         let pairs: usize = curves.iter().map(|c| c.len().saturating_sub(k)).sum();
         if pairs == 0 {
@@ -532,7 +533,6 @@ pub fn projected_whiteness(
         let bt_akb = basis.transpose() * &akb;
         let tr_am = -bt_akb.trace();
         let tr_amam = 0.5 * pairs as f64 - 2.0 * akb.norm_squared() + bt_akb.norm_squared();
-        let rv: Vec<f64> = r.iter().copied().collect();
         shift(&rv, k, &mut col);
         let c_k: f64 = rv.iter().zip(&col).map(|(a, b)| a * b).sum();
         let var = 2.0 * s2 * s2 * tr_amam;
@@ -562,7 +562,8 @@ pub struct SmoothResidual {
     pub robust: f64,
     pub second_difference: f64,
     pub periodogram: Option<f64>,
-    /// σ once the strongest sinusoid of each curve is removed ([`sinusoid_free_sigma`]).
+    /// σ once the strongest sinusoid of each curve is removed ([`sinusoid_free_sigma`]); only
+    /// computed when the residual is not white (`whiteness_p < NOT_WHITE_P`), the one case it is read.
     pub sinusoid_free: Option<f64>,
     pub whiteness_p: f64,
 }

@@ -251,7 +251,7 @@ pub fn lack_of_fit(pe: &PureError, rss: f64, n: usize, rank: usize) -> LackOfFit
 }
 
 /// One sentence on the pure error and the lack of fit of the baseline (location errors alone).
-pub fn sentence(pe: &PureError, lof: Option<&LackOfFit>) -> String {
+pub fn sentence(pe: &PureError, l: &LackOfFit) -> String {
     let mut s = format!(
         "Noise: σ = {:.2} µm from {} repeat measurements of the {} points (pure error, {} degrees \
          of freedom; no estimator): {:.2} µm for their mean, which is analysed.",
@@ -270,20 +270,18 @@ pub fn sentence(pe: &PureError, lof: Option<&LackOfFit>) -> String {
             l.ratio
         );
     }
-    if let Some(l) = lof {
-        s += &format!(
-            " Lack of fit of the location errors: F = {:.2} on ({}, {}) dof, p = {:.2e}: {}.",
-            l.f,
-            l.dof_fit,
-            l.dof_pure,
-            l.p_value,
-            if l.p_value < 0.05 {
-                "the residual holds structure beyond the measured noise"
-            } else {
-                "the residual is consistent with the measured noise"
-            }
-        );
-    }
+    s += &format!(
+        " Lack of fit of the location errors: F = {:.2} on ({}, {}) dof, p = {:.2e}: {}.",
+        l.f,
+        l.dof_fit,
+        l.dof_pure,
+        l.p_value,
+        if l.p_value < 0.05 {
+            "the residual holds structure beyond the measured noise"
+        } else {
+            "the residual is consistent with the measured noise"
+        }
+    );
     s
 }
 
