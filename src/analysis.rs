@@ -1140,7 +1140,7 @@ mod tests {
     #[test]
     fn each_machine_analyses_the_clean_example_with_its_own_error_set() {
         // The three chains of the page; each design has one column per error of the chain's
-        // minimal set (machine::location_errors) and a finite fit at all 100 points.
+        // set (sensitivity::error_set) and a finite fit at all 100 points.
         for m in [
             MachineChoice::Paper000,
             MachineChoice::Paper001,
@@ -1151,8 +1151,8 @@ mod tests {
                 ..Default::default()
             };
             let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
-            let free = crate::machine::location_errors::minimal_set(&m.chain(o.l0)).names();
-            assert_eq!(a.design.params, free, "{m:?}");
+            let set = crate::sensitivity::error_set::error_set(&m.chain(o.l0), o.branch).unwrap();
+            assert_eq!(a.design.params, set.kept, "{m:?}");
             assert_eq!(a.identification.points_used, 100);
             assert!(a.identification.residual.rms.is_finite(), "{m:?}");
         }

@@ -259,6 +259,39 @@ pub fn simulate_exact(
     Ok(y)
 }
 
+/// The exact machined defect (eq. 12) at the 100 built-in points on any chain (`opts`: chain,
+/// mode, branch) for any of its location errors (`EY0C`, `EX0C`, …: the whole ISO 230-1 list,
+/// [`crate::sensitivity::error_set::full_list`]) and `dR` (contributing `-dR`), plus the same
+/// seeded noise as [`simulate_deviation`]: the parts of `testpiece simulate --machine`.
+pub fn simulate_on(
+    opts: &SensitivityOptions,
+    errors: &[(String, f64)],
+    noise_sigma: f64,
+    seed: u64,
+) -> Result<Vec<f64>, SimulateError> {
+    check_noise(noise_sigma)?;
+    let mut params = Vec::new();
+    let mut values = Vec::new();
+    let mut d_r = 0.0;
+    for (name, v) in errors {
+        if name == TOOL_RADIUS {
+            d_r = *v;
+            continue;
+        }
+        params.push(ErrorParam::parse(name).map_err(SensitivityError::from)?);
+        values.push(*v);
+    }
+    let part = SShape::iso();
+    let points = builtin_points(&part);
+    let errors = crate::machine::MachineErrors::from_pairs(&params, &values);
+    let mut y = crate::sensitivity::defect(&part, &points, &errors, opts)?;
+    for v in y.iter_mut() {
+        *v -= d_r;
+    }
+    add_noise(&mut y, noise_sigma, seed);
+    Ok(y)
+}
+
 /// A noise σ (mm) must be finite and ≥ 0.
 fn check_noise(sigma: f64) -> Result<(), SimulateError> {
     if sigma.is_finite() && sigma >= 0.0 {

@@ -84,6 +84,8 @@ async function analyseFile(f) {
       ? await withProgress(`Analysing ${f.name}…`, () => call('analyseRepeats', f.repeats,
         { ...st.settings, noise_sigma: null, noise_mpe: undefined }))
       : await withProgress(`Analysing ${f.name}…`, () => call('analyse', f.bytes, f.name, st.settings));
+    // the machine's location errors and why (settings only: derived once per machine in the core)
+    f.analysis.error_set = await call('errorSet', st.settings);
   } catch (e) {
     f.analysis = null;
     f.error = e.message === 'cancelled' ? 'The computation was cancelled: change a setting or choose the file again to compute it.' : e.message;

@@ -343,6 +343,7 @@ export function identifyView(root, a) {
     h('p', {}, `Residual RMS ${(base.residual.rms * 1000).toFixed(2)} µm, σ ${base.sigma ? (base.sigma * 1000).toFixed(2) + ' µm' : '—'} (${base.sigma_source}).`),
     parameterTable('baseline-parameters', 'Baseline location errors (rad; lengths in mm), without any unmodelled effect', base, null, 'none')));
   root.append(outlierBlock(a));
+  if (a.error_set) root.append(errorSetBlock(a.error_set));
   root.append(h('h2', {}, 'What this part cannot separate'));
   if (!id.groups.length) root.append(h('p', {}, 'Every parameter is separately determined by this part.'));
   root.append(h('ul', { id: 'groups' }, id.groups.map((g) => h('li', {}, h('strong', {}, `${g.kind.replace('_', ' ')}: ${g.parameters.join(', ')}. `), g.explanation))));
@@ -354,6 +355,22 @@ export function identifyView(root, a) {
   root.append(table('residual-per-curve', 'Residual per curve (paper 001 eq. 15-17)', ['curve', 'n', 'RMS (µm)', 'max |r| (µm)', 'MAD (µm)', 'RMSE (µm)', 'MAPE (%)'],
     id.per_curve.map((cv) => [cv.curve, { text: cv.n, num: true }, ...[cv.rms, cv.max_abs, cv.mad, cv.rmse].map((v) => ({ text: (v * 1000).toFixed(2), num: true, value: v * 1000 })),
       { text: cv.mape === null ? '—' : cv.mape.toFixed(1), num: true, value: cv.mape ?? '' }])));
+}
+
+const STATUS_WORDS = { kept: 'identified', absorbed: 'absorbed by the identified ones', invisible: 'invisible on a flank-milled wall', index: 'angular zero (not fitted)' };
+
+/** The machine's location errors: which ISO 230-1 errors the part sees and is identified with,
+ * which it cannot tell from them or cannot see at all, and the machine's coordinate convention. */
+function errorSetBlock(s) {
+  const um = (v) => ({ text: (v * 1000).toFixed(3), num: true, value: v * 1000 });
+  return h('details', { id: 'error-set' },
+    h('summary', {}, `This machine's location errors: ${s.kept.join(', ')} (${s.kept.length} of the ${s.rows.length} ISO 230-1 location errors of ${s.code})`),
+    h('p', {}, `Derived from what the part sees, not listed: each error's defect at the ${s.points} built-in points is kept when at least ${(s.visible_fraction * 100).toFixed(1)} % of its RMS is left after the errors kept before it (condition index 30, where the identification calls parameters not separable).`),
+    table('error-set-rows', 'ISO 230-1 location errors of the chain (RMS in µm of deviation per 1e-4 rad or per 0.01 mm)',
+      ['error', 'status', 'RMS (µm)', 'left beyond the ones before (µm)', 'looks like', 'why'],
+      s.rows.map((r) => [r.name, STATUS_WORDS[r.status] || r.status, um(r.rms), um(r.unabsorbed), r.looks_like ? r.looks_like.text : '—', r.reason])),
+    h('h3', {}, 'Coordinate convention'),
+    h('ul', { id: 'error-set-conventions' }, s.conventions.map((c) => h('li', {}, c))));
 }
 
 /** Plan view of the part (x–y) with the residual drawn as coloured arrows along the normal, the

@@ -10,13 +10,12 @@
 //! defect per unit error: for paper 000's machine the Figure 19 curves, columns
 //! `EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B, EA0B, EC0B`.
 
-use nalgebra::{DMatrix, Vector3};
+use nalgebra::{DMatrix, Matrix3xX, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::machine::chain::PAPER000_L0;
 use crate::machine::direct::{jacobian, tool_point};
 use crate::machine::inverse::inverse;
-use crate::machine::location_errors::minimal_set;
 use crate::machine::{AxisValues, Branch, Chain, ErrorParam, MachineErrors};
 use crate::part::{MeasurementPoint, SShape, Surface};
 
@@ -82,13 +81,10 @@ impl SensitivityOptions {
         self.chain = chain;
         self
     }
-    /// The error parameters of the chain's minimal set (the matrix columns).
-    pub fn params(&self) -> Vec<ErrorParam> {
-        minimal_set(&self.chain)
-            .free()
-            .into_iter()
-            .map(ErrorParam::Location)
-            .collect()
+    /// The location errors of the chain the part is identified with (the matrix columns):
+    /// derived from what the part sees ([`super::error_set`]; paper 000: Table 3's eight).
+    pub fn params(&self) -> Result<Vec<ErrorParam>, SensitivityError> {
+        Ok(super::error_set::error_set(&self.chain, self.branch)?.params())
     }
 }
 
@@ -99,7 +95,7 @@ struct PointPose {
     n: Vector3<f64>,
 }
 
-fn reference_pose(opts: &SensitivityOptions) -> Result<AxisValues, SensitivityError> {
+pub(crate) fn reference_pose(opts: &SensitivityOptions) -> Result<AxisValues, SensitivityError> {
     Ok(match opts.mode {
         Mode::Paper => AxisValues::default(),
         // The tip at the part origin with the tool vertical: (0, 0, L0, 0, 0) on paper 000.
@@ -165,7 +161,7 @@ pub fn sensitivity_matrix(
     points: &[MeasurementPoint],
     opts: &SensitivityOptions,
 ) -> Result<SensitivityMatrix, SensitivityError> {
-    let params = opts.params();
+    let params = opts.params()?;
     let values = jacobian_rows(part, points, opts, &params)?;
     Ok(SensitivityMatrix {
         ids: points.iter().map(|p| p.id).collect(),
@@ -183,17 +179,46 @@ pub fn jacobian_rows(
     params: &[ErrorParam],
 ) -> Result<DMatrix<f64>, SensitivityError> {
     let poses = point_poses(part, points, opts)?;
-    let none = MachineErrors::none();
-    let (jref, _) = jacobian(&opts.chain, &reference_pose(opts)?, 0.0, &none, params)?;
     let mut m = DMatrix::zeros(points.len(), params.len());
-    for (r, pp) in poses.iter().enumerate() {
-        let (j, _) = jacobian(&opts.chain, &pp.q, pp.h, &none, params)?;
-        let d = (j - &jref).transpose() * pp.n;
+    for (r, (pp, j)) in poses
+        .iter()
+        .zip(displacements(&poses, opts, params)?)
+        .enumerate()
+    {
+        let d = j.transpose() * pp.n;
         for k in 0..params.len() {
             m[(r, k)] = d[k];
         }
     }
     Ok(m)
+}
+
+/// The linear displacement of the displaced tool point (mode of `opts`) per unit of each
+/// parameter, minus that of the reference (3 × params per point, mm per unit): what
+/// [`jacobian_rows`] projects on the normal.
+pub fn jacobian_displacements(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+    params: &[ErrorParam],
+) -> Result<Vec<Matrix3xX<f64>>, SensitivityError> {
+    displacements(&point_poses(part, points, opts)?, opts, params)
+}
+
+fn displacements(
+    poses: &[PointPose],
+    opts: &SensitivityOptions,
+    params: &[ErrorParam],
+) -> Result<Vec<Matrix3xX<f64>>, SensitivityError> {
+    let none = MachineErrors::none();
+    let (jref, _) = jacobian(&opts.chain, &reference_pose(opts)?, 0.0, &none, params)?;
+    poses
+        .iter()
+        .map(|pp| {
+            let (j, _) = jacobian(&opts.chain, &pp.q, pp.h, &none, params)?;
+            Ok(j - &jref)
+        })
+        .collect()
 }
 
 /// The axis values of the flank path at each point (in the points' order), by the chain and
@@ -304,7 +329,7 @@ pub fn defect_xi(
     xi: &[f64],
     opts: &SensitivityOptions,
 ) -> Result<Vec<f64>, SensitivityError> {
-    let params = opts.params();
+    let params = opts.params()?;
     if xi.len() != params.len() {
         return Err(SensitivityError::ErrorCount {
             values: xi.len(),

@@ -16,6 +16,7 @@
 
 pub mod cone_frustum;
 pub mod defect;
+pub mod error_set;
 pub mod frenet;
 pub mod path;
 pub mod reversal;

@@ -70,6 +70,7 @@ pub fn path_coefficients(
         .map_err(|e| JsError::new(&e.to_string()))?;
     let coefficients = sopts
         .params()
+        .map_err(|e| JsError::new(&e.to_string()))?
         .into_iter()
         .map(|p| coefficients(&sopts.chain, &frames, p))
         .collect::<Result<Vec<_>, _>>()

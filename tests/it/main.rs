@@ -53,6 +53,7 @@ mod kinematics_chain;
 mod kinematics_inverse;
 mod kinematics_jacobian;
 mod kinematics_peer;
+mod machine_error_set;
 mod pool_identify;
 mod pool_refine;
 mod proptest_bspline;

@@ -10,6 +10,7 @@ mod envelope;
 mod forward;
 mod identify;
 mod info;
+mod machine;
 mod plan;
 mod points;
 mod program;
@@ -27,6 +28,8 @@ Usage: testpiece <command> [options]
 Commands:
   info        lengths of the four measurement curves of the built-in S-shape (mm)
   sensitivity Figure-19 defect per unit of each of the 8 location errors [--mode] [--branch]
+  machine     the location errors a machine is identified with (derived from what the part
+              sees), the ones left out and why, and its coordinate convention [--machine M]
   forward     tool tip and axis from axis values on stdin through --machine FILE (JSON chain)
   points      the 100 built-in measurement points: id,curve,u,v,x,y,z,nx,ny,nz,h
   envelope    flank-path deviation at the points (id,curve,deviation); --surface-max per surface
@@ -65,6 +68,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         "info" => info::run(rest),
+        "machine" => machine::run(rest),
         "points" => points::run(rest),
         "envelope" => envelope::run(rest),
         "sensitivity" => sensitivity::run(rest),

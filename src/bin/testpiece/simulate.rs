@@ -13,7 +13,7 @@ use testpiece::simulate::{parse_errors, simulate_deviation, simulate_exact};
 const HELP: &str = "\
 testpiece simulate --errors EX0B=0.03,EA0B=3e-4 [--effect backlash_c=1e-4,tool_taper.g=2e-4]
                    [--noise 0.0015] [--seed 7] [--mode physical|paper]
-                   [--branch signed|positive] [--linear]
+                   [--branch signed|positive] [--linear] [--machine M] [--l0 MM]
 
 Prints a synthetic measured part at the 100 built-in points in the canonical format
 `id,curve,x,y,z,nx,ny,nz,deviation` (mm; deviation = (machined - nominal)·N, + = material left).
@@ -22,6 +22,12 @@ eq. 14; they differ by < 0.3 µm at 3e-4 rad) for the given errors
 (EC0Y EA0Z EB0Z EA0C EB0C EA0B EC0B in rad, EX0B in mm; others 0), plus dR (mm, a tool larger by
 dR overcuts by dR) if given in --errors, plus Gaussian noise of σ = --noise mm (default 0) drawn
 from a ChaCha8 stream seeded by --seed (default 7): the same seed gives the same part.
+
+--machine paper000|paper001|paper002 (default paper000) and --l0: the chain. With another
+machine than paper000, or an error outside the eight above, the part is the exact eq. 12 defect
+on that chain for any of its ISO 230-1 location errors (`testpiece machine --machine M` lists
+them: e.g. EY0C=0.02,EX0C=-0.015 for a C axis off the part origin on the tilting table), and
+--effect uses that machine's signatures.
 
 --effect adds unmodelled effects of shared/spec/effects.md, each as ID=VALUE for a one-parameter
 effect (backlash_c=1e-4: rad for B and C, mm for X, Y, Z) or ID.PARAMETER=VALUE (tool_taper.g=2e-4,
@@ -68,7 +74,9 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     }
     let args = Args::parse(
         rest,
-        &["errors", "noise", "seed", "mode", "branch", "effect"],
+        &[
+            "errors", "noise", "seed", "mode", "branch", "effect", "machine", "l0",
+        ],
     )?;
     let errors = args
         .value("errors")
@@ -88,6 +96,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let (mode, branch) = mode_and_branch(&args)?;
     let linear = args.flag("linear");
     let effects = args.value("effect").map(parse_effects).transpose()?;
+    let (machine, l0) = crate::identify::machine_and_l0(&args)?;
     args.reject_unknown("simulate")?;
     if !args.positional.is_empty() {
         return Err(format!(
@@ -96,16 +105,42 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         ));
     }
     let errs = parse_errors(errors).map_err(|e| e.to_string())?;
+    if !(l0.is_finite() && l0 > 0.0) {
+        return Err(format!("--l0 {l0}: expected a positive length in mm"));
+    }
+    let full: Vec<String> = testpiece::sensitivity::error_set::full_list(&machine.chain(l0))
+        .iter()
+        .map(|(e, _)| e.name())
+        .collect();
     for (name, _) in &errs {
-        if name != "dR" && !ISO_LOCATION_ERRORS.contains(&name.as_str()) {
+        if name != "dR" && !full.contains(name) {
             return Err(format!(
-                "--errors: unknown error `{name}`; known: {}, dR",
-                ISO_LOCATION_ERRORS.join(", ")
+                "--errors: unknown error `{name}` on {}; known: {}, dR",
+                machine.describe(),
+                full.join(", ")
             ));
         }
     }
+    // Paper 000 with its eight errors keeps the design-based path (its parts bit for bit).
+    let on_chain = machine != testpiece::analysis::MachineChoice::Paper000
+        || errs
+            .iter()
+            .any(|(n, _)| n != "dR" && !ISO_LOCATION_ERRORS.contains(&n.as_str()));
+    let chain_opts = || -> Result<SensitivityOptions, String> {
+        let b = Branch::parse(&branch).ok_or("--branch: expected signed or positive")?;
+        let m = testpiece::sensitivity::Mode::parse(&mode).map_err(|e| e.to_string())?;
+        Ok(SensitivityOptions::default()
+            .with_chain(machine.chain(l0))
+            .with_branch(b)
+            .with_mode(m))
+    };
     let tool_radius = errs.iter().any(|(n, _)| n == "dR");
-    let dev = if linear {
+    let dev = if on_chain {
+        if linear {
+            return Err("--linear: only on paper000 with its eight errors".to_string());
+        }
+        testpiece::simulate::simulate_on(&chain_opts()?, &errs, noise, seed)
+    } else if linear {
         let design = design_for(&mode, &branch, tool_radius)?;
         simulate_deviation(&design, &errs, noise, seed)
     } else {
@@ -116,8 +151,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let pts = builtin_points(&part);
     let dev: Vec<f64> = match effects {
         Some(values) => {
-            let branch = Branch::parse(&branch).ok_or("--branch: expected signed or positive")?;
-            let opts = SensitivityOptions::default().with_branch(branch);
+            let opts = chain_opts()?;
             let model = part_model_on(&part, &pts, &opts).map_err(|e| e.to_string())?;
             let e = model
                 .effect_deviation(&values)

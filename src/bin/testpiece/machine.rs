@@ -1,0 +1,95 @@
+//! `testpiece machine [--machine M] [--l0 MM] [--branch signed|positive] [--json]`: the location
+//! errors a machine is identified with, derived from what the part sees, and its conventions.
+
+use testpiece::machine::Branch;
+use testpiece::sensitivity::error_set::{error_set, ErrorStatus, VISIBLE_FRACTION};
+
+use crate::args::Args;
+use crate::identify::machine_and_l0;
+
+const HELP: &str = "\
+testpiece machine [--machine paper000|paper001|paper002] [--l0 MM] [--branch signed|positive]
+                  [--json]
+
+The location errors the chosen machine is identified with, and why. The set is derived, not
+listed: from every ISO 230-1 location error of the chain's axes (for a linear axis its zero
+offset and two squareness angles; for a rotary axis the two positions of its line across it,
+its two tilts and its angular zero), the columns of the machined defect at the part's 100
+built-in points (physical mode, per 1e-4 rad or 0.01 mm) are taken in a fixed order (paper 000
+Table 3's convention first, then rotary-line positions, tilts, squareness, zero offsets) and
+one is kept when at least 1/30 of its RMS is left after the errors kept before it (condition
+index 30, the identification's limit of separability). Angular zeros are never kept: the C
+index next to the part is the effect c_index (a_index on the A-B head); the others are fixed by
+the reference pose.
+
+Statuses: kept (identified); absorbed (the part cannot tell it from the kept ones: `looks like`
+gives one unit of it in their terms); invisible (no deviation on a flank-milled wall); index.
+
+Sets on the built-in design (signed branch):
+  paper000 (B head / C table)     EC0Y EA0Z EB0Z EA0C EB0C EX0B EA0B EC0B  (paper 000 Table 3)
+  paper002 (B-C tilting table)    EC0Y EA0Z EB0Z EA0C EX0B EC0B EY0C EZ0B
+  paper001 (A-B head)             EC0Y EA0Z EB0Z EA0B EC0B EZ0A EB0A EC0A EA0Y
+
+Prints CSV `name,unit,status,rms_um,unabsorbed_um,looks_like,reason` (µm of deviation RMS per
+typical size), then the conventions as `# ` lines; --json prints the whole set.
+";
+
+pub fn run(rest: &[String]) -> Result<(), String> {
+    if crate::wants_help(rest, HELP) {
+        return Ok(());
+    }
+    let args = Args::parse(rest, &["machine", "l0", "branch"])?;
+    let json = args.flag("json");
+    let (machine, l0) = machine_and_l0(&args)?;
+    let branch = match args.value("branch") {
+        None => Branch::Signed,
+        Some(b) => Branch::parse(b)
+            .ok_or_else(|| format!("--branch `{b}`: expected signed or positive"))?,
+    };
+    args.reject_unknown("machine")?;
+    if !(l0.is_finite() && l0 > 0.0) {
+        return Err(format!("--l0 {l0}: expected a positive length in mm"));
+    }
+    let set = error_set(&machine.chain(l0), branch).map_err(|e| e.to_string())?;
+    if json {
+        let mut v = serde_json::to_value(&*set).map_err(|e| e.to_string())?;
+        v["machine"] = serde_json::to_value(machine).map_err(|e| e.to_string())?;
+        v["description"] = serde_json::json!(machine.describe());
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+        return Ok(());
+    }
+    println!("name,unit,status,rms_um,unabsorbed_um,looks_like,reason");
+    for r in &set.rows {
+        let status = match r.status {
+            ErrorStatus::Kept => "kept",
+            ErrorStatus::Absorbed => "absorbed",
+            ErrorStatus::Invisible => "invisible",
+            ErrorStatus::Index => "index",
+        };
+        let looks = r.looks_like.as_ref().map_or("", |l| l.text.as_str());
+        println!(
+            "{},{},{},{:.4},{:.4},\"{}\",\"{}\"",
+            r.name,
+            r.unit,
+            status,
+            r.rms * 1e3,
+            r.unabsorbed * 1e3,
+            looks,
+            r.reason.replace('"', "'")
+        );
+    }
+    println!(
+        "# {}: {} kept of {}, kept when >= {:.1} % of a column is left",
+        machine.describe(),
+        set.kept.len(),
+        set.rows.len(),
+        100.0 * VISIBLE_FRACTION
+    );
+    for c in &set.conventions {
+        println!("# {c}");
+    }
+    Ok(())
+}
