@@ -38,6 +38,7 @@ mod gap_machines;
 mod gap_outliers;
 mod gap_pairs;
 mod gap_validate;
+mod gap_validate_machines;
 mod geometry_cli;
 mod geometry_envelope;
 mod geometry_points;
