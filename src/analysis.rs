@@ -19,10 +19,10 @@
 //!    location errors (the design's columns).
 //! 5. [`crate::gap::diagnose`] on the same points ([`diagnose_on_machine`]): the baseline of
 //!    effects.md (the chosen machine's location errors, `physical` mode, the chosen branch) and
-//!    every candidate effect on that machine's axes, whatever the identification's own mode;
-//!    where the residual lies, which effect, how far it shrinks. Paper 001's A-B head has no C
-//!    axis for the catalogue's `backlash_c` / `c_index`: its parts are diagnosed on paper 000's
-//!    machine, and the summary says so.
+//!    every candidate effect whose physics the machine has ([`Effect::on_chain`]: paper 001's A-B
+//!    head has `backlash_a` and `a_index`, no `backlash_c` or `c_index`; paper 002's tilting table
+//!    has no `pivot_length`), whatever the identification's own mode; where the residual lies,
+//!    which effect, how far it shrinks.
 //!
 //! Edge cases (tests/edge_*.rs): non-finite or non-positive `l0` and `noise_sigma` are refused
 //! with the value; a refinement whose linear and exact models disagree by more than
@@ -36,7 +36,7 @@ use crate::cmm::{read_and_match, CmmError, MatchedPart, ReadOptions};
 use crate::gap::correct::{
     correct, shifts, summary, Basis, Correction, CorrectionInput, EffectsChoice, Final,
 };
-use crate::gap::effects::builtin::{missing_catalogue_axis, part_model, part_model_on, PartModel};
+use crate::gap::effects::builtin::{part_model, part_model_on, PartModel};
 use crate::gap::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
 use crate::gap::repeat::{self, LackOfFit, Measurement, PureError, RepeatError};
 use crate::gap::verdict::VerdictId;
@@ -48,7 +48,7 @@ use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
 };
 use crate::machine::chain::PAPER000_L0;
-use crate::machine::{AxisName, Branch, Chain};
+use crate::machine::{Branch, Chain};
 use crate::part::{Curve, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
 use crate::simulate::{ExactDefectModel, SimulateError};
@@ -439,6 +439,25 @@ pub fn sensitivity_options(opts: &AnalysisOptions) -> SensitivityOptions {
         .with_chain(opts.machine.chain(opts.l0))
 }
 
+/// The effects given to fit (`--effects ID[,ID]`) must exist on the chosen machine
+/// ([`Effect::absent_from`]): otherwise [`GapError::NotOnMachine`], naming the machine and why.
+pub fn effects_on_machine(opts: &AnalysisOptions) -> Result<(), GapError> {
+    let EffectsChoice::Given(effects) = &opts.effects else {
+        return Ok(());
+    };
+    let chain = opts.machine.chain(opts.l0);
+    for &effect in effects {
+        if let Some(reason) = effect.absent_from(&chain) {
+            return Err(GapError::NotOnMachine {
+                effect,
+                machine: opts.machine.describe().to_string(),
+                reason,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The sensitivity design at `points` for `opts` (plus the `dR` column when asked).
 pub fn design_at(
     part: &SShape,
@@ -448,6 +467,7 @@ pub fn design_at(
     if !(opts.l0.is_finite() && opts.l0 > 0.0) {
         return Err(AnalysisError::BadL0(opts.l0));
     }
+    effects_on_machine(opts).map_err(AnalysisError::Correction)?;
     let m = sensitivity_matrix(part, points, &sensitivity_options(opts))?;
     let n = points.len();
     let mut params: Vec<Parameter> = m.params.iter().map(|p| Parameter::named(p)).collect();
@@ -490,24 +510,14 @@ pub fn diagnose_points(
 #[serde(tag = "status", rename_all = "snake_case")]
 pub enum Diagnosis {
     Made {
-        /// The machine whose errors and axes the diagnosis used.
+        /// The machine whose errors and axes the diagnosis used (the identification's).
         machine: MachineChoice,
-        /// Why that is not the identification's machine, when it is not.
-        instead_of: Option<Substitute>,
         report: Box<DiagnosisReport>,
     },
     NotMade {
         /// The diagnosis stage's message.
         reason: String,
     },
-}
-
-/// The identification's machine, when the diagnosis had to use another one.
-#[derive(Debug, Clone, Serialize)]
-pub struct Substitute {
-    pub machine: MachineChoice,
-    /// The axis of the effect catalogue it does not have.
-    pub missing_axis: AxisName,
 }
 
 impl Diagnosis {
@@ -528,9 +538,8 @@ impl Diagnosis {
 }
 
 /// The gap diagnosis on the machine the analysis identifies: its own location errors as the
-/// baseline and its own axes for backlash, scale and reversals, when it has the catalogue's axes
-/// (paper 000, paper 002); otherwise (paper 001's A-B head, no C axis) paper 000's machine with
-/// its defaults (signed B, its own L0), said in the summary.
+/// baseline, its own candidates ([`Effect::on_chain`]) with their signatures derived from its
+/// chain, its own axes for backlash, scale and reversals.
 pub fn diagnose_on_machine(
     part: &SShape,
     points: &[MeasurementPoint],
@@ -545,8 +554,7 @@ struct Modelled {
     diagnosis: Diagnosis,
     /// The part model (points, candidates' signatures), when it could be built.
     model: Option<PartModel>,
-    /// Effects whose signature on the diagnosis's machine does not belong to the
-    /// identification's machine, and why.
+    /// Effects the machine does not have ([`Effect::left_out`]), and why.
     unavailable: Vec<(Effect, String)>,
     /// The outlier test (when the model could be built) and the rows left out.
     outliers: Option<OutlierTest>,
@@ -561,7 +569,6 @@ fn diagnose_modelled(
     deviations: &[f64],
     opts: &AnalysisOptions,
 ) -> Modelled {
-    let mut unavailable = Vec::new();
     let mut outliers = None;
     let mut excluded = Vec::new();
     let mut verdict_all_points = None;
@@ -595,57 +602,21 @@ fn diagnose_modelled(
         excluded = drop;
         Ok(report)
     };
-    let made = match missing_catalogue_axis(&opts.machine.chain(opts.l0)) {
-        None => part_model_on(part, points, &sensitivity_options(opts))
-            .and_then(|m| run(&m).map(|report| (opts.machine, None, report, m))),
-        Some(missing_axis) => part_model(part, points).and_then(|m| {
-            run(&m).map(|mut report| {
-                report.summary = format!(
-                    "{}\nMachine: the diagnosis used paper 000's B head / C table, not the {} \
-                     chosen for the identification: {}.\n",
-                    report.summary.trim_end(),
-                    opts.machine.describe(),
-                    GapError::MissingAxis(missing_axis)
-                );
-                let instead = Substitute {
-                    machine: opts.machine,
-                    missing_axis,
-                };
-                (MachineChoice::Paper000, Some(instead), report, m)
-            })
-        }),
-    };
+    let made = part_model_on(part, points, &sensitivity_options(opts))
+        .and_then(|m| run(&m).map(|report| (report, m)));
+    let unavailable = Effect::left_out(&opts.machine.chain(opts.l0));
     match made {
-        Ok((machine, instead_of, report, model)) => {
-            if let Some(sub) = &instead_of {
-                // Effects of an axis (or of the C axis's zero) were modelled on paper 000's
-                // machine: their columns are not those of the identification's chain.
-                for c in &model.candidates {
-                    if c.effect.axis().is_some() || c.effect == Effect::CIndex {
-                        unavailable.push((
-                            c.effect,
-                            format!(
-                                "its signature was modelled on paper 000's machine, not on the {} ({})",
-                                sub.machine.describe(),
-                                GapError::MissingAxis(sub.missing_axis)
-                            ),
-                        ));
-                    }
-                }
-            }
-            Modelled {
-                diagnosis: Diagnosis::Made {
-                    machine,
-                    instead_of,
-                    report: Box::new(report),
-                },
-                model: Some(model),
-                unavailable,
-                outliers,
-                excluded,
-                verdict_all_points,
-            }
-        }
+        Ok((report, model)) => Modelled {
+            diagnosis: Diagnosis::Made {
+                machine: opts.machine,
+                report: Box::new(report),
+            },
+            model: Some(model),
+            unavailable,
+            outliers,
+            excluded,
+            verdict_all_points,
+        },
         Err(e) => Modelled {
             diagnosis: Diagnosis::NotMade {
                 reason: e.to_string(),

@@ -46,6 +46,7 @@ pub fn remedy(effect: Effect) -> Remedy {
             machine("the controller's thermal compensation, or a warm-up before the test")
         }
         Effect::CIndex => machine("the C axis's reference (zero) offset in the controller"),
+        Effect::AIndex => machine("the A axis's reference (zero) offset in the controller"),
         Effect::PivotLength => {
             machine("the tool length / pivot length of the controller's kinematic transformation")
         }

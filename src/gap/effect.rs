@@ -17,13 +17,24 @@
 //!   axis's own positioning error motion ([`super::effects::machine`]).
 //! - `thermal_drift.g`: the head grows along machine Z in proportion to machining time, i.e. to
 //!   the tool-tip path length `s` from the start of A (through B); a drift `g` over the whole
-//!   path moves the tool by `−g·(s/s_total)·ẑ` (towards the table): `−(s/s_total)·N_z`.
+//!   path moves the tool by `−g·(s/s_total)·ẑ_machine` (towards the table), which in the part
+//!   frame is `−g·(s/s_total)·R_W(q)ᵀẑ` (`R_W` the rotation of the workpiece-side chain at the
+//!   point's axis values `q`): `−(s/s_total)·(R_W(q)ᵀẑ)·N`. Where every workpiece-side rotary
+//!   axis turns about z (paper 000's C table, paper 001's X table) `R_Wᵀẑ = ẑ` and the signature
+//!   is `−(s/s_total)·N_z`; on paper 002's B-C tilting table `R_Wᵀẑ` is the tool axis, which
+//!   lies in the flank-milled walls: exactly zero.
 //! - `setup_error.thetaz`, `.tx`, `.ty`: the measured part rotated by `θz` about Z and shifted by
 //!   `t`: a point moves by `θz ẑ × p + t`, deviation `(θz ẑ × p + t)·N` with `ẑ × p = (−y, x, 0)`.
-//! - `c_index.dC`: a C-axis offset `dC` (`C_real = C_cmd + dC`) turns the table, and the part, by
-//!   `dC` about the C axis; with `p = Rz(C)ᵀ(…)` (s-shape.md eq. 8-10) the tool's path in the part
-//!   frame turns by `−dC`: `∂p/∂C·N = −(ẑ × p)·N`, the negative of `setup_error.thetaz`
-//!   (reference README).
+//! - `c_index.dC` and `a_index.dA`: one convention, `q_real = q_cmd + dq`. For a C axis that is
+//!   the workpiece-side axis next to the part, about z through the part origin (paper 000's C
+//!   table, paper 002's `C'`), `p = Rz(s_C·C)ᵀ(…)` (s-shape.md eq. 8-10, `s_C = −1` when primed)
+//!   and the tool's path in the part frame turns by `−s_C·dC`: `∂p/∂C·N = −s_C·(ẑ × p)·N`, on
+//!   paper 000 the negative of `setup_error.thetaz` (reference README), on paper 002 (`C'`) the
+//!   same as it. Otherwise (paper 001's A axis in the head) the signature is the Jacobian of the
+//!   axis's constant angular positioning error (`EAA`, `ECC`: exactly a change of the axis value)
+//!   at the tool-body point at the contact point, minus the tip's at the reference pose where the
+//!   part origin is set, as for the location errors in `physical` mode
+//!   ([`super::effects::machine::index_signatures`]).
 //! - `pivot_length.dL0`: a real pivot-to-tip length `L0 + dL0` moves the tool by `−dL0·w` along
 //!   its own axis `w`, which has no normal component on a flank-milled wall (`N·w = 0`); the part
 //!   origin was set with B = 0, which removed `−dL0·ẑ`, so what shows is `+dL0·ẑ·N = dL0·N_z`.
@@ -36,7 +47,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::GapError;
 use crate::machine::chain::AxisKind;
-use crate::machine::AxisName;
+use crate::machine::{AxisName, Chain};
 
 /// One candidate unmodelled effect of effects.md.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -59,22 +70,34 @@ pub enum Effect {
     CIndex,
     /// `pivot_length`: pivot-to-tip length error `dL0` (mm).
     PivotLength,
+    /// `a_index`: zero offset `dA` (rad) of the A axis.
+    AIndex,
 }
 
-/// Axes of the backlash candidates, in effects.md order.
-pub const BACKLASH_AXES: [AxisName; 5] = [
+/// Axes of the backlash candidates, in effects.md order (then A, added for paper 001's A-B head).
+pub const BACKLASH_AXES: [AxisName; 6] = [
     AxisName::X,
     AxisName::Y,
     AxisName::Z,
     AxisName::B,
     AxisName::C,
+    AxisName::A,
 ];
+
+/// The axes of [`BACKLASH_AXES`] that `chain` has, in that order (paper 000 and 002: X, Y, Z, B,
+/// C; paper 001: X, Y, Z, B, A).
+pub fn backlash_axes(chain: &Chain) -> Vec<AxisName> {
+    BACKLASH_AXES
+        .into_iter()
+        .filter(|&a| chain.axis(a).is_some())
+        .collect()
+}
 /// Axes of the scale candidates, in effects.md order.
 pub const SCALE_AXES: [AxisName; 3] = [AxisName::X, AxisName::Y, AxisName::Z];
 
 impl Effect {
-    /// Every candidate, in the order of effects.md.
-    pub const ALL: [Effect; 15] = [
+    /// Every candidate, in the order of effects.md (then those added for paper 001's A-B head).
+    pub const ALL: [Effect; 17] = [
         Effect::ToolRadius,
         Effect::ToolTaper,
         Effect::Overcut,
@@ -90,7 +113,49 @@ impl Effect {
         Effect::Scale(AxisName::Z),
         Effect::CIndex,
         Effect::PivotLength,
+        Effect::Backlash(AxisName::A),
+        Effect::AIndex,
     ];
+
+    /// The candidates whose physics exists on `chain`, in the order of [`Effect::ALL`] (paper
+    /// 000: the 15 of effects.md; paper 002: without `pivot_length`; paper 001: without
+    /// `backlash_c` and `c_index`, with `backlash_a` and `a_index`).
+    pub fn on_chain(chain: &Chain) -> Vec<Effect> {
+        Effect::ALL
+            .into_iter()
+            .filter(|e| e.absent_from(chain).is_none())
+            .collect()
+    }
+
+    /// The candidates [`Effect::on_chain`] leaves out, each with the reason.
+    pub fn left_out(chain: &Chain) -> Vec<(Effect, String)> {
+        Effect::ALL
+            .into_iter()
+            .filter_map(|e| e.absent_from(chain).map(|why| (e, why)))
+            .collect()
+    }
+
+    /// Why the effect's physics does not exist on `chain` (`None`: it does): an axis the chain
+    /// does not have, or no pivot (no rotary axis on the tool side) for `pivot_length`.
+    pub fn absent_from(self, chain: &Chain) -> Option<String> {
+        let no_axis = |a: AxisName| {
+            chain
+                .axis(a)
+                .is_none()
+                .then(|| format!("the machine has no {a} axis"))
+        };
+        match self {
+            Effect::Backlash(a) | Effect::Scale(a) => no_axis(a),
+            Effect::CIndex => no_axis(AxisName::C),
+            Effect::AIndex => no_axis(AxisName::A),
+            Effect::PivotLength => (!chain
+                .tool_axes()
+                .iter()
+                .any(|a| a.name.kind() == AxisKind::Rotary))
+            .then(|| "no rotary axis on the tool side, the tool has no pivot".to_string()),
+            _ => None,
+        }
+    }
 
     /// The id of effects.md (`tool_radius`, `backlash_c`, …).
     pub fn id(self) -> &'static str {
@@ -115,6 +180,7 @@ impl Effect {
             Effect::Scale(A::C) => "scale_c",
             Effect::CIndex => "c_index",
             Effect::PivotLength => "pivot_length",
+            Effect::AIndex => "a_index",
         }
     }
 
@@ -136,6 +202,7 @@ impl Effect {
             Effect::Scale(_) => &[("k", "mm/mm")],
             Effect::CIndex => &[("dC", "rad")],
             Effect::PivotLength => &[("dL0", "mm")],
+            Effect::AIndex => &[("dA", "rad")],
         }
     }
 
@@ -170,6 +237,7 @@ impl Effect {
             Effect::Scale(A::C) => "scale error of the C axis",
             Effect::CIndex => "zero offset of the C axis",
             Effect::PivotLength => "pivot-to-tip length error",
+            Effect::AIndex => "zero offset of the A axis",
         }
     }
 
@@ -233,13 +301,25 @@ impl Effect {
             Effect::Overcut => vec![m.envelope.clone()],
             Effect::Backlash(a) => return axis_column(&m.backlash, a),
             Effect::Scale(a) => return axis_column(&m.scale, a),
-            Effect::ThermalDrift => vec![per_point(&|p| -(p.s / m.s_total) * p.n.z)],
+            Effect::ThermalDrift => match &m.machine_z {
+                None => vec![per_point(&|p| -(p.s / m.s_total) * p.n.z)],
+                Some(z) => vec![m
+                    .points
+                    .iter()
+                    .zip(z)
+                    .map(|(p, z)| -(p.s / m.s_total) * z.dot(&p.n))
+                    .collect()],
+            },
             Effect::SetupError => vec![
                 per_point(&rotation_z),
                 per_point(&|p| p.n.x),
                 per_point(&|p| p.n.y),
             ],
-            Effect::CIndex => vec![per_point(&|p| -rotation_z(p))],
+            Effect::CIndex => match m.c_table_sign {
+                Some(sign) => vec![per_point(&|p| -sign * rotation_z(p))],
+                None => return axis_column(&m.index, AxisName::C),
+            },
+            Effect::AIndex => return axis_column(&m.index, AxisName::A),
             Effect::PivotLength => vec![per_point(&|p| p.n.z)],
         })
     }
@@ -304,6 +384,15 @@ pub struct SignatureModel {
     pub backlash: Vec<(AxisName, Vec<f64>)>,
     /// `scale_<axis>.k` column per axis (mm per mm/mm).
     pub scale: Vec<(AxisName, Vec<f64>)>,
+    /// Machine Z in the part frame at each point, `R_W(q)ᵀẑ` (`thermal_drift`); `None` where it
+    /// is `ẑ` at every pose (every workpiece-side rotary axis turns about z).
+    pub machine_z: Option<Vec<Vector3<f64>>>,
+    /// `s_C` (+1, or −1 when primed) when the C axis is the workpiece-side axis next to the part,
+    /// about z through the part origin: `c_index` is then the rotation `−s_C·(ẑ × p)·N`.
+    pub c_table_sign: Option<f64>,
+    /// `<a>_index` columns from the Jacobian of the axis's constant positioning error (mm/rad),
+    /// for the index axes [`SignatureModel::c_table_sign`] does not cover.
+    pub index: Vec<(AxisName, Vec<f64>)>,
 }
 
 #[cfg(test)]
@@ -330,7 +419,9 @@ mod tests {
                 "scale_y",
                 "scale_z",
                 "c_index",
-                "pivot_length"
+                "pivot_length",
+                "backlash_a",
+                "a_index"
             ]
         );
         for e in Effect::ALL {
@@ -380,6 +471,7 @@ mod tests {
             }],
             envelope: vec![0.0],
             s_total: 100.0,
+            c_table_sign: Some(1.0),
             ..Default::default()
         };
         let set_up = Effect::SetupError.signature(&m).unwrap();
@@ -388,5 +480,51 @@ mod tests {
         assert!((set_up[0][0] + 4.0).abs() < 1e-12);
         assert_eq!(c[0][0], -set_up[0][0]);
         assert!(Effect::Backlash(AxisName::X).signature(&m).is_none());
+        // A primed C (paper 002's `C'`) turns the table the other way.
+        let primed = SignatureModel {
+            c_table_sign: Some(-1.0),
+            ..m
+        };
+        assert_eq!(
+            Effect::CIndex.signature(&primed).unwrap()[0][0],
+            set_up[0][0]
+        );
+    }
+
+    #[test]
+    fn each_machine_is_offered_the_effects_whose_physics_it_has() {
+        let ids = |c: &Chain| {
+            Effect::on_chain(c)
+                .iter()
+                .map(|e| e.id())
+                .collect::<Vec<_>>()
+        };
+        // Paper 000: the 15 of effects.md, in their order.
+        let paper000 = Chain::paper000(499.889);
+        assert_eq!(
+            ids(&paper000),
+            Effect::ALL[..15].iter().map(|e| e.id()).collect::<Vec<_>>()
+        );
+        assert!(Effect::left_out(&paper000)
+            .iter()
+            .all(|(e, _)| matches!(e, Effect::AIndex | Effect::Backlash(AxisName::A))));
+        // Paper 002's tilting table has no pivot: its B axis's height is the location error EZ0B.
+        let paper002 = Chain::paper002();
+        assert!(!ids(&paper002).contains(&"pivot_length"));
+        assert!(ids(&paper002).contains(&"c_index"));
+        let why = Effect::PivotLength.absent_from(&paper002).unwrap();
+        assert_eq!(
+            why,
+            "no rotary axis on the tool side, the tool has no pivot"
+        );
+        // Paper 001's A-B head: no C, an A.
+        let paper001 = Chain::paper001(499.889, 0.0);
+        let a = ids(&paper001);
+        assert!(!a.contains(&"c_index") && !a.contains(&"backlash_c"));
+        assert_eq!(&a[a.len() - 3..], ["pivot_length", "backlash_a", "a_index"]);
+        assert_eq!(
+            Effect::CIndex.absent_from(&paper001).unwrap(),
+            "the machine has no C axis"
+        );
     }
 }

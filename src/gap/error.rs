@@ -50,8 +50,14 @@ pub enum GapError {
         name: String,
         known: String,
     },
-    #[error("the effect catalogue (effects.md) names the axes X, Y, Z, B and C; this machine has no {0:?} axis")]
-    MissingAxis(crate::machine::AxisName),
+    #[error("`{effect}` is not a candidate on the {machine}: {reason}")]
+    NotOnMachine {
+        effect: crate::gap::Effect,
+        /// The machine's description.
+        machine: String,
+        /// Why its physics does not exist there ([`crate::gap::Effect::absent_from`]).
+        reason: String,
+    },
     #[error(
         "`{0}` has no signature in this part model (its axis is not modelled on this machine)"
     )]

@@ -32,7 +32,7 @@ pub use layout::{plan_points, split_total, MAX_PER_CURVE};
 pub use predict::{predicted_identification, PredictedParameter, Prediction};
 
 use crate::analysis::{noise_from_mpe, AnalysisOptions, MachineChoice};
-use crate::gap::effects::builtin::{missing_catalogue_axis, part_model_on};
+use crate::gap::effects::builtin::part_model_on;
 use crate::gap::DiagnoseOptions;
 use crate::identify::monte_carlo::CmmMpe;
 use crate::identify::Group;
@@ -215,17 +215,8 @@ pub fn plan(opts: &PlanOptions) -> Result<Plan, PlanError> {
             Branch::Positive => "positive",
         }
     )];
-    // The diagnosis's catalogue needs X, Y, Z, B, C; paper 001's A-B head is diagnosed on paper
-    // 000's machine (as the analysis does), said in a note.
-    let mut sens = crate::analysis::sensitivity_options(&opts.analysis(noise.sigma));
-    if let Some(axis) = missing_catalogue_axis(&sens.chain) {
-        notes.push(format!(
-            "{} has no {axis:?} axis for the catalogue of effects.md: the detection limits are on \
-             paper 000's B head / C table.",
-            opts.machine.describe()
-        ));
-        sens = sens.with_chain(MachineChoice::Paper000.chain(opts.l0));
-    }
+    // The machine's own candidates (Effect::on_chain), as the analysis diagnoses them.
+    let sens = crate::analysis::sensitivity_options(&opts.analysis(noise.sigma));
     let model =
         part_model_on(&part, &points, &sens).map_err(|e| PlanError::Effects(e.to_string()))?;
     let k = DiagnoseOptions::default().detect_factor;

@@ -1,8 +1,9 @@
 //! Reversal (backlash) errors along the flank path with a first-order servo lag (paper 002 §4.3,
-//! Fig. 16; `shared/spec/effects.md`, candidates `backlash_x` … `backlash_c`).
+//! Fig. 16; `shared/spec/effects.md`, candidates `backlash_x` … `backlash_c`, and `backlash_a` of
+//! paper 001's A-B head).
 //!
 //! Each surface is machined in one pass in increasing `u`. An axis with lost motion `b` (mm, or
-//! rad for B and C) trails its command by `b/2` against its direction of motion: the offset
+//! rad for A, B and C) trails its command by `b/2` against its direction of motion: the offset
 //! target is `e* = −(b/2)·sgn(dq/du)`, held while the axis is at rest. At a reversal the offset
 //! moves to the new target through a first-order lag whose "time" constant is
 //! [`LAG_LENGTH`] = 2 mm of tool-tip path: `e(s) = e* + (e(s₀) − e*)·exp(−(s − s₀)/2)`, updated

@@ -19,6 +19,6 @@ pub use conditions::{conditions_table, run_conditions, ConditionsReport, CONDITI
 pub use pairs::{pairs_table, validate_pairs, PairCase, PairValidation};
 pub use parameter_error::{answer_error, AnswerError, ErrorComparison, ErrorSummary};
 pub use single::{
-    effect_parameters, exact_machine_part, machine_errors, table, validate, validate_with,
-    MachinePart, ParameterErrors, ValidateOptions, ValidationModel,
+    effect_parameters, exact_machine_part, exact_machine_part_on, machine_errors, table, validate,
+    validate_with, MachinePart, ParameterErrors, ValidateOptions, ValidationModel,
 };

@@ -94,12 +94,24 @@ impl ValidationModel {
         part: &crate::part::SShape,
         points: &[crate::part::MeasurementPoint],
     ) -> Result<Self, GapError> {
-        let m = crate::gap::effects::builtin::part_model(part, points)?;
-        let shapes = ShapeColumns::at(
+        Self::on(
             part,
             points,
             &crate::sensitivity::SensitivityOptions::default(),
-        )?;
+        )
+    }
+
+    /// The model of `points` of the part on the machine of `opts` (its chain and branch,
+    /// `physical` mode): that machine's baseline (its location errors) and its candidates
+    /// ([`Effect::on_chain`]), with every out-of-list shape's columns the chain has.
+    pub fn on(
+        part: &crate::part::SShape,
+        points: &[crate::part::MeasurementPoint],
+        opts: &crate::sensitivity::SensitivityOptions,
+    ) -> Result<Self, GapError> {
+        let opts = opts.clone().with_mode(crate::sensitivity::Mode::Physical);
+        let m = crate::gap::effects::builtin::part_model_on(part, points, &opts)?;
+        let shapes = ShapeColumns::at(part, points, &opts)?;
         Ok(Self {
             shapes,
             ..Self::of(m)
@@ -394,6 +406,34 @@ pub fn exact_machine_part(names: &[String]) -> Result<Box<MachinePart<'static>>,
             .vector_from(&pairs)
             .map_err(|e| GapError::Model(e.to_string()))?;
         let d = exact.deviation(&x).map_err(GapError::Model)?;
+        Ok(DVector::from_vec(d))
+    }))
+}
+
+/// The machine part of `points` (those of `model`) by the exact eq. 12 defect of
+/// [`crate::simulate::ExactDefectModel`] on the chain and branch of `opts` (`physical` mode),
+/// the location errors `ξ` in the order of `model.baseline`, for [`validate_with`]: the
+/// `--exact` of any machine ([`exact_machine_part`] is paper 000's).
+pub fn exact_machine_part_on(
+    model: &ValidationModel,
+    points: Vec<crate::part::MeasurementPoint>,
+    opts: &crate::sensitivity::SensitivityOptions,
+) -> Result<Box<MachinePart<'static>>, GapError> {
+    use crate::identify::refine::ExactModel;
+    let design = Design::try_new(
+        model
+            .baseline
+            .names
+            .iter()
+            .map(|name| Parameter::named(name))
+            .collect(),
+        model.baseline.matrix.clone(),
+    )?;
+    let opts = opts.clone().with_mode(crate::sensitivity::Mode::Physical);
+    let exact = crate::simulate::ExactDefectModel::at_points(&design, points, opts)
+        .map_err(|e| GapError::Model(e.to_string()))?;
+    Ok(Box::new(move |xi: &DVector<f64>| {
+        let d = exact.deviation(xi.as_slice()).map_err(GapError::Model)?;
         Ok(DVector::from_vec(d))
     }))
 }

@@ -7,6 +7,8 @@ use nalgebra::{Rotation3, Vector3};
 use testpiece::gap::effect::{Effect, SignatureModel};
 use testpiece::gap::effects::builtin::{effect_points, point_meta};
 use testpiece::gap::effects::path_length::total_path_length;
+use testpiece::machine::chain::PAPER000_L0;
+use testpiece::machine::Chain;
 use testpiece::part::points::builtin_points;
 use testpiece::part::SShape;
 use testpiece::toolpath::envelope::builtin_envelope;
@@ -44,9 +46,10 @@ fn geometric_signatures_match_the_reference() {
         points: eps.clone(),
         envelope: env,
         s_total: total_path_length(&part),
+        c_table_sign: testpiece::gap::effects::machine::c_table_sign(&Chain::paper000(PAPER000_L0)),
         ..Default::default()
     };
-    let geometric: Vec<Effect> = Effect::ALL
+    let geometric: Vec<Effect> = Effect::on_chain(&Chain::paper000(PAPER000_L0))
         .into_iter()
         .filter(|e| e.axis().is_none())
         .collect();
@@ -83,6 +86,7 @@ fn c_index_is_the_derivative_of_a_table_rotation() {
     let eps = effect_points(&part, &pts[..5]);
     let model = SignatureModel {
         points: eps.clone(),
+        c_table_sign: testpiece::gap::effects::machine::c_table_sign(&Chain::paper000(PAPER000_L0)),
         ..Default::default()
     };
     let col = Effect::CIndex.signature(&model).unwrap();

@@ -1,17 +1,21 @@
-//! `testpiece validate [--cases N] [--seed S] [--known-sigma] [--exact] [--pairs] [--json]`: the withheld-effect
-//! benchmark of the gap diagnosis.
+//! `testpiece validate [--machine M] [--cases N] [--seed S] [--known-sigma] [--exact] [--pairs]
+//! [--json]`: the withheld-effect benchmark of the gap diagnosis.
 
+use testpiece::analysis::MachineChoice;
+use testpiece::machine::chain::PAPER000_L0;
 use testpiece::part::{builtin_points, SShape};
+use testpiece::sensitivity::SensitivityOptions;
 use testpiece::validate::shapes::Shape;
 use testpiece::validate::{
-    conditions_table, exact_machine_part, pairs_table, run_conditions, table, validate,
-    validate_pairs, validate_with, ValidateOptions, ValidationModel, CONDITIONS,
+    conditions_table, exact_machine_part, exact_machine_part_on, pairs_table, run_conditions,
+    table, validate, validate_pairs, validate_with, ValidateOptions, ValidationModel, CONDITIONS,
 };
 
 use crate::args::Args;
 
 const HELP: &str = "\
-testpiece validate [--cases N] [--seed S] [--known-sigma] [--exact] [--pairs] [--spikes] [--json]
+testpiece validate [--machine paper000|paper001|paper002] [--cases N] [--seed S] [--known-sigma]
+                   [--exact] [--pairs] [--spikes] [--json]
 
 Simulates N parts (default 200) of the built-in S-shape with random machine errors (angles
 ±3e-4 rad, EX0B ±0.03 mm), each with one effect of effects.md at a random magnitude around its
@@ -19,6 +23,13 @@ detection limit, or none, or an effect outside the list (waviness, local bump), 
 σ = 1.5 µm; diagnoses each with the effect withheld from the baseline; prints per-effect accuracy,
 the confusion matrix, detection limits and the shrink achieved versus achievable.
 
+--machine M    the machine the parts are made and diagnosed on (default paper000, the B head /
+               C table): paper001 (A-B head, X table) or paper002 (B-C tilting table), with
+               L0 = 499.889 mm where the machine has a pivot, signed B: its own location errors
+               as the baseline and its own candidates (those whose physics it has: no C-axis
+               effects on paper001, which has backlash_a and a_index; no pivot_length on
+               paper002). The standard table, --exact and --pairs work on every machine;
+               --conditions only on paper000.
 --shapes standard|extended  the out-of-list shapes: waviness 150-600 mm and bump (standard), or
                short waves 80-150 mm, a gouge, a quadratic straightness of one linear axis, a
                cyclic C error of 2 periods a turn (extended).
@@ -36,7 +47,7 @@ the confusion matrix, detection limits and the shrink achieved versus achievable
 --json         the report as JSON.
 
 Each part is also identified as `identify` would answer, on the linear design (no exact-model
-refinement): the baseline (the 8 location errors alone) and the final answer (fitted
+refinement): the baseline (the machine's location errors alone) and the final answer (fitted
 with the effect the verdict names; by generalised least squares with the structure's covariance
 when `unexplained`; the baseline when `none`). Both are compared with the simulated location
 errors, baseline / final side by side, per group of expected verdict (detectable effects,
@@ -54,7 +65,8 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     if crate::wants_help(rest, HELP) {
         return Ok(());
     }
-    let args = Args::parse(rest, &["cases", "seed", "conditions", "shapes"])?;
+    let args = Args::parse(rest, &["cases", "seed", "conditions", "shapes", "machine"])?;
+    let (machine, _) = crate::identify::machine_and_l0(&args)?;
     let json = args.flag("json");
     let known = args.flag("known-sigma");
     let exact = args.flag("exact");
@@ -81,7 +93,20 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     };
     args.reject_unknown("validate")?;
     let part = SShape::iso();
-    let model = ValidationModel::at(&part, &builtin_points(&part)).map_err(|e| e.to_string())?;
+    let sens = SensitivityOptions::default().with_chain(machine.chain(PAPER000_L0));
+    let model = if machine == MachineChoice::Paper000 {
+        ValidationModel::at(&part, &builtin_points(&part))
+    } else {
+        ValidationModel::on(&part, &builtin_points(&part), &sens)
+    }
+    .map_err(|e| e.to_string())?;
+    if conditions.is_some() && machine != MachineChoice::Paper000 {
+        return Err(format!(
+            "--conditions: only on paper000 (--machine {}: use the standard table, --exact or \
+             --pairs)",
+            machine_id(machine)
+        ));
+    }
     if let Some(which) = conditions {
         let which: Vec<&str> = if which == "all" {
             Vec::new()
@@ -112,14 +137,31 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         return Ok(());
     }
     let r = if exact {
-        let machine = exact_machine_part(&model.baseline.names).map_err(|e| e.to_string())?;
-        validate_with(&model, &opts, machine.as_ref())
+        let exact_part = if machine == MachineChoice::Paper000 {
+            exact_machine_part(&model.baseline.names)
+        } else {
+            exact_machine_part_on(&model, builtin_points(&part), &sens)
+        }
+        .map_err(|e| e.to_string())?;
+        validate_with(&model, &opts, exact_part.as_ref())
     } else {
         validate(&model, &opts)
     }
     .map_err(|e| e.to_string())?;
+    if machine != MachineChoice::Paper000 && !json {
+        println!("machine: {}", machine.describe());
+    }
     show(json, &r, table)?;
     Ok(())
+}
+
+/// The `--machine` value of a machine.
+fn machine_id(m: MachineChoice) -> &'static str {
+    match m {
+        MachineChoice::Paper000 => "paper000",
+        MachineChoice::Paper001 => "paper001",
+        MachineChoice::Paper002 => "paper002",
+    }
 }
 
 /// The report as JSON, or as the plain-text table `table` makes of it.

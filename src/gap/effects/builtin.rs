@@ -3,9 +3,8 @@
 use super::path_length::{surface_path_length, surface_path_lengths};
 use super::EffectPoint;
 use crate::gap::data::{Candidate, NamedColumns, PointMeta};
-use crate::gap::effect::{Effect, SignatureModel, BACKLASH_AXES};
+use crate::gap::effect::{Effect, SignatureModel};
 use crate::gap::GapError;
-use crate::machine::{AxisName, Chain};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
@@ -72,8 +71,9 @@ pub fn point_meta(points: &[MeasurementPoint], eps: &[EffectPoint]) -> Vec<Point
 }
 
 /// Everything a diagnosis of measured points of the S-shape needs from the models: point
-/// metadata, the baseline (the 8 location errors, `physical` mode, signed B), all the candidates
-/// of effects.md, and the axis reversals along the path.
+/// metadata, the baseline (the machine's location errors, `physical` mode), the candidates of
+/// effects.md whose physics the machine has ([`Effect::on_chain`]), and the axis reversals along
+/// the path.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PartModel {
     pub points: Vec<PointMeta>,
@@ -131,12 +131,6 @@ pub fn part_model(part: &SShape, points: &[MeasurementPoint]) -> Result<PartMode
     )
 }
 
-/// The first axis the catalogue of effects.md needs (X, Y, Z, B, C) that `chain` does not
-/// have: paper 001's A-B head has no C axis; `None` for paper 000's and paper 002's machines.
-pub fn missing_catalogue_axis(chain: &Chain) -> Option<AxisName> {
-    BACKLASH_AXES.into_iter().find(|&a| chain.axis(a).is_none())
-}
-
 /// The candidate of `effect` on the signature model: its columns named by its parameters,
 /// exact zeros when invisible ([`invisible_as_zero`]).
 fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapError> {
@@ -151,17 +145,13 @@ fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapErr
 
 /// The model of the given measurement points on the machine of `opts` (its chain and B branch;
 /// the baseline is its location errors in `physical` mode whatever `opts.mode` says, as
-/// effects.md defines it). The machine must have the axes the catalogue names (X, Y, Z, B, C):
-/// paper 000's B head / C table and paper 002's B-C tilting table; otherwise
-/// [`GapError::MissingAxis`] ([`missing_catalogue_axis`] tells beforehand).
+/// effects.md defines it). The candidates are those whose physics exists on the chain
+/// ([`Effect::on_chain`]), each with its signature derived from the chain.
 pub fn part_model_on(
     part: &SShape,
     points: &[MeasurementPoint],
     opts: &crate::sensitivity::SensitivityOptions,
 ) -> Result<PartModel, GapError> {
-    if let Some(axis) = missing_catalogue_axis(&opts.chain) {
-        return Err(GapError::MissingAxis(axis));
-    }
     let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
     super::cache::part_model(part, points, opts, || {
         compute_part_model(part, points, opts)
@@ -175,7 +165,9 @@ fn compute_part_model(
     points: &[MeasurementPoint],
     opts: &crate::sensitivity::SensitivityOptions,
 ) -> Result<PartModel, GapError> {
-    use super::machine::{backlash_columns, scale_signatures};
+    use super::machine::{
+        backlash_columns, c_table_sign, index_signatures, machine_z_columns, scale_signatures,
+    };
     let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)
         .map_err(|e| GapError::Model(e.to_string()))?;
     let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
@@ -192,9 +184,12 @@ fn compute_part_model(
         envelope,
         backlash: backlash_columns(&path.lags, part, points, opts)?,
         scale: scale_signatures(part, points, opts)?,
+        machine_z: machine_z_columns(part, points, opts)?,
+        c_table_sign: c_table_sign(&opts.chain),
+        index: index_signatures(part, points, opts)?,
         points: eps,
     };
-    let candidates = Effect::ALL
+    let candidates = Effect::on_chain(&opts.chain)
         .into_iter()
         .map(|e| candidate(e, &model))
         .collect::<Result<Vec<_>, _>>()?;

@@ -26,7 +26,7 @@ use crate::machine::{Branch, Chain};
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::SensitivityOptions;
 
-/// Path models kept (each ~2 MB: the lags of five axes on two 20,001-sample grids).
+/// Path models kept (each ~2 MB: the lags of five axes (backlash) on two 20,001-sample grids).
 pub const PATH_CAPACITY: usize = 4;
 /// Part models kept (each `points × ~40` numbers: 30 kB for 100 points).
 pub const MODEL_CAPACITY: usize = 4;

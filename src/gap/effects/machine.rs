@@ -1,5 +1,13 @@
 //! Signatures that need the machine's axis path (kinematics stage, [`crate::sensitivity`]):
-//! `scale_x/y/z` and `backlash_x/y/z/b/c`, and the axis reversals along the path.
+//! `scale_x/y/z`, `backlash_<axis>` of the chain's axes ([`backlash_axes`]), the index columns
+//! of `a_index` (and of `c_index` where the C axis is not the table next to the part), machine Z
+//! in the part frame for `thermal_drift`, and the axis reversals along the path.
+//!
+//! Index (zero offset, `q_real = q_cmd + dq`): the constant positioning error motion of the axis
+//! (`EAA`, `ECC` of power 0) is exactly a change of its value; its Jacobian at the tool-body point
+//! at the contact point, minus the tip's at the reference pose (the tip at the part origin, the
+//! tool vertical, where the origin is set), dotted with the normal, as for the location errors
+//! in `physical` mode.
 //!
 //! Scale error (effects.md): `E_XX = k·X`, `E_YY = k·Y`, `E_ZZ = k·(Z − L0)`, i.e. the linear
 //! coefficient (power 1) of the axis's own positioning error motion, evaluated by
@@ -8,11 +16,16 @@
 //! set, which removes the constant `k·L0` of Z). Backlash: the first-order-lag reversal model of
 //! [`crate::sensitivity::reversal`] (lag of 2 mm of tool-tip path, settled at each pass start).
 
+use nalgebra::{Rotation3, Vector3};
+
 use crate::gap::data::Reversal;
-pub use crate::gap::effect::{BACKLASH_AXES, SCALE_AXES};
+pub use crate::gap::effect::{backlash_axes, BACKLASH_AXES, SCALE_AXES};
 use crate::gap::GapError;
-use crate::machine::{AxisName, ErrorParam};
+use crate::machine::direct::{jacobian, jacobian_body_point};
+use crate::machine::inverse::inverse;
+use crate::machine::{AxisKind, AxisName, AxisValues, Branch, Chain, ErrorParam, MachineErrors};
 use crate::part::{MeasurementPoint, SShape};
+use crate::sensitivity::defect::axis_values;
 use crate::sensitivity::defect::jacobian_rows;
 use crate::sensitivity::reversal::{backlash_signatures_lagged, directions, Lag, Pass};
 use crate::sensitivity::SensitivityOptions;
@@ -56,13 +69,13 @@ pub fn backlash_columns(
     Ok(lags[0].axes.iter().copied().zip(cols).collect())
 }
 
-/// Where each axis reverses along the passes (A then B): tool-tip path length from the start of
-/// A (mm).
-pub fn reversals(passes: &[Pass; 2]) -> Vec<Reversal> {
+/// Where each axis of `axes` reverses along the passes (A then B): tool-tip path length from the
+/// start of A (mm).
+pub fn reversals(passes: &[Pass; 2], axes: &[AxisName]) -> Vec<Reversal> {
     let mut out = Vec::new();
     let mut offset = 0.0;
     for p in passes {
-        for axis in BACKLASH_AXES {
+        for &axis in axes {
             let d = directions(p, axis);
             for k in 1..d.len() {
                 if d[k] != d[k - 1] {
@@ -77,4 +90,107 @@ pub fn reversals(passes: &[Pass; 2]) -> Vec<Reversal> {
     }
     out.sort_by(|a, b| a.s.total_cmp(&b.s));
     out
+}
+
+/// `s_C` (+1, or −1 when primed) when the C axis of `chain` is the workpiece-side axis next to
+/// the part with no offset (paper 000's `C`, paper 002's `C'`): a zero offset `dC` then turns the
+/// part frame by `s_C·dC` about z through the origin, and `c_index` is the rotation
+/// `−s_C·(ẑ × p)·N` ([`crate::gap::Effect::signature`]). `None` otherwise.
+pub fn c_table_sign(chain: &Chain) -> Option<f64> {
+    chain
+        .workpiece_axes()
+        .last()
+        .filter(|a| a.name == AxisName::C && a.offset == Vector3::zeros())
+        .map(|a| a.sign)
+}
+
+/// The index axes of `chain` whose column comes from the Jacobian: A, and C when
+/// [`c_table_sign`] does not give it.
+pub fn index_axes(chain: &Chain) -> Vec<AxisName> {
+    [AxisName::C, AxisName::A]
+        .into_iter()
+        .filter(|&a| chain.axis(a).is_some())
+        .filter(|&a| a != AxisName::C || c_table_sign(chain).is_none())
+        .collect()
+}
+
+/// Whether machine Z stays the part's z at every pose: every workpiece-side rotary axis turns
+/// about z (paper 000's C table, paper 001's X table; not paper 002's B-C tilting table).
+pub fn machine_z_is_fixed(chain: &Chain) -> bool {
+    chain
+        .workpiece_axes()
+        .iter()
+        .all(|a| a.name.kind() == AxisKind::Linear || a.name == AxisName::C)
+}
+
+/// Machine Z in the part frame at axis values `q`: `R_W(q)ᵀẑ`, `R_W` the product of the
+/// workpiece-side rotations (frame → workpiece; a vector of the frame is `R_Wᵀ·v` in the part).
+pub fn machine_z_in_part(chain: &Chain, q: &AxisValues) -> Vector3<f64> {
+    let r = chain
+        .workpiece_axes()
+        .iter()
+        .filter(|a| a.name.kind() == AxisKind::Rotary)
+        .fold(Rotation3::identity(), |r, a| {
+            let mut e = Vector3::zeros();
+            e[a.name.direction()] = 1.0;
+            r * Rotation3::from_axis_angle(
+                &nalgebra::Unit::new_normalize(e),
+                a.sign * q.get(a.name),
+            )
+        });
+    r.transpose() * Vector3::z()
+}
+
+/// Machine Z in the part frame at each point (`thermal_drift`), `None` when it is `ẑ` at every
+/// pose ([`machine_z_is_fixed`]).
+pub fn machine_z_columns(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+) -> Result<Option<Vec<Vector3<f64>>>, GapError> {
+    if machine_z_is_fixed(&opts.chain) {
+        return Ok(None);
+    }
+    let q = axis_values(part, points, opts).map_err(model_err)?;
+    Ok(Some(
+        q.iter()
+            .map(|q| machine_z_in_part(&opts.chain, q))
+            .collect(),
+    ))
+}
+
+/// `<axis>_index.d<axis>` columns (mm/rad) for the axes of [`index_axes`] (module docs): `opts`
+/// in `physical` mode.
+pub fn index_signatures(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
+    let axes = index_axes(&opts.chain);
+    if axes.is_empty() {
+        return Ok(Vec::new());
+    }
+    let params: Vec<ErrorParam> = axes
+        .iter()
+        .map(|&a| ErrorParam::Motion {
+            component: a,
+            axis: a,
+            power: 0,
+        })
+        .collect();
+    let chain = &opts.chain;
+    let none = MachineErrors::none();
+    let q_ref =
+        inverse(chain, &Vector3::zeros(), &Vector3::z(), Branch::Signed, 0.0).map_err(model_err)?;
+    let (jref, _) = jacobian(chain, &q_ref, 0.0, &none, &params).map_err(model_err)?;
+    let q = axis_values(part, points, opts).map_err(model_err)?;
+    let mut cols = vec![vec![0.0; points.len()]; axes.len()];
+    for (i, (pt, q)) in points.iter().zip(&q).enumerate() {
+        let (j, _) = jacobian_body_point(chain, q, &pt.point, &none, &params).map_err(model_err)?;
+        let d = (j - &jref).transpose() * pt.normal;
+        for (k, col) in cols.iter_mut().enumerate() {
+            col[i] = d[k];
+        }
+    }
+    Ok(axes.into_iter().zip(cols).collect())
 }

@@ -1,6 +1,6 @@
 //! What the diagnosis needs of the tool path that depends only on the settings (the part design,
 //! the machine's chain with its L0, the B branch), not on the measured points: the lag of every
-//! catalogue axis along the two reversal passes ([`crate::sensitivity::reversal`], the
+//! backlash axis of the chain along the two reversal passes ([`crate::sensitivity::reversal`], the
 //! first-order lag of 2 mm of tool-tip path, paper 002 §4.3), where each axis reverses, the
 //! tool-tip path lengths of the surfaces ([`super::path_length`]) and the envelope's tables of
 //! tool poses ([`crate::toolpath::envelope`]). It is the expensive part of a part model (two
@@ -12,7 +12,7 @@
 use super::machine::reversals;
 use super::path_length::surface_path_length;
 use crate::gap::data::Reversal;
-use crate::gap::effect::BACKLASH_AXES;
+use crate::gap::effect::backlash_axes;
 use crate::gap::GapError;
 use crate::part::{SShape, Surface};
 use crate::sensitivity::reversal::{passes, Lag};
@@ -23,7 +23,7 @@ use crate::toolpath::flank::ToolPose;
 /// The settings-only part of a part model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PathModel {
-    /// The lags of [`BACKLASH_AXES`] on the passes of A and B.
+    /// The lags of the chain's backlash axes ([`backlash_axes`]) on the passes of A and B.
     pub lags: [Lag; 2],
     /// Where each axis reverses, by tool-tip path length from the start of A (mm).
     pub reversals: Vec<Reversal>,
@@ -41,12 +41,10 @@ impl PathModel {
     pub fn new(part: &SShape, opts: &SensitivityOptions) -> Result<Self, GapError> {
         let passes = passes(part, opts).map_err(|e| GapError::Model(e.to_string()))?;
         let a_total = surface_path_length(part, Surface::A, 1.0);
+        let axes = backlash_axes(&opts.chain);
         Ok(Self {
-            lags: [
-                Lag::of(&passes[0], &BACKLASH_AXES),
-                Lag::of(&passes[1], &BACKLASH_AXES),
-            ],
-            reversals: reversals(&passes),
+            lags: [Lag::of(&passes[0], &axes), Lag::of(&passes[1], &axes)],
+            reversals: reversals(&passes, &axes),
             a_total,
             s_total: a_total + surface_path_length(part, Surface::B, 1.0),
             pose_tables: [pose_table(part, Surface::A), pose_table(part, Surface::B)],
