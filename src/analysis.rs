@@ -446,8 +446,16 @@ pub fn effects_on_machine(opts: &AnalysisOptions) -> Result<(), GapError> {
         return Ok(());
     };
     let chain = opts.machine.chain(opts.l0);
+    let same = crate::gap::effects::builtin::location_equivalents_of(
+        &SShape::iso(),
+        &sensitivity_options(opts),
+    )?;
     for &effect in effects {
-        if let Some(reason) = effect.absent_from(&chain) {
+        let located = same
+            .iter()
+            .find(|(e, _)| *e == effect)
+            .map(|(_, r)| r.clone());
+        if let Some(reason) = effect.absent_from(&chain).or(located) {
             return Err(GapError::NotOnMachine {
                 effect,
                 machine: opts.machine.describe().to_string(),
@@ -604,7 +612,12 @@ fn diagnose_modelled(
     };
     let made = part_model_on(part, points, &sensitivity_options(opts))
         .and_then(|m| run(&m).map(|report| (report, m)));
-    let unavailable = Effect::left_out(&opts.machine.chain(opts.l0));
+    let mut unavailable = Effect::left_out(&opts.machine.chain(opts.l0));
+    if let Ok(same) =
+        crate::gap::effects::builtin::location_equivalents_of(part, &sensitivity_options(opts))
+    {
+        unavailable.extend(same);
+    }
     match made {
         Ok((report, model)) => Modelled {
             diagnosis: Diagnosis::Made {

@@ -370,7 +370,11 @@ function errorSetBlock(s) {
       ['error', 'status', 'RMS (µm)', 'left beyond the ones before (µm)', 'looks like', 'why'],
       s.rows.map((r) => [r.name, STATUS_WORDS[r.status] || r.status, um(r.rms), um(r.unabsorbed), r.looks_like ? r.looks_like.text : '—', r.reason])),
     h('h3', {}, 'Coordinate convention'),
-    h('ul', { id: 'error-set-conventions' }, s.conventions.map((c) => h('li', {}, c))));
+    h('ul', { id: 'error-set-conventions' }, s.conventions.map((c) => h('li', {}, c))),
+    h('h3', {}, 'This machine\'s effects (candidates of the gap diagnosis)'),
+    h('ul', { id: 'machine-effects' }, (s.effects || []).map((e) => h('li', {}, e.status === 'offered'
+      ? `${e.effect}: offered`
+      : `${e.effect}: ${e.status.replace('_', ' ')}: ${e.reason}`))));
 }
 
 /** Plan view of the part (x–y) with the residual drawn as coloured arrows along the normal, the

@@ -14,7 +14,9 @@ pub fn machines() -> Result<JsValue, JsError> {
 /// The location errors the machine of the analysis settings `options` (`{machine, l0, branch}`)
 /// is identified with, derived from what the part sees ([`crate::sensitivity::error_set`]):
 /// `{code, kept, rows: [{name, unit, status, rms, unabsorbed, looks_like?, reason}], points,
-/// visible_fraction, conventions}` (rms in mm of deviation per 1e-4 rad or 0.01 mm).
+/// visible_fraction, conventions, effects: [{effect, status, reason}]}` (rms in mm of deviation
+/// per 1e-4 rad or 0.01 mm; effects: the machine's own catalogue,
+/// [`crate::gap::effects::catalogue`]).
 #[wasm_bindgen(js_name = errorSet)]
 pub fn error_set(options: JsValue) -> Result<JsValue, JsError> {
     let opts: crate::analysis::AnalysisOptions = if options.is_undefined() || options.is_null() {

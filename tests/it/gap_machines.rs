@@ -6,7 +6,9 @@
 use crate::cli_common::{testpiece, testpiece_ok};
 use crate::edge_common::*;
 use testpiece::analysis::{analyse, diagnose_on_machine, AnalysisOptions, MachineChoice};
-use testpiece::gap::effects::builtin::{part_model, part_model_on, PartModel};
+use testpiece::gap::effects::builtin::{
+    part_model, part_model_every_candidate, part_model_on, PartModel,
+};
 use testpiece::gap::lsq::{rms, Factor};
 use testpiece::gap::verdict::VerdictId;
 use testpiece::gap::Effect;
@@ -34,6 +36,12 @@ fn model_of(machine: MachineChoice) -> PartModel {
     part_model_on(&SShape::iso(), &builtin(), &sopts).unwrap()
 }
 
+/// Every candidate with physics on the machine, the location equivalents included.
+fn every_candidate(machine: MachineChoice) -> PartModel {
+    let sopts = SensitivityOptions::default().with_chain(machine.chain(PAPER000_L0));
+    part_model_every_candidate(&SShape::iso(), &builtin(), &sopts).unwrap()
+}
+
 fn column(m: &PartModel, effect: Effect) -> Vec<f64> {
     let c = m.candidates.iter().find(|c| c.effect == effect).unwrap();
     c.signature.matrix.column(0).iter().copied().collect()
@@ -52,7 +60,12 @@ fn column(m: &PartModel, effect: Effect) -> Vec<f64> {
 /// - `pivot_length` is not offered: the tool has no pivot (its B axis's height is EZ0B).
 #[test]
 fn the_tilting_table_model_is_its_own() {
-    let tilt = model_of(MachineChoice::Paper002);
+    // c_index is not offered there (it is -0.976 EC0B on the part), but its formula is checked.
+    assert!(model_of(MachineChoice::Paper002)
+        .candidates
+        .iter()
+        .all(|c| c.effect != Effect::CIndex));
+    let tilt = every_candidate(MachineChoice::Paper002);
     let a = analyse_clean(MachineChoice::Paper002);
     assert_eq!(tilt.baseline.names, a.identification.names());
     let p000 = part_model(&SShape::iso(), &builtin()).unwrap();

@@ -1,8 +1,10 @@
 //! `testpiece machine [--machine M] [--l0 MM] [--branch signed|positive] [--json]`: the location
 //! errors a machine is identified with, derived from what the part sees, and its conventions.
 
+use testpiece::gap::effects::catalogue::machine_effects;
 use testpiece::machine::Branch;
 use testpiece::sensitivity::error_set::{error_set, ErrorStatus, VISIBLE_FRACTION};
+use testpiece::sensitivity::SensitivityOptions;
 
 use crate::args::Args;
 use crate::identify::machine_and_l0;
@@ -30,8 +32,14 @@ Sets on the built-in design (signed branch):
   paper002 (B-C tilting table)    EC0Y EA0Z EB0Z EA0C EX0B EC0B EY0C EZ0B
   paper001 (A-B head)             EC0Y EA0Z EB0Z EA0B EC0B EZ0A EB0A EC0A EA0Y
 
+The machine's own effects (effects.md): each candidate is offered, invisible (its signature is
+exactly zero there, e.g. backlash_z, scale_z and thermal_drift on the tilting table, whose Z is
+the tool axis) or left out (the machine lacks its axis or pivot, or it is one of the machine's
+location errors under another name: c_index on the tilting table is -0.976 EC0B on the part).
+
 Prints CSV `name,unit,status,rms_um,unabsorbed_um,looks_like,reason` (µm of deviation RMS per
-typical size), then the conventions as `# ` lines; --json prints the whole set.
+typical size), then the conventions and the effects as `# ` lines; --json prints the whole set
+with `effects` [{effect, status, reason}].
 ";
 
 pub fn run(rest: &[String]) -> Result<(), String> {
@@ -51,8 +59,13 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         return Err(format!("--l0 {l0}: expected a positive length in mm"));
     }
     let set = error_set(&machine.chain(l0), branch).map_err(|e| e.to_string())?;
+    let opts = SensitivityOptions::default()
+        .with_chain(machine.chain(l0))
+        .with_branch(branch);
+    let effects = machine_effects(&opts).map_err(|e| e.to_string())?;
     if json {
         let mut v = serde_json::to_value(&*set).map_err(|e| e.to_string())?;
+        v["effects"] = serde_json::to_value(&effects).map_err(|e| e.to_string())?;
         v["machine"] = serde_json::to_value(machine).map_err(|e| e.to_string())?;
         v["description"] = serde_json::json!(machine.describe());
         println!(
@@ -90,6 +103,12 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     );
     for c in &set.conventions {
         println!("# {c}");
+    }
+    for e in &effects {
+        match e.status {
+            "offered" => println!("# effect {}: offered", e.effect),
+            s => println!("# effect {}: {s}: {}", e.effect, e.reason),
+        }
     }
     Ok(())
 }

@@ -165,6 +165,41 @@ fn compute_part_model(
     points: &[MeasurementPoint],
     opts: &crate::sensitivity::SensitivityOptions,
 ) -> Result<PartModel, GapError> {
+    compute_model(part, points, opts, true)
+}
+
+/// The candidates of the machine of `opts` that are its location errors under another name
+/// ([`super::location_equivalent`]), decided on the part's built-in points, once per machine.
+pub fn location_equivalents_of(
+    part: &SShape,
+    opts: &crate::sensitivity::SensitivityOptions,
+) -> Result<Vec<(Effect, String)>, GapError> {
+    let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
+    super::location_equivalent::kept_for(&opts.chain, opts.branch, || {
+        let m = compute_model(part, &crate::part::builtin_points(part), opts, false)?;
+        Ok((m.baseline, m.candidates))
+    })
+}
+
+/// The model with every candidate whose physics the chain has ([`Effect::on_chain`]), the
+/// location equivalents included (not kept by the cache): what the formulas give, for tests of
+/// the physics and for [`super::location_equivalent`].
+pub fn part_model_every_candidate(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &crate::sensitivity::SensitivityOptions,
+) -> Result<PartModel, GapError> {
+    let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
+    compute_model(part, points, opts, false)
+}
+
+/// [`compute_part_model`], with `filter` leaving out the location equivalents.
+fn compute_model(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &crate::sensitivity::SensitivityOptions,
+    filter: bool,
+) -> Result<PartModel, GapError> {
     use super::machine::{
         backlash_columns, c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
@@ -189,10 +224,14 @@ fn compute_part_model(
         index: index_signatures(part, points, opts)?,
         points: eps,
     };
-    let candidates = Effect::on_chain(&opts.chain)
+    let mut candidates = Effect::on_chain(&opts.chain)
         .into_iter()
         .map(|e| candidate(e, &model))
         .collect::<Result<Vec<_>, _>>()?;
+    if filter {
+        let same = location_equivalents_of(part, opts)?;
+        candidates.retain(|c| !same.iter().any(|(e, _)| *e == c.effect));
+    }
     Ok(PartModel {
         points: point_meta(points, &model.points),
         baseline,

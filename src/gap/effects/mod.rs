@@ -7,6 +7,8 @@
 
 pub mod builtin;
 pub mod cache;
+pub mod catalogue;
+pub mod location_equivalent;
 pub mod machine;
 pub mod path_length;
 pub mod path_model;

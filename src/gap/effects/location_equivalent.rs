@@ -1,0 +1,120 @@
+//! Candidates that are a location error of the machine under another name (issue 20: "a
+//! candidate that equals a location error of the machine is not offered under another name").
+//!
+//! A candidate whose every signature column is absorbed by the machine's baseline (its location
+//! errors, [`crate::sensitivity::error_set`]) to less than
+//! [`crate::sensitivity::error_set::VISIBLE_FRACTION`] of its RMS at the part's 100 built-in
+//! points is that location error on this part: it is not offered, and the reports say which
+//! error it is. The rule is the error set's own (the identification's condition index 30), and
+//! like the set it is decided once per machine on the built-in design, whatever the file's
+//! points. Columns that are exactly zero (an effect invisible on the machine, e.g. `backlash_z` on
+//! the tilting table) are not "absorbed": the diagnosis reports them as invisible.
+//!
+//! On the three machines (signed branch) only one candidate is left out this way: `c_index` on
+//! paper 002's tilting table, whose C axis rides on B: at B = 0 an index of C is a rotation of
+//! the B line about z (EC0B), and on this part it is `0.98 EC0B` to 1.7 % of its RMS. On paper
+//! 000 the smallest share left by the baseline is `backlash_c`'s 49 %.
+
+use std::sync::{Mutex, OnceLock};
+
+use nalgebra::DVector;
+
+use crate::gap::data::{Candidate, NamedColumns};
+use crate::gap::{Effect, GapError};
+use crate::machine::{Branch, Chain};
+use crate::sensitivity::error_set::VISIBLE_FRACTION;
+
+/// The candidates of a part model that are location errors of the machine, each with why
+/// (computed on the built-in design's baseline and candidates).
+pub fn location_equivalents(
+    baseline: &NamedColumns,
+    candidates: &[Candidate],
+) -> Vec<(Effect, String)> {
+    let a = &baseline.matrix;
+    if a.ncols() == 0 {
+        return Vec::new();
+    }
+    let svd = a.clone().svd(true, true);
+    let mut out = Vec::new();
+    for c in candidates {
+        let s = &c.signature.matrix;
+        if s.iter().all(|v| *v == 0.0) {
+            continue;
+        }
+        let mut worst = 0.0_f64;
+        let mut coef: Option<DVector<f64>> = None;
+        for j in 0..s.ncols() {
+            let col = s.column(j).into_owned();
+            let Ok(x) = svd.solve(&col, 1e-14) else {
+                worst = f64::INFINITY;
+                break;
+            };
+            let left = (&col - a * &x).norm() / col.norm().max(f64::MIN_POSITIVE);
+            if left > worst || coef.is_none() {
+                coef = Some(x);
+            }
+            worst = worst.max(left);
+        }
+        if worst < VISIBLE_FRACTION {
+            let like = coef.map_or(String::new(), |x| like_text(&baseline.names, &x));
+            out.push((
+                c.effect,
+                format!(
+                    "on this machine it is a location error of the baseline: one unit of it is \
+                     {like} on the part's 100 built-in points, to {:.1} % of its RMS (a \
+                     candidate is offered from {:.1} %); the identification reports it there",
+                    100.0 * worst,
+                    100.0 * VISIBLE_FRACTION
+                ),
+            ));
+        }
+    }
+    out
+}
+
+/// `0.98 EC0B - 0.25 EZ0B`: the terms carrying 99 % of the fit's energy in typical sizes.
+fn like_text(names: &[String], x: &DVector<f64>) -> String {
+    let typical = |n: &str| crate::identify::Parameter::named(n).typical;
+    let scaled: Vec<f64> = x.iter().zip(names).map(|(v, n)| v / typical(n)).collect();
+    let mut text = String::new();
+    for (k, j) in crate::identify::groups::dominant(&scaled, 0.99)
+        .into_iter()
+        .enumerate()
+    {
+        let v = x[j];
+        let sign = match (k, v < 0.0) {
+            (0, true) => "-",
+            (0, false) => "",
+            (_, true) => " - ",
+            (_, false) => " + ",
+        };
+        text.push_str(&format!("{sign}{:.3e} {}", v.abs(), names[j]));
+    }
+    text
+}
+
+/// [`location_equivalents`] of the machine `(chain, branch)`, computed once per process from
+/// `compute` (the built-in design's columns).
+pub fn kept_for(
+    chain: &Chain,
+    branch: Branch,
+    compute: impl FnOnce() -> Result<(NamedColumns, Vec<Candidate>), GapError>,
+) -> Result<Vec<(Effect, String)>, GapError> {
+    type Kept = Mutex<Vec<((Chain, Branch), Vec<(Effect, String)>)>>;
+    static KEPT: OnceLock<Kept> = OnceLock::new();
+    let kept = KEPT.get_or_init(|| Mutex::new(Vec::new()));
+    let key = (chain.clone(), branch);
+    if let Some(v) = kept
+        .lock()
+        .ok()
+        .and_then(|g| g.iter().find(|(k, _)| *k == key).map(|(_, v)| v.clone()))
+    {
+        return Ok(v);
+    }
+    let (baseline, candidates) = compute()?;
+    let v = location_equivalents(&baseline, &candidates);
+    if let Ok(mut g) = kept.lock() {
+        g.push((key, v.clone()));
+    }
+    Ok(v)
+}
