@@ -41,7 +41,7 @@ use crate::gap::outliers::{find_outliers, outlier_sentence, without_rows, Outlie
 use crate::gap::repeat::{self, LackOfFit, Measurement, PureError, RepeatError};
 use crate::gap::verdict::VerdictId;
 use crate::gap::{diagnose, DiagnosisReport, Effect, GapError, GapInput};
-use crate::identify::correlated::{whiten, whitened_limit, Whitened};
+use crate::identify::correlated::{whiten, whitened_limit, Whitened, Whitener};
 use crate::identify::monte_carlo::CmmMpe;
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{
@@ -963,7 +963,7 @@ fn refine_with(
     points: &[MeasurementPoint],
     opts: &AnalysisOptions,
     iopts: &IdentifyOptions,
-    whitener: Option<&DMatrix<f64>>,
+    whitener: Option<&Whitener>,
 ) -> Result<RefineReport, AnalysisError> {
     let model = ExactDefectModel::at_points(design, points.to_vec(), sensitivity_options(opts))?;
     let r = match whitener {

@@ -38,10 +38,12 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::data::{Candidate, PointMeta};
 use super::lsq::{rms, Factor};
-use super::structure::{self, StructureCovariance};
+use super::structure::{self, CovarianceForm, StructureCovariance};
 use super::verdict::{Finding, Verdict, VerdictId};
 use super::{Effect, GapError};
-use crate::identify::correlated::identify_correlated;
+use crate::identify::correlated::{
+    identify_correlated, identify_whitened, GroupedLowRank, Whitener,
+};
 use crate::identify::{
     identify, Design, Identification, IdentifyOptions, Observations, Parameter, TYPICAL_LENGTH_MM,
 };
@@ -262,7 +264,7 @@ pub struct Final {
     pub identification: Identification,
     /// `Σ^{-½}` of the structure's covariance (basis `structure`): a refinement must work on the
     /// whitened problem.
-    pub whitener: Option<DMatrix<f64>>,
+    pub whitener: Option<crate::identify::correlated::Whitener>,
     pub correction: Correction,
 }
 
@@ -418,19 +420,47 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
                 ))
             })?;
             let n = obs.len();
-            let mut full = DMatrix::<f64>::identity(n, n) * s.white_sigma.powi(2);
-            for (a, &i) in used.iter().enumerate() {
-                for (b, &j) in used.iter().enumerate() {
-                    full[(i, j)] = s.matrix[(a, b)];
+            let c = match &s.form {
+                CovarianceForm::Dense(m) => {
+                    let mut full = DMatrix::<f64>::identity(n, n) * s.white_sigma.powi(2);
+                    for (a, &i) in used.iter().enumerate() {
+                        for (b, &j) in used.iter().enumerate() {
+                            full[(i, j)] = m[(a, b)];
+                        }
+                    }
+                    identify_correlated(
+                        input.design,
+                        input.observations,
+                        &full,
+                        s.white_sigma,
+                        input.options,
+                    )?
                 }
-            }
-            let c = identify_correlated(
-                input.design,
-                input.observations,
-                &full,
-                s.white_sigma,
-                input.options,
-            )?;
+                // A large part: Σ^{-½} in closed form on the groups, an excluded point in none.
+                CovarianceForm::Grouped { group, scale, v, d } => {
+                    let s2 = s.white_sigma.powi(2);
+                    let mut of_point = vec![None; n];
+                    for (a, &i) in used.iter().enumerate() {
+                        of_point[i] = Some(group[a]);
+                    }
+                    let w = Whitener::LowRank(GroupedLowRank {
+                        white_variance: s2,
+                        group: of_point,
+                        scale: scale.clone(),
+                        v: v.clone(),
+                        g: d.iter()
+                            .map(|dk| 1.0 / (1.0 + dk / s2).sqrt() - 1.0)
+                            .collect(),
+                    });
+                    identify_whitened(
+                        input.design,
+                        input.observations,
+                        w,
+                        s.white_sigma,
+                        input.options,
+                    )?
+                }
+            };
             (
                 input.design.clone(),
                 c.identification,

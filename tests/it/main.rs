@@ -30,6 +30,7 @@ mod edge_limits;
 mod edge_numeric;
 mod edge_parity;
 mod gap_correct;
+mod gap_dense;
 mod gap_effect_physics;
 mod gap_effects;
 mod gap_examples;
