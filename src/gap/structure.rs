@@ -315,7 +315,9 @@ fn estimate_grouped(
     let by = basis.transpose() * &yv;
     let (lo, hi) = length_range(points);
     let (lo, hi) = (lo.max(width), hi.max(width));
-    let mut best: Option<(f64, f64, f64, DMatrix<f64>, Vec<f64>)> = None;
+    // (log-likelihood, τ², length, V, λ) of the best length so far
+    type Best = (f64, f64, f64, DMatrix<f64>, Vec<f64>);
+    let mut best: Option<Best> = None;
     for k in 0..LENGTH_GRID {
         let length = grid_length(lo, hi, k);
         let kg = DMatrix::from_fn(g, g, |a, b| {
@@ -572,7 +574,7 @@ mod tests {
             let kept = estimate(&p, &a, y, 0.0015).unwrap();
             assert_eq!(kept.amplitude.to_bits(), f.amplitude.to_bits());
             assert_eq!(kept.length.to_bits(), f.length.to_bits());
-            assert_eq!(dense(&kept), dense(&f));
+            assert_eq!(dense(&kept), dense(f));
         }
     }
 }
