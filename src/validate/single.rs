@@ -871,6 +871,15 @@ pub fn table(r: &ValidationReport) -> String {
             .iter()
             .map(|(k, v)| format!("{k}={v:.2e}"))
             .collect();
+        if e.detectable.cases == 0 && e.detection_limit.iter().all(|(_, v)| v.is_infinite()) {
+            // An effect invisible on the machine (its signature is exactly zero there): every
+            // part carrying it is a clean part.
+            s += &format!(
+                "{:15}   —          {:>3}/{:<3}        invisible on this machine: its parts are clean parts\n",
+                e.effect, e.undetectable.correct, e.undetectable.cases,
+            );
+            continue;
+        }
         s += &format!(
             "{:15} {:>3}/{:<3}      {:>3}/{:<3}        {:>5.3} / {:<5.3}             {}  {}\n",
             e.effect,
