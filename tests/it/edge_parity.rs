@@ -124,6 +124,20 @@ fn analysis_on_the_tilting_table() {
     check_or_write("analysis_paper002.json", &analysis_value(&a));
 }
 
+/// A 600-point scan with structure: the grouped covariance and the low-rank whitener
+/// (`gap::structure`, `identify::correlated::Whitener::LowRank`); wasm compares with this
+/// (tests/wasm_node/parity.rs).
+#[test]
+fn a_structured_scan_of_600_points() {
+    let a = analyse(
+        structured_scan().as_bytes(),
+        "scan.csv",
+        &AnalysisOptions::default(),
+    )
+    .unwrap();
+    check_or_write("structured_scan.json", &structured_summary(&a));
+}
+
 /// The same input gives bit-identical results, run after run: the analysis (no hidden
 /// randomness), simulated parts and Monte Carlo for a given seed (ChaCha8, seeded); another
 /// seed gives other numbers.

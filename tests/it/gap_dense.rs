@@ -5,35 +5,8 @@
 //! (`gap::noise::strongest_wave_dense`); before, a 20,000-point scan with structure ran out of
 //! memory (3.2 GB n × n matrices) and 2,500 points took 336 s.
 
+use crate::parity_common::structured_scan as scan;
 use testpiece::analysis::{analyse, AnalysisOptions};
-use testpiece::cmm::write::{canonical_csv, Precision};
-use testpiece::part::{Curve, MeasurementPoint, SShape};
-use testpiece::random::Sampler;
-
-/// 2 surfaces × 60 rulings × 5 heights = 600 points, a 10 µm wave along u (3.5 periods a
-/// surface) and 1.5 µm noise.
-fn scan() -> String {
-    let part = SShape::iso();
-    let mut rng = Sampler::new(5);
-    let mut pts = Vec::new();
-    let mut id = 1;
-    for (low, high) in [(Curve::AZ11, Curve::AZ25), (Curve::BZ11, Curve::BZ25)] {
-        for i in 0..60 {
-            let u = 0.05 + 0.9 * i as f64 / 59.0;
-            for k in 0..5 {
-                let z = 6.0 + 6.0 * k as f64;
-                let c = if z < 18.0 { low } else { high };
-                pts.push(MeasurementPoint::at(&part, id, c, u, z / 30.0));
-                id += 1;
-            }
-        }
-    }
-    let rows: Vec<_> = pts
-        .iter()
-        .map(|p| (p, 0.010 * (22.0 * p.u).sin() + 0.0015 * rng.normal()))
-        .collect();
-    canonical_csv(rows, Precision::Decimals(5), None)
-}
 
 #[test]
 fn a_large_part_with_structure_is_identified_with_the_grouped_covariance() {
