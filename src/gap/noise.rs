@@ -412,13 +412,7 @@ pub fn sinusoid_free_sigma(
             (project(c), project(s))
         };
         let reduction = |u: &DVector<f64>, v: &DVector<f64>| -> f64 {
-            let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
-            let (ur, vr) = (u.dot(r), v.dot(r));
-            let det = uu * vv - uv * uv;
-            if det <= 1e-12 * (uu * vv).max(f64::MIN_POSITIVE) {
-                return 0.0;
-            }
-            ((vv * ur - uv * vr) * ur + (uu * vr - uv * ur) * vr) / det
+            two_column_reduction((u.dot(u), u.dot(v), v.dot(v)), (u.dot(r), v.dot(r)))
         };
         let best = (0..=steps)
             .map(|k| lo + (hi - lo) * k as f64 / steps as f64)
@@ -451,6 +445,16 @@ pub fn sinusoid_free_sigma(
     let w = DMatrix::from_columns(&columns);
     let left = crate::gap::lsq::Factor::new(&w, None).unabsorbed_vec(r);
     Some((left.norm_squared() / dof as f64).sqrt())
+}
+
+/// How much the least-squares fit of two columns `u`, `v` reduces `‖r‖²`, from their Gram
+/// entries `(uᵀu, uᵀv, vᵀv)` and `(uᵀr, vᵀr)`; 0 when the two are (nearly) dependent.
+fn two_column_reduction((uu, uv, vv): (f64, f64, f64), (ur, vr): (f64, f64)) -> f64 {
+    let det = uu * vv - uv * uv;
+    if det <= 1e-12 * (uu * vv).max(f64::MIN_POSITIVE) {
+        return 0.0;
+    }
+    ((vv * ur - uv * vr) * ur + (uu * vr - uv * ur) * vr) / det
 }
 
 /// Above this many points [`sinusoid_free_sigma`] searches each curve's wave with the sums of
@@ -509,13 +513,10 @@ fn strongest_wave_dense(
                 bs[a] += b * si;
             }
         }
-        let (uu, uv, vv) = (cc - bc.dot(&bc), cs - bc.dot(&bs), ss - bs.dot(&bs));
-        let (ur, vr) = (cr - bc.dot(&btr), sr - bs.dot(&btr));
-        let det = uu * vv - uv * uv;
-        if det <= 1e-12 * (uu * vv).max(f64::MIN_POSITIVE) {
-            return 0.0;
-        }
-        ((vv * ur - uv * vr) * ur + (uu * vr - uv * ur) * vr) / det
+        two_column_reduction(
+            (cc - bc.dot(&bc), cs - bc.dot(&bs), ss - bs.dot(&bs)),
+            (cr - bc.dot(&btr), sr - bs.dot(&btr)),
+        )
     };
     let (om, _) = (0..=steps)
         .map(|k| lo + (hi - lo) * k as f64 / steps as f64)

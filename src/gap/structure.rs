@@ -192,32 +192,7 @@ pub fn estimate(
         let bt = q.transpose() * &basis;
         let yt = q.transpose() * &y;
         let loglik = |tau2: f64| restricted_log_likelihood(lambda, &bt, &yt, s2, tau2);
-        // golden section on ln τ² over [ln 1e-4 σ², ln 1e4 σ²]
-        let (mut a, mut b) = (libm::log(1e-4 * s2), libm::log(1e4 * s2));
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-        let (mut fc, mut fd) = (loglik(libm::exp(c)), loglik(libm::exp(d)));
-        for _ in 0..40 {
-            if fc > fd {
-                b = d;
-                d = c;
-                fd = fc;
-                c = b - g * (b - a);
-                fc = loglik(libm::exp(c));
-            } else {
-                a = c;
-                c = d;
-                fc = fd;
-                d = a + g * (b - a);
-                fd = loglik(libm::exp(d));
-            }
-        }
-        // ln τ² rounded to 1e-4 (0.01 % of τ²): the optimum of a flat likelihood is located only
-        // to about √ε. `exp` and `ln` are libm's (pure Rust): the same bits in the native and
-        // the wasm build, so the covariance, and the refinement on top of it, are too.
-        let t = if fc > fd { c } else { d };
-        let t = (t * 1e4).round() / 1e4;
-        let f = loglik(libm::exp(t));
+        let (t, f) = golden_ln_tau2(s2, loglik);
         if f.is_finite() && best.is_none_or(|(bf, _, _)| f > bf) {
             best = Some((f, libm::exp(t), length));
         }
@@ -238,8 +213,10 @@ pub fn estimate(
     })
 }
 
-/// Golden section of `f` over `ln τ²` in `[ln 1e-4 σ², ln 1e4 σ²]`, rounded as [`estimate`]
-/// does: `(ln τ², f)`.
+/// Golden section of `f` over `ln τ²` in `[ln 1e-4 σ², ln 1e4 σ²]` (40 steps), then `ln τ²`
+/// rounded to 1e-4 (0.01 % of τ²: the optimum of a flat likelihood is located only to about
+/// √ε; `exp` and `ln` are libm's, pure Rust, so the native and wasm builds agree bit for bit):
+/// `(ln τ², f)`.
 fn golden_ln_tau2(s2: f64, f: impl Fn(f64) -> f64) -> (f64, f64) {
     let (mut a, mut b) = (libm::log(1e-4 * s2), libm::log(1e4 * s2));
     let g = 0.5 * (5f64.sqrt() - 1.0);
@@ -392,17 +369,7 @@ fn grouped_log_likelihood(
             }
         }
     }
-    let Some(ch) = m.clone().cholesky() else {
-        return f64::NEG_INFINITY;
-    };
-    let l: DMatrix<f64> = ch.l();
-    let logdet_m: f64 = 2.0
-        * l.diagonal()
-            .iter()
-            .map(|v: &f64| libm::log(*v))
-            .sum::<f64>();
-    let quad = q - b_y.dot(&ch.solve(&b_y));
-    -0.5 * (logdet_sigma + logdet_m + quad)
+    finish(m, &b_y, q, logdet_sigma)
 }
 
 /// The range of correlation lengths tried (mm): from the median spacing of neighbouring points
@@ -450,6 +417,12 @@ fn restricted_log_likelihood(
             m[(b, a)] = m[(a, b)];
         }
     }
+    finish(m, &by, yy, logdet_sigma)
+}
+
+/// `−½ (ln det Σ + ln det M + q − bᵀM⁻¹b)` of the restricted likelihood from `M = B̃ᵀD⁻¹B̃`,
+/// `b = B̃ᵀD⁻¹ỹ`, `q = ỹᵀD⁻¹ỹ` and `ln det Σ`; −∞ when `M` is not positive definite.
+fn finish(m: DMatrix<f64>, by: &DVector<f64>, q: f64, logdet_sigma: f64) -> f64 {
     let Some(ch) = m.cholesky() else {
         return f64::NEG_INFINITY;
     };
@@ -459,7 +432,7 @@ fn restricted_log_likelihood(
             .iter()
             .map(|v: &f64| libm::log(*v))
             .sum::<f64>();
-    let quad = yy - by.dot(&ch.solve(&by));
+    let quad = q - by.dot(&ch.solve(by));
     -0.5 * (logdet_sigma + logdet_m + quad)
 }
 

@@ -177,6 +177,18 @@ pub fn dominant(v: &[f64], share: f64) -> Vec<usize> {
     out
 }
 
+/// A coefficient's magnitude as a combination writes it: nothing for 1 (within 0.005), two
+/// decimals from 0.01 to 100, else two significant digits in exponent form; a space after.
+pub fn magnitude_text(mag: f64) -> String {
+    if (mag - 1.0).abs() < 0.005 {
+        String::new()
+    } else if (0.01..100.0).contains(&mag) {
+        format!("{mag:.2} ")
+    } else {
+        format!("{mag:.2e} ")
+    }
+}
+
 /// Formats `coef` (physical units) over the indices `keep` (leading first), normalised so that
 /// the leading coefficient is 1.
 pub fn combination(names: &[String], coef: &[f64], keep: &[usize]) -> Combination {
@@ -190,14 +202,7 @@ pub fn combination(names: &[String], coef: &[f64], keep: &[usize]) -> Combinatio
             name: names[j].clone(),
             coefficient: c,
         });
-        let mag = c.abs();
-        let num = if (mag - 1.0).abs() < 0.005 {
-            String::new()
-        } else if (0.01..100.0).contains(&mag) {
-            format!("{mag:.2} ")
-        } else {
-            format!("{mag:.2e} ")
-        };
+        let num = magnitude_text(c.abs());
         if k == 0 {
             let sign = if c < 0.0 { "-" } else { "" };
             text.push_str(&format!("{sign}{num}{}", names[j]));

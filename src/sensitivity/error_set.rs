@@ -42,7 +42,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use crate::identify::groups::{dominant, Term};
+use crate::identify::groups::{dominant, magnitude_text, Term};
 use crate::identify::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
 use crate::machine::chain::{AxisKind, AxisName, Chain, Side};
 use crate::machine::location_errors::{minimal_set, LocationError, LocationStatus};
@@ -330,14 +330,7 @@ fn equivalent(
         let j = kept[i];
         let coefficient = c[i] * typical(&list[j].0).0 / t0;
         let name = list[j].0.name();
-        let mag = coefficient.abs();
-        let num = if (mag - 1.0).abs() < 0.005 {
-            String::new()
-        } else if (0.01..100.0).contains(&mag) {
-            format!("{mag:.2} ")
-        } else {
-            format!("{mag:.2e} ")
-        };
+        let num = magnitude_text(coefficient.abs());
         let sign = match (n, coefficient < 0.0) {
             (0, true) => " -",
             (0, false) => " ",

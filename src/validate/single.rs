@@ -118,6 +118,18 @@ impl ValidationModel {
         })
     }
 
+    /// The location errors' design (the baseline's columns, named with their units).
+    pub fn location_design(&self) -> Result<Design, GapError> {
+        Ok(Design::try_new(
+            self.baseline
+                .names
+                .iter()
+                .map(|name| Parameter::named(name))
+                .collect(),
+            self.baseline.matrix.clone(),
+        )?)
+    }
+
     /// Whether two candidates are near-equivalent on this part (their unabsorbed signatures
     /// span nearly the same directions, [`near_equivalent_pairs`]): the diagnosis may name
     /// either, so a validation counts either as right.
@@ -420,15 +432,7 @@ pub fn exact_machine_part_on(
     opts: &crate::sensitivity::SensitivityOptions,
 ) -> Result<Box<MachinePart<'static>>, GapError> {
     use crate::identify::refine::ExactModel;
-    let design = Design::try_new(
-        model
-            .baseline
-            .names
-            .iter()
-            .map(|name| Parameter::named(name))
-            .collect(),
-        model.baseline.matrix.clone(),
-    )?;
+    let design = model.location_design()?;
     let opts = opts.clone().with_mode(crate::sensitivity::Mode::Physical);
     let exact = crate::simulate::ExactDefectModel::at_points(&design, points, opts)
         .map_err(|e| GapError::Model(e.to_string()))?;
@@ -496,15 +500,7 @@ pub fn validate_with(
     let near = model.near_equivalence();
     let s_path: Vec<f64> = model.points.iter().map(|p| p.s).collect();
     let kinds = model.candidates.len() + 2 + opts.shapes.len();
-    let location = Design::try_new(
-        model
-            .baseline
-            .names
-            .iter()
-            .map(|name| Parameter::named(name))
-            .collect(),
-        a.clone(),
-    )?;
+    let location = model.location_design()?;
     let mut rng = Sampler::new(opts.seed);
     let mut results = Vec::with_capacity(opts.cases);
     for case in 0..opts.cases {
