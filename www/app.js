@@ -86,6 +86,7 @@ async function analyseFile(f) {
       : await withProgress(`Analysing ${f.name}…`, () => call('analyse', f.bytes, f.name, st.settings));
     // the machine's location errors and why (settings only: derived once per machine in the core)
     f.analysis.error_set = await call('errorSet', st.settings);
+    f.analysis.error_set.effects = await call('machineEffects', st.settings);
   } catch (e) {
     f.analysis = null;
     f.error = e.message === 'cancelled' ? 'The computation was cancelled: change a setting or choose the file again to compute it.' : e.message;

@@ -216,14 +216,18 @@ test('the single-file build works from file:// with no server, its core in a Blo
   assert.ok(gaps.busyTicks > 0, 'the page ticked while the core computed');
   assert.ok(gaps.max < 250, `the page does not freeze while the core computes (longest gap ${gaps.max} ms)`);
   // Cancel: the worker is terminated and a new one made from the same inline source and bytes.
+  // A pivot length no part was analysed with, so the computation is long enough to cancel (a
+  // setting seen before is served by the core's settings cache in a few ms).
   await page.fill('#sigma', '');
-  await page.uncheck('#toolRadius');
-  await page.waitForFunction(() => document.body.dataset.busy === 'true', null, { timeout: 10000 });
+  await page.fill('#l0', '487.321');
+  await page.dispatchEvent('#l0', 'change');
+  await page.waitForFunction(() => document.body.dataset.busy === 'true', null, { timeout: 10000, polling: 5 });
   await page.evaluate(() => document.getElementById('cancel').click());
   await page.waitForFunction(() => !document.body.dataset.busy, null, { timeout: 30000 });
   assert.match(await page.textContent('#summary'), /cancelled/);
   const t2 = Date.now();
-  await page.check('#toolRadius');
+  await page.fill('#l0', '499.889');
+  await page.dispatchEvent('#l0', 'change');
   await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('from 100 points'), null, { timeout: 60000 });
   console.log(`single file: after cancel, the restarted worker analysed in ${Date.now() - t2} ms`);
   assert.deepEqual(errors, []);
@@ -281,26 +285,28 @@ test('the machine setting changes the chain, its error set and the curves; cone 
   const { page, errors } = await openPage();
   const native = JSON.parse(cli('identify', EX('example_backlash_c.csv'), '--machine', 'paper002', '--json'));
   await page.selectOption('#machine', 'paper002');
-  // The tilting table's minimal set has the same names as paper 000's head/table machine: wait
-  // for its residual, which differs.
+  // The tilting table's own set (issue 20: EY0C and EZ0B instead of EB0C and EA0B): wait for
+  // its residual.
   const rms = `RMS ${(native.residual.rms * 1000).toFixed(2)} µm`;
   await page.waitForFunction((r) => document.querySelector('#summary')?.textContent.includes(r), rms, { timeout: 60000 });
   assert.match(await page.textContent('#view-fig19'), /tilting table/);
   const names = await page.locator('[data-table="parameters"] tbody tr td:first-child').allTextContents();
   assert.deepEqual([...names].sort(), Object.keys(native.parameters).sort());
   for (const [n, p] of Object.entries(native.parameters)) {
-    // The tilting table's design has rank 6 of 8 on this part: the not-separable parameters
-    // (EA0B, EA0Z; EB0C, EB0Z) get the minimum-norm values within their group, fixed from the
-    // projector on the null space (basis-independent), so they agree too (identify::least_squares).
     const row = page.locator('[data-table="parameters"] tbody tr', { has: page.locator(`td:text-is("${n}")`) });
     const v = await num(row.locator('td').nth(1));
-    // On this machine the part is `unexplained` (the example's backlash_c was simulated on paper
-    // 000's chain): the final answer is the GLS with the structure's covariance, whitened by an
-    // eigen-decomposition whose kernel goes through `exp` (the last bit differs between the
-    // native and the wasm libm), then refined by Levenberg-Marquardt, whose stopping point moves
-    // with such bits: measured 1.03e-8 relative on EA0B (not separable, fixed by its convention).
+    // The final answer is refined by Levenberg-Marquardt, whose stopping point moves with the
+    // last bits of libm's functions (native and wasm): 1e-7 relative.
     assert.ok(Math.abs(v - p.value) <= 1e-7 * Math.abs(p.value) + 1e-14, `paper002 ${n}: page ${v} vs CLI ${p.value}`);
   }
+  // The machine's location errors and effects, as `testpiece machine --machine paper002 --json`.
+  const set = JSON.parse(cli('machine', '--machine', 'paper002', '--json'));
+  await page.click('#tab-identify');
+  const summary = await page.textContent('#error-set summary');
+  assert.ok(summary.includes(set.kept.join(', ')), summary);
+  const rows = await page.locator('[data-table="error-set-rows"] tbody tr td:first-child').allTextContents();
+  assert.deepEqual(rows, set.rows.map((r) => r.name));
+  assert.match(await page.textContent('#machine-effects'), /c_index: left out: on this machine it is a location error/);
   await page.click('#tab-fig19');
   await page.waitForSelector('[data-chart="cone-frustum"] polyline', { state: 'attached', timeout: 60000 });
   await page.waitForSelector('[data-chart="path-coefficients"] polyline', { state: 'attached', timeout: 60000 });
