@@ -391,15 +391,15 @@ pub fn sinusoid_free_sigma(
         if m < 8 || span <= 0.0 {
             continue;
         }
-        if n > DENSE_SEARCH_POINTS {
-            if let Some((u, v)) = strongest_wave_dense(idx, t, basis, r) {
-                columns.push(u);
-                columns.push(v);
-                used += 1;
-            }
-            continue;
-        }
-        let (lo, hi) = (2.0 * 2.0 * PI / span, PI * (m - 1) as f64 / span);
+        // A large part searches shorter waves only down to DENSE_SEARCH_CYCLES a curve, with the
+        // reduction from sums over the curve's points.
+        let dense = n > DENSE_SEARCH_POINTS;
+        let lo = 2.0 * 2.0 * PI / span;
+        let hi = if dense {
+            2.0 * PI * ((m - 1) / 2).min(DENSE_SEARCH_CYCLES) as f64 / span
+        } else {
+            PI * (m - 1) as f64 / span
+        };
         let steps = (10.0 * (hi - lo) / (2.0 * PI / span)).ceil().max(1.0) as usize;
         let wave = |om: f64| {
             let mut c = DVector::zeros(n);
@@ -411,24 +411,25 @@ pub fn sinusoid_free_sigma(
             }
             (project(c), project(s))
         };
-        let reduction = |u: &DVector<f64>, v: &DVector<f64>| -> f64 {
-            two_column_reduction((u.dot(u), u.dot(v), v.dot(v)), (u.dot(r), v.dot(r)))
+        let sums = dense.then(|| curve_reduction(idx, t, t0, basis, r));
+        let reduction = |om: f64| -> f64 {
+            match &sums {
+                Some(f) => f(om),
+                None => {
+                    let (u, v) = wave(om);
+                    two_column_reduction((u.dot(&u), u.dot(&v), v.dot(&v)), (u.dot(r), v.dot(r)))
+                }
+            }
         };
         let best = (0..=steps)
             .map(|k| lo + (hi - lo) * k as f64 / steps as f64)
-            .map(|om| {
-                let (u, v) = wave(om);
-                (om, reduction(&u, &v))
-            })
+            .map(|om| (om, reduction(om)))
             .max_by(|a, b| a.1.total_cmp(&b.1));
         if let Some((om, _)) = best {
             // refine between the neighbouring grid frequencies (golden section to 1e-6 step: a
             // frequency error of 1/20 cycle over the span would leave ~1 % of a wave's variance)
             let step = (hi - lo) / steps as f64;
-            let f = |w: f64| {
-                let (u, v) = wave(w);
-                -reduction(&u, &v)
-            };
+            let f = |w: f64| -reduction(w);
             let om = golden_min(&f, om - step, om + step, 1e-6 * step).0;
             let (u, v) = wave(om);
             columns.push(u);
@@ -458,45 +459,29 @@ fn two_column_reduction((uu, uv, vv): (f64, f64, f64), (ur, vr): (f64, f64)) -> 
 }
 
 /// Above this many points [`sinusoid_free_sigma`] searches each curve's wave with the sums of
-/// [`strongest_wave_dense`] (a dense scan: 20,000 points, 5,000 a curve, would otherwise project
+/// [`curve_reduction`] (a dense scan: 20,000 points, 5,000 a curve, would otherwise project
 /// two 20,000-vectors at each of ~25,000 grid frequencies per curve).
 pub const DENSE_SEARCH_POINTS: usize = 400;
 
-/// Shortest wave [`strongest_wave_dense`] looks for: as on a curve of this many points (one
+/// Shortest wave searched above [`DENSE_SEARCH_POINTS`] points: as on a curve of this many points (one
 /// hundredth of the curve's span, e.g. 3 mm on a 300 mm curve).
 pub const DENSE_SEARCH_CYCLES: usize = 50;
 
-/// The strongest sinusoid of one curve of a large part for [`sinusoid_free_sigma`]: the same
-/// criterion (the reduction of `r` by `M cos ωt`, `M sin ωt`, `M = I − BBᵀ`), computed from sums
-/// over the curve's points only (`uᵀu = cᵀc − (Bᵀc)ᵀ(Bᵀc)`, … with `B` restricted to the
-/// curve's rows), for waves down to [`DENSE_SEARCH_CYCLES`] cycles over the curve (grid of 10
-/// steps a cycle, then golden section). The two projected columns at the best frequency.
-fn strongest_wave_dense(
-    idx: &[usize],
-    t: &[f64],
-    basis: &nalgebra::DMatrix<f64>,
-    r: &nalgebra::DVector<f64>,
-) -> Option<(nalgebra::DVector<f64>, nalgebra::DVector<f64>)> {
+/// The reduction of `r` by the two projected columns `M cos ω(t − t0)`, `M sin ω(t − t0)` of one
+/// curve (`M = I − BBᵀ`) for [`sinusoid_free_sigma`] on a large part, from sums over the curve's
+/// points only: `uᵀu = cᵀc − (B_cᵀc)ᵀ(B_cᵀc)`, `uᵀr = cᵀr − (B_cᵀc)ᵀ(Bᵀr)`, … with `B_c` the
+/// curve's rows of `B` (the same value as forming the two n-vectors, without them).
+fn curve_reduction<'a>(
+    idx: &'a [usize],
+    t: &'a [f64],
+    t0: f64,
+    basis: &'a nalgebra::DMatrix<f64>,
+    r: &'a nalgebra::DVector<f64>,
+) -> impl Fn(f64) -> f64 + 'a {
     use nalgebra::DVector;
-    use std::f64::consts::PI;
-    let (m, p, n) = (idx.len(), basis.ncols(), r.len());
-    let (t0, t1) = idx
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &i| {
-            (a.min(t[i]), b.max(t[i]))
-        });
-    let span = t1 - t0;
-    if m < 8 || span <= 0.0 {
-        return None;
-    }
+    let p = basis.ncols();
     let btr = basis.transpose() * r;
-    let cycles = ((m - 1) / 2).min(DENSE_SEARCH_CYCLES) as f64;
-    let (lo, hi) = (2.0 * 2.0 * PI / span, 2.0 * PI * cycles / span);
-    if hi <= lo {
-        return None;
-    }
-    let steps = (10.0 * (hi - lo) / (2.0 * PI / span)).ceil().max(1.0) as usize;
-    let reduction = |om: f64| -> f64 {
+    move |om: f64| {
         let (mut cc, mut cs, mut ss, mut cr, mut sr) = (0.0, 0.0, 0.0, 0.0, 0.0);
         let mut bc = DVector::<f64>::zeros(p);
         let mut bs = DVector::<f64>::zeros(p);
@@ -517,25 +502,7 @@ fn strongest_wave_dense(
             (cc - bc.dot(&bc), cs - bc.dot(&bs), ss - bs.dot(&bs)),
             (cr - bc.dot(&btr), sr - bs.dot(&btr)),
         )
-    };
-    let (om, _) = (0..=steps)
-        .map(|k| lo + (hi - lo) * k as f64 / steps as f64)
-        .map(|om| (om, reduction(om)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    let step = (hi - lo) / steps as f64;
-    let om = golden_min(&|w: f64| -reduction(w), om - step, om + step, 1e-6 * step).0;
-    let mut c = DVector::zeros(n);
-    let mut s = DVector::zeros(n);
-    for &i in idx {
-        let (si, ci) = (om * (t[i] - t0)).sin_cos();
-        c[i] = ci;
-        s[i] = si;
     }
-    let project = |v: DVector<f64>| {
-        let k = basis.transpose() * &v;
-        v - basis * k
-    };
-    Some((project(c), project(s)))
 }
 
 /// The quantile of the periodogram ordinates [`periodogram_sigma`] reads: the lower quartile, so

@@ -37,11 +37,13 @@
 //! then decide rank and groups in the identification, as before. It is computed once per chain
 //! and branch and kept for the process ([`error_set`]).
 
-use std::sync::{Arc, Mutex, OnceLock};
+use std::cell::RefCell;
+use std::rc::Rc;
 
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
+use crate::gap::memo::Memo;
 use crate::identify::groups::{dominant, magnitude_text, Term};
 use crate::identify::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
 use crate::machine::chain::{AxisKind, AxisName, Chain, Side};
@@ -180,17 +182,12 @@ fn typical(e: &LocationError) -> (f64, &'static str) {
 }
 
 /// The set of `chain` on the built-in design with `branch` (computed once per chain and branch
-/// in a process).
-pub fn error_set(chain: &Chain, branch: Branch) -> Result<Arc<ErrorSet>, SensitivityError> {
-    type Sets = Mutex<Vec<((Chain, Branch), Arc<ErrorSet>)>>;
-    static SETS: OnceLock<Sets> = OnceLock::new();
-    let sets = SETS.get_or_init(|| Mutex::new(Vec::new()));
-    let key = (chain.clone(), branch);
-    if let Some((_, s)) = sets
-        .lock()
-        .ok()
-        .and_then(|g| g.iter().find(|(k, _)| *k == key).cloned())
-    {
+/// and kept by the thread, as the other settings-only results are: [`crate::gap::memo`]).
+pub fn error_set(chain: &Chain, branch: Branch) -> Result<Rc<ErrorSet>, SensitivityError> {
+    thread_local! {
+        static SETS: RefCell<Memo<(Chain, Branch), ErrorSet>> = const { RefCell::new(Memo::new(KEPT)) };
+    }
+    if let Some(s) = SETS.with_borrow_mut(|m| m.find(|(c, b)| c == chain && *b == branch)) {
         return Ok(s);
     }
     let part = SShape::iso();
@@ -199,12 +196,13 @@ pub fn error_set(chain: &Chain, branch: Branch) -> Result<Arc<ErrorSet>, Sensiti
         .with_chain(chain.clone())
         .with_branch(branch)
         .with_mode(Mode::Physical);
-    let set = Arc::new(derive(&part, &points, &opts)?);
-    if let Ok(mut g) = sets.lock() {
-        g.push((key, set.clone()));
-    }
+    let set = Rc::new(derive(&part, &points, &opts)?);
+    SETS.with_borrow_mut(|m| m.insert((chain.clone(), branch), Rc::clone(&set)));
     Ok(set)
 }
+
+/// Machines (chain and branch) whose sets a thread keeps.
+const KEPT: usize = 8;
 
 /// The rule of the module docs on the design of `points` (any points of the part; `opts.mode`
 /// is taken as `physical`).

@@ -2,7 +2,7 @@
 //! estimated on groups along the path and the final identification uses its covariance in
 //! closed form (`gap::structure::CovarianceForm::Grouped`, `identify::correlated::Whitener`),
 //! and the sinusoid search of the noise estimate works from sums over each curve
-//! (`gap::noise::strongest_wave_dense`); before, a 20,000-point scan with structure ran out of
+//! (`gap::noise::curve_reduction`); before, a 20,000-point scan with structure ran out of
 //! memory (3.2 GB n × n matrices) and 2,500 points took 336 s.
 
 use crate::parity_common::structured_scan as scan;

@@ -179,6 +179,7 @@ pub fn location_equivalents_of(
         let m = compute_model(part, &crate::part::builtin_points(part), opts, false)?;
         Ok((m.baseline, m.candidates))
     })
+    .map(|kept| kept.to_vec())
 }
 
 /// The model with every candidate whose physics the chain has ([`Effect::on_chain`]), the

@@ -15,11 +15,13 @@
 //! the B line about z (EC0B), and on this part it is `0.98 EC0B` to 1.7 % of its RMS. On paper
 //! 000 the smallest share left by the baseline is `backlash_c`'s 49 %.
 
-use std::sync::{Mutex, OnceLock};
+use std::cell::RefCell;
+use std::rc::Rc;
 
 use nalgebra::DVector;
 
 use crate::gap::data::{Candidate, NamedColumns};
+use crate::gap::memo::Memo;
 use crate::gap::{Effect, GapError};
 use crate::machine::{Branch, Chain};
 use crate::sensitivity::error_set::VISIBLE_FRACTION;
@@ -93,28 +95,22 @@ fn like_text(names: &[String], x: &DVector<f64>) -> String {
     text
 }
 
-/// [`location_equivalents`] of the machine `(chain, branch)`, computed once per process from
-/// `compute` (the built-in design's columns).
+/// [`location_equivalents`] of the machine `(chain, branch)`, computed once per thread from
+/// `compute` (the built-in design's columns) and kept ([`crate::gap::memo`]).
 pub fn kept_for(
     chain: &Chain,
     branch: Branch,
     compute: impl FnOnce() -> Result<(NamedColumns, Vec<Candidate>), GapError>,
-) -> Result<Vec<(Effect, String)>, GapError> {
-    type Kept = Mutex<Vec<((Chain, Branch), Vec<(Effect, String)>)>>;
-    static KEPT: OnceLock<Kept> = OnceLock::new();
-    let kept = KEPT.get_or_init(|| Mutex::new(Vec::new()));
-    let key = (chain.clone(), branch);
-    if let Some(v) = kept
-        .lock()
-        .ok()
-        .and_then(|g| g.iter().find(|(k, _)| *k == key).map(|(_, v)| v.clone()))
-    {
+) -> Result<Rc<Vec<(Effect, String)>>, GapError> {
+    type Kept = Memo<(Chain, Branch), Vec<(Effect, String)>>;
+    thread_local! {
+        static KEPT: RefCell<Kept> = const { RefCell::new(Memo::new(8)) };
+    }
+    if let Some(v) = KEPT.with_borrow_mut(|m| m.find(|(c, b)| c == chain && *b == branch)) {
         return Ok(v);
     }
     let (baseline, candidates) = compute()?;
-    let v = location_equivalents(&baseline, &candidates);
-    if let Ok(mut g) = kept.lock() {
-        g.push((key, v.clone()));
-    }
+    let v = Rc::new(location_equivalents(&baseline, &candidates));
+    KEPT.with_borrow_mut(|m| m.insert((chain.clone(), branch), Rc::clone(&v)));
     Ok(v)
 }
