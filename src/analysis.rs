@@ -15,8 +15,9 @@
 //!    [`crate::identify::refine::refine`] with the exact eq. 12 at the same points
 //!    ([`crate::simulate::ExactDefectModel`]) where the linearisation error exceeds 0.1 σ.
 //!    The machine is a setting ([`MachineChoice`]): paper 000's B head / C table (default),
-//!    paper 001's A-B head or paper 002's B-C tilting table; each has its own minimal set of
-//!    location errors (the design's columns).
+//!    paper 001's A-B head or paper 002's B-C tilting table; each has its own set of location
+//!    errors, derived from what the part sees ([`crate::sensitivity::error_set`]; the design's
+//!    columns).
 //! 5. [`crate::gap::diagnose`] on the same points ([`diagnose_on_machine`]): the baseline of
 //!    effects.md (the chosen machine's location errors, `physical` mode, the chosen branch) and
 //!    every candidate effect whose physics the machine has ([`Effect::on_chain`]: paper 001's A-B

@@ -6,7 +6,7 @@
 //! - linear (eq. 13-14): `d = [J(q, h) − J(q_ref, 0)] ξ · N`, `J = ∂p/∂ξ` at ξ = 0;
 //!
 //! with `h`, `N` and `q_ref` set by the mode. The sensitivity matrix holds, per point (row) and
-//! per error of the chain's minimal set (column, [`crate::machine::location_errors`]), the linear
+//! per location error of the chain's set (column, [`super::error_set`]), the linear
 //! defect per unit error: for paper 000's machine the Figure 19 curves, columns
 //! `EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B, EA0B, EC0B`.
 
@@ -144,8 +144,8 @@ fn point_poses(
 }
 
 /// The Figure-19 sensitivity matrix: one row per point (in the given order), one column per
-/// error of the minimal set of `opts.chain` (paper 000: EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B,
-/// EA0B, EC0B). Entry = linear defect (mm) per unit error (rad, or mm for EX0B).
+/// location error of the set of `opts.chain` ([`super::error_set`]; paper 000: EC0Y, EA0Z,
+/// EB0Z, EA0C, EB0C, EX0B, EA0B, EC0B). Entry = linear defect (mm) per unit error (rad, or mm for EX0B).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SensitivityMatrix {
     pub ids: Vec<usize>,

@@ -52,8 +52,9 @@ with the effect the verdict names; by generalised least squares with the structu
 when `unexplained`; the baseline when `none`). Both are compared with the simulated location
 errors, baseline / final side by side, per group of expected verdict (detectable effects,
 unexplained, none) and per effect (its detectable parts):
-  largest error  median over the parts of max |value - true| over the 8 location errors, in
-                 typical units (1e-4 rad for angles, 0.01 mm for EX0B);
+  largest error  median over the parts of max |value - true| over the machine's location
+                 errors (paper000's 8; `testpiece machine --machine M`), in typical units
+                 (1e-4 rad for angles, 0.01 mm for lengths);
   coverage       share of the location errors with |value - true| <= 2 std (%; a parameter
                  without std is not covered). An honest std covers about 95 %.
 In --json: per part `basis`, `baseline_error` and `final_error` (with `per_parameter`: signed
