@@ -33,18 +33,19 @@ fn gauss5(f: &impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
         * half
 }
 
-/// A cumulative arc-length table of a curve given by its speed `|C'(u)|`.
-pub struct ArcLength<F: Fn(f64) -> f64> {
-    speed: F,
+/// The cumulative table of an arc length without its speed function: owned data that can be
+/// kept (a settings cache), evaluated with the same speed passed again.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LengthTable {
     /// piece boundaries, increasing
     nodes: Vec<f64>,
     /// `L(nodes[i])`
     cumulative: Vec<f64>,
 }
 
-impl<F: Fn(f64) -> f64> ArcLength<F> {
+impl LengthTable {
     /// Builds the table; `breaks` are the increasing interval ends (duplicates are ignored).
-    pub fn new(speed: F, breaks: &[f64], per_span: usize) -> Self {
+    pub fn new(speed: &impl Fn(f64) -> f64, breaks: &[f64], per_span: usize) -> Self {
         let mut b = breaks.to_vec();
         b.dedup();
         let per_span = per_span.max(1);
@@ -57,13 +58,9 @@ impl<F: Fn(f64) -> f64> ArcLength<F> {
         let mut cumulative = vec![0.0];
         for w in nodes.windows(2) {
             let last = cumulative[cumulative.len() - 1];
-            cumulative.push(last + gauss5(&speed, w[0], w[1]));
+            cumulative.push(last + gauss5(speed, w[0], w[1]));
         }
-        Self {
-            speed,
-            nodes,
-            cumulative,
-        }
+        Self { nodes, cumulative }
     }
 
     /// Total length (mm).
@@ -77,11 +74,36 @@ impl<F: Fn(f64) -> f64> ArcLength<F> {
         k.saturating_sub(1).min(self.nodes.len() - 2)
     }
 
-    /// `L(u)` from the start of the domain (mm); `u` is clamped to the domain.
-    pub fn length_at(&self, u: f64) -> f64 {
+    /// `L(u)` from the start of the domain (mm), `speed` the one the table was built with; `u`
+    /// is clamped to the domain.
+    pub fn length_at(&self, speed: &impl Fn(f64) -> f64, u: f64) -> f64 {
         let u = u.clamp(self.nodes[0], self.nodes[self.nodes.len() - 1]);
         let k = self.piece(u);
-        self.cumulative[k] + gauss5(&self.speed, self.nodes[k], u)
+        self.cumulative[k] + gauss5(speed, self.nodes[k], u)
+    }
+}
+
+/// A cumulative arc-length table of a curve given by its speed `|C'(u)|`.
+pub struct ArcLength<F: Fn(f64) -> f64> {
+    speed: F,
+    table: LengthTable,
+}
+
+impl<F: Fn(f64) -> f64> ArcLength<F> {
+    /// Builds the table; `breaks` are the increasing interval ends (duplicates are ignored).
+    pub fn new(speed: F, breaks: &[f64], per_span: usize) -> Self {
+        let table = LengthTable::new(&speed, breaks, per_span);
+        Self { speed, table }
+    }
+
+    /// Total length (mm).
+    pub fn total(&self) -> f64 {
+        self.table.total()
+    }
+
+    /// `L(u)` from the start of the domain (mm); `u` is clamped to the domain.
+    pub fn length_at(&self, u: f64) -> f64 {
+        self.table.length_at(&self.speed, u)
     }
 
     /// The parameter `u` with `L(u) = length` (mm), to `|ΔL| < 1e-12 mm`.
@@ -90,16 +112,17 @@ impl<F: Fn(f64) -> f64> ArcLength<F> {
         if !(0.0..=total).contains(&length) {
             return Err(GeometryError::ArcLengthOutOfRange { length, total });
         }
-        let k = self
+        let t = &self.table;
+        let k = t
             .cumulative
             .partition_point(|c| *c <= length)
             .saturating_sub(1)
-            .min(self.nodes.len() - 2);
-        let (mut lo, mut hi) = (self.nodes[k], self.nodes[k + 1]);
-        let frac = (length - self.cumulative[k]) / (self.cumulative[k + 1] - self.cumulative[k]);
+            .min(t.nodes.len() - 2);
+        let (mut lo, mut hi) = (t.nodes[k], t.nodes[k + 1]);
+        let frac = (length - t.cumulative[k]) / (t.cumulative[k + 1] - t.cumulative[k]);
         let mut u = lo + frac * (hi - lo);
         for _ in 0..100 {
-            let err = self.cumulative[k] + gauss5(&self.speed, self.nodes[k], u) - length;
+            let err = t.cumulative[k] + gauss5(&self.speed, t.nodes[k], u) - length;
             if err.abs() < 1e-12 {
                 return Ok(u);
             }

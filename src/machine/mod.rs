@@ -28,6 +28,7 @@ pub mod direct;
 pub mod error_motion;
 pub mod inverse;
 pub mod location_errors;
+pub mod rates;
 mod transform;
 
 pub use chain::{AxisKind, AxisName, AxisValues, Chain, ChainAxis, Side};

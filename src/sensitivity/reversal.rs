@@ -6,204 +6,354 @@
 //! rad for A, B and C) trails its command by `b/2` against its direction of motion: the offset
 //! target is `e* = −(b/2)·sgn(dq/du)`, held while the axis is at rest. At a reversal the offset
 //! moves to the new target through a first-order lag whose "time" constant is
-//! [`LAG_LENGTH`] = 2 mm of tool-tip path: `e(s) = e* + (e(s₀) − e*)·exp(−(s − s₀)/2)`, updated
-//! exactly between the samples of a [`REVERSAL_GRID`]-step grid in `u`, and interpolated linearly
-//! in `u` at the points. Each pass starts settled for its first direction of motion.
+//! [`LAG_LENGTH`] = 2 mm of tool-tip path: `e(s) = e* + (e(s₀) − e*)·exp(−(s − s₀)/2)`.
+//! Each pass starts settled for its first direction of motion.
+//!
+//! **Where the direction changes** (the reference's convention): on a [`REVERSAL_GRID`]-step grid
+//! in `u`, the direction of an axis on a step is the sign of its increment, held through rest
+//! (increments ≤ [`REST_TOLERANCE`]). The lag is evaluated at the grid samples around a point
+//! and interpolated linearly in `u`. The grid is not solved sample by sample: [`pass`] finds the
+//! steps where the direction changes from the axis *rates* `dq/du` (analytic derivatives of the
+//! inverse kinematics, [`crate::machine::rates`]) at [`RATE_SAMPLES`] samples, and solves the
+//! grid only around each turn (a window about the root of the rate's Hermite interpolant) and
+//! across the starts and ends of rest and of the vertical zone. Between turns the lag is in
+//! closed form: `e_k = e* + (e_{k_r−1} − e*)·exp(−(s_k − s_{k_r−1})/2)`, exactly the grid's
+//! recursion `e_k = e* + (e_{k−1} − e*)·exp(−(s_k − s_{k−1})/2)` with the decays multiplied
+//! out. `s` is the tool-tip path length ([`TipLength`]: Gauss–Legendre on the tip speed, not the
+//! chords of the grid).
+//!
 //! The defect at a point is `e(s)·(∂x/∂q)·N`, `x` the tool-body point at the contact point (the
 //! rigid tool motion evaluated where the tool touches the wall), `N` the normal of the mode
-//! ([`super`]), `s` the tool-tip path length (chords of the grid). Units: mm, rad.
+//! ([`super`]). Units: mm, rad.
+
+use std::collections::BTreeMap;
 
 use nalgebra::Vector3;
 
 use crate::machine::direct::jacobian_body_point;
-use crate::machine::{AxisName, AxisValues, ErrorParam, MachineErrors};
+use crate::machine::inverse::RotaryPair;
+use crate::machine::rates::axis_rates;
+use crate::machine::{AxisName, AxisValues, ErrorParam, MachineErrors, PathSample};
 use crate::part::{MeasurementPoint, SShape, Surface};
-use crate::toolpath::flank::tool_pose;
+use crate::toolpath::flank::tool_pose_derivs;
+use crate::toolpath::tip_length::TipLength;
 
 use super::defect::{Mode, SensitivityOptions};
-use super::path::{machine_path, PATH_GRID};
+use super::path::machine_path;
 use super::SensitivityError;
-use crate::machine::inverse::inverse_path;
 
 /// Time constant of the servo lag, in mm of tool-tip path (effects.md).
 pub const LAG_LENGTH: f64 = 2.0;
-/// Steps of the `u` grid on which the lag is integrated (20001 samples).
+/// Steps of the `u` grid on which the directions are defined (20001 samples).
 pub const REVERSAL_GRID: usize = 20000;
 /// Axis increments at most this large between grid samples count as rest (mm or rad): they are
 /// rounding noise of the inverse kinematics on stretches where an axis stands still.
 pub const REST_TOLERANCE: f64 = 1e-9;
 
-/// The axis values are solved on every [`REFINE_STRIDE`]-th grid sample, and on every sample of
-/// the coarse steps where an axis may reverse or rest (see [`pass`]).
-pub const REFINE_STRIDE: usize = 10;
-/// A coarse step over which some axis moves by at most this (mm or rad) is solved on every fine
-/// sample: within it an axis may stand still, so that fine increments can fall under
-/// [`REST_TOLERANCE`] (a coarse step that moves more than 1000× the rest tolerance over
-/// [`REFINE_STRIDE`] samples of a smooth path cannot contain such increments unless it turns).
-pub const REFINE_BELOW: f64 = 1e-6;
-
-/// A coarse step over which an axis moves by at most this (mm or rad) is rest: the axis stands
-/// still there up to the rounding of the inverse kinematics (~1e-13), and every fine increment is
-/// under [`REST_TOLERANCE`], so its direction is held without solving the fine samples.
+/// Samples of the axis rates per pass (every 40th grid sample).
+pub const RATE_SAMPLES: usize = 500;
+/// A rate at most this (mm or rad per unit u) is rest: its grid increments are ~5e-12, far under
+/// [`REST_TOLERANCE`] (the rates' rounding on a rest stretch is ~1e-10).
+pub const RATE_REST: f64 = 1e-7;
+/// A rate above this moves by more than 10 × [`REST_TOLERANCE`] per grid step: near it every
+/// increment counts as motion in the rate's direction.
+pub const RATE_STRONG: f64 = 10.0 * REST_TOLERANCE * REVERSAL_GRID as f64;
+/// Grid steps solved on each side of a turn's estimated step.
+pub const TURN_WINDOW: usize = 3;
+/// A coarse interval over which an axis at rest at both ends moves by at most this (mm or rad)
+/// is rest throughout.
 pub const REST_BELOW: f64 = 1e-11;
 
-/// What a coarse step of one axis is.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Step {
-    Rest,
-    Moving(f64),
-    Unsure,
+/// Where one axis changes direction along a pass, on the grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Turns {
+    /// Direction of the first motion (+1 or −1; +1 for an axis that never moves).
+    pub first: f64,
+    /// `(k, d)`: from grid step `k − 1 → k` on, the direction is `d`.
+    pub at: Vec<(usize, f64)>,
 }
 
-/// One pass (one surface): grid, cumulative tool-tip path length and each axis's direction of
-/// motion on every grid step.
+/// One pass (one surface): each axis's turns on the grid, and the tool-tip path length.
 #[derive(Debug, Clone)]
 pub struct Pass {
-    pub u: Vec<f64>,
-    /// Tool-tip path length from the start of the pass (mm, sum of grid chords).
-    pub s: Vec<f64>,
-    pub tips: Vec<Vector3<f64>>,
-    /// The chain's axes and, per axis, [`directions`] on the grid.
+    pub surface: Surface,
+    /// The chain's axes and, per axis, its [`Turns`].
     pub axes: Vec<AxisName>,
-    pub directions: Vec<Vec<f64>>,
-    /// Grid samples at which the inverse kinematics was solved (of `u.len()`).
+    pub turns: Vec<Turns>,
+    /// Tool-tip path length from the start of the pass.
+    pub length: TipLength,
+    /// Samples at which the inverse kinematics was solved (rates included), of the grid's 20,001.
     pub solved: usize,
 }
 
-/// The pass of surface `surface` on the reversal grid.
+/// `u` of grid sample `k`.
+fn grid_u(k: usize) -> f64 {
+    k as f64 / REVERSAL_GRID as f64
+}
+
+/// What the rate of one axis says at a sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Rate {
+    Rest,
+    Weak,
+    Strong(f64),
+}
+
+fn class(r: f64) -> Rate {
+    if r.abs() <= RATE_REST {
+        Rate::Rest
+    } else if r.abs() > RATE_STRONG {
+        Rate::Strong(r.signum())
+    } else {
+        Rate::Weak
+    }
+}
+
+/// How the grid steps of one coarse interval are found.
+#[derive(Debug, Clone, PartialEq)]
+enum Plan {
+    /// Every grid sample of the interval is solved.
+    Full,
+    /// Each axis moves one way throughout, rests throughout, or turns once inside the window
+    /// `(axis index, first k, last k)` about its rate's root.
+    Windows(Vec<(usize, usize, usize)>),
+}
+
+/// Where the derivative of the cubic Hermite interpolant of `q` on `[0, 1]` (values `q0, q1`,
+/// slopes `d0, d1` per unit of the interval) changes sign, if it does exactly once.
+fn hermite_root(q0: f64, q1: f64, d0: f64, d1: f64) -> Option<f64> {
+    // q'(t) = a t² + b t + c of the Hermite basis.
+    let dq = q1 - q0;
+    let a = 3.0 * (d0 + d1) - 6.0 * dq;
+    let b = 6.0 * dq - 4.0 * d0 - 2.0 * d1;
+    let c = d0;
+    let f = |t: f64| (a * t + b) * t + c;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    if f(lo).signum() == f(hi).signum() {
+        return None;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid).signum() == f(lo).signum() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(0.5 * (lo + hi))
+}
+
+/// The pass of surface `surface`: each axis's turns on the [`REVERSAL_GRID`] grid, as the grid
+/// solved at all 20,001 samples gives them (checked in tests/it/sensitivity_reversal.rs for the
+/// three chains, both branches and both surfaces), from ~1,000 inverse kinematics (module docs).
 ///
-/// The direction of motion of an axis on a grid step is the sign of its increment, held through
-/// rest (increments ≤ [`REST_TOLERANCE`]). Solving the inverse kinematics at all 20,001 samples
-/// is not needed for that: the axes are solved on every [`REFINE_STRIDE`]-th sample, and each
-/// coarse step of each axis is *rest* (it moves by at most [`REST_BELOW`]: direction held),
-/// *moving* (by more than [`REFINE_BELOW`], 1000× the rest tolerance over
-/// [`REFINE_STRIDE`] samples: monotone, its fine directions are the coarse step's sign) or
-/// *unsure*. A coarse step is solved on all its fine samples when it is unsure for some axis, or
-/// when some axis changes class or direction between it and a neighbour (a turn, a start or a
-/// stop lies in one of the two). The inverse kinematics
-/// at a given `u` does not depend on the other samples requested ([`machine_path`]), so the
-/// directions are those of the full fine solution (checked against it in
-/// tests/it/sensitivity_reversal.rs for the three chains and both branches).
+/// The rates are sampled every `REVERSAL_GRID / RATE_SAMPLES` grid steps. On a coarse interval
+/// between two samples, an axis whose rate is [`RATE_STRONG`] with the same sign at both ends
+/// (and whose coarse increment agrees) moves that way at every step; one at rest at both ends
+/// that moves by at most [`REST_BELOW`] rests; one strong with opposite signs turns once, at the
+/// root of the Hermite interpolant's derivative, and the grid is solved in a window of
+/// [`TURN_WINDOW`] steps about it (the whole interval when the window does not show exactly that
+/// one turn). Every other interval (weak rates, starts and ends of rest, an end of the vertical
+/// zone, where the outer angle's rate jumps) is solved at all its grid samples.
 pub fn pass(
     part: &SShape,
     surface: Surface,
     opts: &SensitivityOptions,
 ) -> Result<Pass, SensitivityError> {
+    let chain = &opts.chain;
     let n = REVERSAL_GRID;
-    let u: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
-    let poses: Vec<(Vector3<f64>, Vector3<f64>)> = u
-        .iter()
-        .map(|&x| {
-            let p = tool_pose(part, surface, x);
-            (p.tip, p.axis)
-        })
-        .collect();
-    // The inverse kinematics of `machine_path`, reusing the poses of the grid samples.
-    let solve = |us: &[f64]| {
-        let pose = |x: f64| {
-            let k = (x * n as f64).round();
-            if (0.0..=n as f64).contains(&k) && u[k as usize] == x {
-                poses[k as usize]
+    let stride = n / RATE_SAMPLES;
+    let coarse_k: Vec<usize> = (0..=RATE_SAMPLES).map(|j| j * stride).collect();
+    let coarse_u: Vec<f64> = coarse_k.iter().map(|&k| grid_u(k)).collect();
+    let coarse = machine_path(part, chain, surface, opts.branch, &coarse_u)?;
+    let axes: Vec<AxisName> = chain.axes().map(|a| a.name).collect();
+    let outer = RotaryPair::of(chain)?.outer;
+    // Rates per unit u at each coarse sample; on the vertical zone the outer angle's rate is the
+    // slope of its linear interpolation, from a neighbour in the same zone.
+    let rates: Vec<Option<AxisValues>> = (0..coarse.len())
+        .map(|j| {
+            let fixed = if coarse[j].singular {
+                let nb = [j.wrapping_sub(1), j + 1]
+                    .into_iter()
+                    .find(|&i| i < coarse.len() && coarse[i].singular)?;
+                let (a, b) = (j.min(nb), j.max(nb));
+                let slope = (coarse[b].values.get(outer) - coarse[a].values.get(outer))
+                    / (coarse_u[b] - coarse_u[a]);
+                Some((outer, slope))
             } else {
-                let p = tool_pose(part, surface, x);
-                (p.tip, p.axis)
-            }
-        };
-        inverse_path(&opts.chain, opts.branch, pose, (0.0, 1.0), PATH_GRID, us)
-    };
-    let tips: Vec<Vector3<f64>> = poses.iter().map(|p| p.0).collect();
-    let mut s = vec![0.0; u.len()];
-    for k in 1..u.len() {
-        s[k] = s[k - 1] + (tips[k] - tips[k - 1]).norm();
-    }
-    let axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
-    let stride = REFINE_STRIDE;
-    let coarse_idx: Vec<usize> = (0..=n / stride).map(|m| m * stride).chain([n]).collect();
-    let mut coarse_idx = coarse_idx;
-    coarse_idx.dedup();
-    let coarse_u: Vec<f64> = coarse_idx.iter().map(|&k| u[k]).collect();
-    let coarse = solve(&coarse_u)?;
-    let steps = coarse_idx.len() - 1;
-    // Coarse increments per axis, and the coarse steps to solve finely.
-    let dc: Vec<Vec<f64>> = axes
-        .iter()
-        .map(|&a| {
-            (1..=steps)
-                .map(|m| coarse[m].values.get(a) - coarse[m - 1].values.get(a))
-                .collect()
+                None
+            };
+            let d = tool_pose_derivs(part, surface, coarse_u[j]);
+            axis_rates(
+                chain,
+                &coarse[j].values,
+                &d.pose.tip,
+                &d.tip_u,
+                &d.axis_u,
+                fixed,
+            )
+            .ok()
         })
         .collect();
-    let class = |x: f64| {
-        if x.abs() <= REST_BELOW {
-            Step::Rest
-        } else if x.abs() > REFINE_BELOW {
-            Step::Moving(x.signum())
-        } else {
-            Step::Unsure
-        }
-    };
-    let mut refine = vec![false; steps];
-    for d in &dc {
-        for m in 0..steps {
-            let c = class(d[m]);
-            if c == Step::Unsure {
-                refine[m] = true;
+    let h = 1.0 / RATE_SAMPLES as f64;
+    let mut plans: Vec<Plan> = (0..RATE_SAMPLES)
+        .map(|j| {
+            let (Some(r0), Some(r1)) = (&rates[j], &rates[j + 1]) else {
+                return Plan::Full;
+            };
+            if coarse[j].singular != coarse[j + 1].singular {
+                return Plan::Full;
             }
-            // A turn, or a start or stop between rest and motion, lies in one of the two.
-            if m > 0 && c != class(d[m - 1]) {
-                refine[m] = true;
-                refine[m - 1] = true;
-            }
-        }
-    }
-    let mut fine_idx: Vec<usize> = Vec::new();
-    for m in (0..steps).filter(|&m| refine[m]) {
-        fine_idx.extend(coarse_idx[m]..=coarse_idx[m + 1]);
-    }
-    fine_idx.dedup();
-    let fine_u: Vec<f64> = fine_idx.iter().map(|&k| u[k]).collect();
-    let fine = if fine_u.is_empty() {
-        Vec::new()
-    } else {
-        solve(&fine_u)?
-    };
-    // Fine sample k -> its solution, where solved.
-    let mut at = vec![usize::MAX; u.len()];
-    for (j, &k) in fine_idx.iter().enumerate() {
-        at[k] = j;
-    }
-    let directions = axes
-        .iter()
-        .enumerate()
-        .map(|(ai, &axis)| {
-            let mut d = vec![0.0; u.len()];
-            for m in 0..steps {
-                for k in coarse_idx[m] + 1..=coarse_idx[m + 1] {
-                    let step = if refine[m] {
-                        fine[at[k]].values.get(axis) - fine[at[k - 1]].values.get(axis)
-                    } else if class(dc[ai][m]) == Step::Rest {
-                        0.0
-                    } else {
-                        dc[ai][m]
-                    };
-                    d[k] = if step.abs() > REST_TOLERANCE {
-                        step.signum()
-                    } else {
-                        d[k - 1]
-                    };
+            let mut windows = Vec::new();
+            for (ai, &a) in axes.iter().enumerate() {
+                let dq = coarse[j + 1].values.get(a) - coarse[j].values.get(a);
+                match (class(r0.get(a)), class(r1.get(a))) {
+                    (Rate::Strong(s0), Rate::Strong(s1)) if s0 == s1 => {
+                        if dq * s0 <= stride as f64 * REST_TOLERANCE {
+                            return Plan::Full;
+                        }
+                    }
+                    (Rate::Strong(_), Rate::Strong(_)) => {
+                        let Some(t) = hermite_root(
+                            coarse[j].values.get(a),
+                            coarse[j + 1].values.get(a),
+                            r0.get(a) * h,
+                            r1.get(a) * h,
+                        ) else {
+                            return Plan::Full;
+                        };
+                        let k = coarse_k[j] + (t * stride as f64).round() as usize;
+                        let first = k.saturating_sub(TURN_WINDOW).max(coarse_k[j]);
+                        let last = (k + TURN_WINDOW).min(coarse_k[j + 1]);
+                        windows.push((ai, first, last));
+                    }
+                    (Rate::Rest, Rate::Rest) if dq.abs() <= REST_BELOW => {}
+                    _ => return Plan::Full,
                 }
             }
-            settle_start(&mut d);
-            d
+            Plan::Windows(windows)
+        })
+        .collect();
+    let mut solved: BTreeMap<usize, AxisValues> = coarse_k
+        .iter()
+        .zip(&coarse)
+        .map(|(&k, s)| (k, s.values))
+        .collect();
+    let solve = |ks: Vec<usize>, solved: &mut BTreeMap<usize, AxisValues>| {
+        let ks: Vec<usize> = ks.into_iter().filter(|k| !solved.contains_key(k)).collect();
+        if ks.is_empty() {
+            return Ok::<(), SensitivityError>(());
+        }
+        let us: Vec<f64> = ks.iter().map(|&k| grid_u(k)).collect();
+        let got: Vec<PathSample> = machine_path(part, chain, surface, opts.branch, &us)?;
+        for (k, s) in ks.into_iter().zip(got) {
+            solved.insert(k, s.values);
+        }
+        Ok(())
+    };
+    let wanted = |plans: &[Plan]| -> Vec<usize> {
+        let mut ks = Vec::new();
+        for (j, p) in plans.iter().enumerate() {
+            match p {
+                Plan::Full => ks.extend(coarse_k[j]..=coarse_k[j + 1]),
+                Plan::Windows(w) => {
+                    for &(_, a, b) in w {
+                        ks.extend(a..=b);
+                    }
+                }
+            }
+        }
+        ks
+    };
+    solve(wanted(&plans), &mut solved)?;
+    // A window must show the turn: motion the old way at its start, the new way at its end, and
+    // one change between; otherwise the whole interval is solved.
+    let mut again = false;
+    for (j, p) in plans.iter_mut().enumerate() {
+        let Plan::Windows(w) = p else { continue };
+        let ok = w.iter().all(|&(ai, a, b)| {
+            let r0 = rates[j].as_ref().map_or(0.0, |r| r.get(axes[ai]));
+            let incs: Vec<f64> = (a + 1..=b)
+                .map(|k| solved[&k].get(axes[ai]) - solved[&(k - 1)].get(axes[ai]))
+                .collect();
+            let (Some(&i0), Some(&i1)) = (incs.first(), incs.last()) else {
+                return false;
+            };
+            let changes = incs
+                .windows(2)
+                .filter(|x| x[0].signum() != x[1].signum())
+                .count();
+            a < b
+                && i0 * r0.signum() > REST_TOLERANCE
+                && -i1 * r0.signum() > REST_TOLERANCE
+                && changes == 1
+        });
+        if !ok {
+            *p = Plan::Full;
+            again = true;
+        }
+    }
+    if again {
+        solve(wanted(&plans), &mut solved)?;
+    }
+    // The grid's rule on every step, in order.
+    let turns = axes
+        .iter()
+        .enumerate()
+        .map(|(ai, &a)| {
+            let mut d = 0.0;
+            let mut first = None;
+            let mut at = Vec::new();
+            let mut step = |k: usize, dir: f64| {
+                if d == 0.0 {
+                    first = Some(dir);
+                } else if dir != d {
+                    at.push((k, dir));
+                }
+                d = dir;
+            };
+            let inc = |k: usize| solved[&k].get(a) - solved[&(k - 1)].get(a);
+            for (j, p) in plans.iter().enumerate() {
+                let (k0, k1) = (coarse_k[j], coarse_k[j + 1]);
+                let window = match p {
+                    Plan::Full => Some((k0, k1)),
+                    Plan::Windows(w) => w.iter().find(|x| x.0 == ai).map(|x| (x.1, x.2)),
+                };
+                match window {
+                    Some((wa, wb)) => {
+                        let before = rates[j].as_ref().map_or(0.0, |r| r.get(a)).signum();
+                        if wa > k0 {
+                            step(k0 + 1, before);
+                        }
+                        for k in wa + 1..=wb {
+                            let x = inc(k);
+                            if x.abs() > REST_TOLERANCE {
+                                step(k, x.signum());
+                            }
+                        }
+                        if wb < k1 {
+                            step(wb + 1, -before);
+                        }
+                    }
+                    None => {
+                        if let Some(Rate::Strong(s)) = rates[j].as_ref().map(|r| class(r.get(a))) {
+                            step(k0 + 1, s);
+                        }
+                    }
+                }
+            }
+            Turns {
+                first: first.unwrap_or(1.0),
+                at,
+            }
         })
         .collect();
     Ok(Pass {
-        u,
-        s,
-        tips,
+        surface,
         axes,
-        directions,
-        solved: coarse_idx.len() + fine_idx.len(),
+        turns,
+        length: TipLength::new(part, surface),
+        solved: solved.len(),
     })
 }
 
@@ -211,10 +361,23 @@ pub fn pass(
 /// motion), held through rest; an axis the chain does not have never moves (settled at +1, as
 /// [`directions_of`] gives for constant values).
 pub fn directions(p: &Pass, axis: AxisName) -> Vec<f64> {
-    p.axes
-        .iter()
-        .position(|&a| a == axis)
-        .map_or_else(|| vec![1.0; p.u.len()], |i| p.directions[i].clone())
+    let mut d = vec![1.0; REVERSAL_GRID + 1];
+    if let Some(i) = p.axes.iter().position(|&a| a == axis) {
+        let t = &p.turns[i];
+        let mut cur = t.first;
+        let mut next = t.at.iter().peekable();
+        for (k, x) in d.iter_mut().enumerate() {
+            while let Some(&&(kt, dt)) = next.peek() {
+                if kt > k {
+                    break;
+                }
+                cur = dt;
+                next.next();
+            }
+            *x = cur;
+        }
+    }
+    d
 }
 
 /// Directions from the axis values at every grid sample (the definition [`pass`] reproduces
@@ -229,12 +392,6 @@ pub fn directions_of(q: &[AxisValues], axis: AxisName) -> Vec<f64> {
             d[k - 1]
         };
     }
-    settle_start(&mut d);
-    d
-}
-
-/// Settled for the first motion: back-fills the leading rest with the first direction.
-fn settle_start(d: &mut [f64]) {
     let first = d.iter().copied().find(|x| *x != 0.0).unwrap_or(1.0);
     for x in d.iter_mut() {
         if *x != 0.0 {
@@ -242,44 +399,106 @@ fn settle_start(d: &mut [f64]) {
         }
         *x = first;
     }
+    d
 }
 
 /// Number of reversals of `axis` along the pass.
 pub fn reversal_count(p: &Pass, axis: AxisName) -> usize {
-    directions(p, axis)
-        .windows(2)
-        .filter(|w| w[0] != w[1])
-        .count()
+    p.axes
+        .iter()
+        .position(|&a| a == axis)
+        .map_or(0, |i| p.turns[i].at.len())
 }
 
-/// Lagged offset `e` per unit lost motion (`b = 1`) at every grid sample.
-pub fn lagged_offset(p: &Pass, axis: AxisName) -> Vec<f64> {
-    lag_on(&decays(p), &directions(p, axis))
+/// The passes of surfaces A and B ([`Surface::BOTH`] order), for callers that need them for
+/// several things (signatures and reversal positions).
+pub fn passes(part: &SShape, opts: &SensitivityOptions) -> Result<[Pass; 2], SensitivityError> {
+    Ok([
+        pass(part, Surface::BOTH[0], opts)?,
+        pass(part, Surface::BOTH[1], opts)?,
+    ])
 }
 
-/// The lag's decay over each grid step, `exp(−Δs/`[`LAG_LENGTH`]`)` (step `k − 1 → k` at index
-/// `k − 1`): the same for every axis.
-fn decays(p: &Pass) -> Vec<f64> {
-    (1..p.u.len())
-        .map(|k| (-(p.s[k] - p.s[k - 1]) / LAG_LENGTH).exp())
-        .collect()
+/// One stretch of constant direction of the lag: from grid step `k` on, the offset moves from
+/// `from` (its value at sample `k − 1`, path length `s0`) towards `target`.
+#[derive(Debug, Clone, PartialEq)]
+struct Segment {
+    k: usize,
+    target: f64,
+    from: f64,
+    s0: f64,
 }
 
-/// `e_k = e* + (e_{k−1} − e*)·decay_k` from `e_0 = e*_0`, `e* = −d/2`. Once `e` has reached its
-/// target exactly (the difference rounds to 0 after ~75 mm of path), the step is `e* + 0·decay =
-/// e*`: it is written so, without the multiplication (the same bits).
-fn lag_on(decay: &[f64], d: &[f64]) -> Vec<f64> {
-    let mut e = vec![-0.5 * d[0]; d.len()];
-    for k in 1..d.len() {
-        let target = -0.5 * d[k];
-        let prev = e[k - 1];
-        e[k] = if prev == target {
-            target
-        } else {
-            target + (prev - target) * decay[k - 1]
-        };
+/// The lagged offsets of a pass per unit lost motion for some axes, in closed form between the
+/// turns: all that [`backlash_signatures_lagged`] needs of a pass (it depends on the part, the
+/// chain and the branch, not on the points, so it can be kept for other points).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lag {
+    pub axes: Vec<AxisName>,
+    /// Tool-tip path length of the pass.
+    pub length: TipLength,
+    segments: Vec<Vec<Segment>>,
+}
+
+impl Lag {
+    /// The lag of `axes` on pass `p` of `part` (the lags of A and B given together must have the
+    /// same axes).
+    pub fn of(part: &SShape, p: &Pass, axes: &[AxisName]) -> Self {
+        let segments = axes
+            .iter()
+            .map(|&a| {
+                let first = p.axes.iter().position(|&x| x == a).map(|i| &p.turns[i]);
+                let start = -0.5 * first.map_or(1.0, |t| t.first);
+                let mut segs = vec![Segment {
+                    k: 0,
+                    target: start,
+                    from: start,
+                    s0: 0.0,
+                }];
+                for &(k, d) in first.map_or(&[][..], |t| &t.at[..]) {
+                    let s0 = p.length.at(part, grid_u(k - 1));
+                    let from = offset_on(&segs, k - 1, s0);
+                    segs.push(Segment {
+                        k,
+                        target: -0.5 * d,
+                        from,
+                        s0,
+                    });
+                }
+                segs
+            })
+            .collect();
+        Self {
+            axes: axes.to_vec(),
+            length: p.length.clone(),
+            segments,
+        }
     }
-    e
+
+    /// The offset per unit lost motion of axis `axes[a]` at grid sample `k`, where the path
+    /// length is `s` (mm).
+    pub fn offset(&self, a: usize, k: usize, s: f64) -> f64 {
+        offset_on(&self.segments[a], k, s)
+    }
+
+    /// The offsets of axis `axes[a]` at every grid sample (for tests and plots; the signatures
+    /// only need the samples around the points).
+    pub fn offsets(&self, part: &SShape, a: usize) -> Vec<f64> {
+        (0..=REVERSAL_GRID)
+            .map(|k| self.offset(a, k, self.length.at(part, grid_u(k))))
+            .collect()
+    }
+}
+
+/// `e_k = e* + (e_{k_r−1} − e*)·exp(−(s_k − s_{k_r−1})/`[`LAG_LENGTH`]`)` on the segment holding
+/// `k`; exactly `e*` on a settled first segment.
+fn offset_on(segs: &[Segment], k: usize, s: f64) -> f64 {
+    let g = &segs[segs.partition_point(|g| g.k <= k).max(1) - 1];
+    if g.from == g.target {
+        g.target
+    } else {
+        g.target + (g.from - g.target) * (-(s - g.s0) / LAG_LENGTH).exp()
+    }
 }
 
 /// The signature of `backlash_<axis>` at the points per unit `b`: `e(s)·(∂p/∂q)·N`.
@@ -303,41 +522,6 @@ pub fn backlash_signatures(
     backlash_signatures_on(&passes(part, opts)?, part, points, axes, opts)
 }
 
-/// The passes of surfaces A and B ([`Surface::BOTH`] order), for callers that need them for
-/// several things (signatures and reversal positions): each costs 20,001 inverse kinematics.
-pub fn passes(part: &SShape, opts: &SensitivityOptions) -> Result<[Pass; 2], SensitivityError> {
-    Ok([
-        pass(part, Surface::BOTH[0], opts)?,
-        pass(part, Surface::BOTH[1], opts)?,
-    ])
-}
-
-/// The lagged offsets of a pass per unit lost motion ([`lagged_offset`]) for some axes, with the
-/// pass's `u` grid: all that [`backlash_signatures_lagged`] needs of a pass (it depends on the
-/// part, the chain and the branch, not on the points, so it can be kept for other points).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Lag {
-    pub u: Vec<f64>,
-    pub axes: Vec<AxisName>,
-    /// One [`lagged_offset`] per axis of `axes`.
-    pub e: Vec<Vec<f64>>,
-}
-
-impl Lag {
-    /// The lag of `axes` on pass `p` (the lags of A and B given together must have the same axes).
-    pub fn of(p: &Pass, axes: &[AxisName]) -> Self {
-        let decay = decays(p);
-        Self {
-            u: p.u.clone(),
-            axes: axes.to_vec(),
-            e: axes
-                .iter()
-                .map(|&a| lag_on(&decay, &directions(p, a)))
-                .collect(),
-        }
-    }
-}
-
 /// [`backlash_signatures`] on passes already computed by [`passes`] with the same `opts`.
 pub fn backlash_signatures_on(
     passes: &[Pass; 2],
@@ -346,7 +530,10 @@ pub fn backlash_signatures_on(
     axes: &[AxisName],
     opts: &SensitivityOptions,
 ) -> Result<Vec<Vec<f64>>, SensitivityError> {
-    let lags = [Lag::of(&passes[0], axes), Lag::of(&passes[1], axes)];
+    let lags = [
+        Lag::of(part, &passes[0], axes),
+        Lag::of(part, &passes[1], axes),
+    ];
     backlash_signatures_lagged(&lags, part, points, opts)
 }
 
@@ -368,15 +555,26 @@ pub fn backlash_signatures_lagged(
         }
         let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
         let poses = machine_path(part, &opts.chain, surface, opts.branch, &us)?;
-        for (a, (&axis, e)) in p.axes.iter().zip(&p.e).enumerate() {
+        let mut around = vec![(0, 0.0, 0.0, 0.0); points.len()];
+        for &i in &idx {
+            let u = points[i].u;
+            let k = grid_after(u);
+            let (u0, u1) = (grid_u(k - 1), grid_u(k));
+            around[i] = (
+                k,
+                (u - u0) / (u1 - u0),
+                p.length.at(part, u0),
+                p.length.at(part, u1),
+            );
+        }
+        for (a, &axis) in p.axes.iter().enumerate() {
             for (&i, pose) in idx.iter().zip(&poses) {
                 let pt = &points[i];
                 // Linear interpolation in u between the grid samples around the point (the
                 // reference's convention; the exact lag from sample k-1 differs by < 1e-4
-                // relative).
-                let k = p.u.partition_point(|x| *x < pt.u).clamp(1, p.u.len() - 1);
-                let t = (pt.u - p.u[k - 1]) / (p.u[k] - p.u[k - 1]);
-                let e_pt = e[k - 1] * (1.0 - t) + e[k] * t;
+                // relative): k the first sample at or after u.
+                let (k, t, s0, s1) = around[i];
+                let e_pt = p.offset(a, k - 1, s0) * (1.0 - t) + p.offset(a, k, s1) * t;
                 let n = match opts.mode {
                     Mode::Physical => pt.normal,
                     Mode::Paper => part.frame_at(surface, pt.u, 1.0).n,
@@ -408,14 +606,29 @@ fn axis_derivative(
     Ok(j.column(0).into_owned())
 }
 
+/// The first grid sample at or after `u`, within `1..=`[`REVERSAL_GRID`] (the partition point
+/// of the grid's `u` values).
+fn grid_after(u: f64) -> usize {
+    let n = REVERSAL_GRID;
+    let mut k = ((u * n as f64).ceil().max(0.0) as usize).min(n);
+    while k > 0 && grid_u(k - 1) >= u {
+        k -= 1;
+    }
+    while k < n && grid_u(k) < u {
+        k += 1;
+    }
+    k.clamp(1, n)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// The closed form between turns is the grid's recursion `e_k = e* + (e_{k−1} − e*)·
+    /// exp(−(s_k − s_{k−1})/2)` from a settled start, written out over all 20,001 samples with
+    /// the same path lengths: equal to 1e-13 (the products of decays against one exp).
     #[test]
-    fn the_lag_is_the_recursion_of_its_definition_bit_for_bit() {
-        // The module's recursion written out (one exp per step and axis, no shortcut once
-        // settled): Lag::of shares the decay between axes and skips settled steps, same bits.
+    fn the_closed_form_lag_is_the_recursion_of_its_definition() {
         let part = SShape::iso();
         let opts = SensitivityOptions::default();
         let axes = [
@@ -426,22 +639,34 @@ mod tests {
             AxisName::C,
         ];
         for p in passes(&part, &opts).unwrap() {
-            let lag = Lag::of(&p, &axes);
+            let lag = Lag::of(&part, &p, &axes);
+            let s: Vec<f64> = (0..=REVERSAL_GRID)
+                .map(|k| p.length.at(&part, grid_u(k)))
+                .collect();
             for (a, &axis) in axes.iter().enumerate() {
                 let d = directions(&p, axis);
-                let mut e = vec![-0.5 * d[0]; p.u.len()];
-                for k in 1..p.u.len() {
+                let mut e = vec![-0.5 * d[0]; d.len()];
+                for k in 1..d.len() {
                     let target = -0.5 * d[k];
-                    e[k] =
-                        target + (e[k - 1] - target) * (-(p.s[k] - p.s[k - 1]) / LAG_LENGTH).exp();
+                    e[k] = target + (e[k - 1] - target) * (-(s[k] - s[k - 1]) / LAG_LENGTH).exp();
                 }
-                let same = e
+                let got = lag.offsets(&part, a);
+                let worst = e
                     .iter()
-                    .zip(&lag.e[a])
-                    .all(|(x, y)| x.to_bits() == y.to_bits());
-                assert!(same, "{axis:?}");
-                assert_eq!(lagged_offset(&p, axis), e, "{axis:?}");
+                    .zip(&got)
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f64::max);
+                assert!(worst < 1e-13, "{axis:?}: {worst:e}");
             }
+        }
+    }
+
+    #[test]
+    fn grid_after_is_the_partition_point_of_the_grid() {
+        let grid: Vec<f64> = (0..=REVERSAL_GRID).map(grid_u).collect();
+        for u in [0.0, 1e-9, 0.3, 0.123_456_789, 6.0 / 13.0, 0.999_99, 1.0] {
+            let want = grid.partition_point(|x| *x < u).clamp(1, REVERSAL_GRID);
+            assert_eq!(grid_after(u), want, "u = {u}");
         }
     }
 }

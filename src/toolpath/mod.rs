@@ -4,6 +4,7 @@ pub mod envelope;
 pub mod flank;
 pub mod layers;
 pub mod profile;
+pub mod tip_length;
 
 pub use envelope::{
     builtin_envelope, points_deviation, surface_max_overcut, EnvelopeHit, FlankPath,

@@ -219,10 +219,22 @@ test('the single-file build works from file:// with no server, its core in a Blo
   // A pivot length no part was analysed with, so the computation is long enough to cancel (a
   // setting seen before is served by the core's settings cache in a few ms).
   await page.fill('#sigma', '');
-  await page.fill('#l0', '487.321');
-  await page.dispatchEvent('#l0', 'change');
-  await page.waitForFunction(() => document.body.dataset.busy === 'true', null, { timeout: 10000, polling: 5 });
-  await page.evaluate(() => document.getElementById('cancel').click());
+  // Cancel the analysis itself (the sensitivity curves come first), in the microtask right after
+  // the page hands it to the worker: the worker's answer cannot arrive before Cancel, however
+  // fast the core is.
+  await page.evaluate(() => new Promise((resolve) => {
+    const obs = new MutationObserver(() => {
+      if (document.body.dataset.busy === 'true' && document.getElementById('progress-text').textContent.startsWith('Analysing')) {
+        obs.disconnect();
+        document.getElementById('cancel').click();
+        resolve();
+      }
+    });
+    obs.observe(document.body, { attributes: true, attributeFilter: ['data-busy'] });
+    const l0 = document.getElementById('l0');
+    l0.value = '487.321';
+    l0.dispatchEvent(new Event('change'));
+  }));
   await page.waitForFunction(() => !document.body.dataset.busy, null, { timeout: 30000 });
   assert.match(await page.textContent('#summary'), /cancelled/);
   const t2 = Date.now();

@@ -85,9 +85,9 @@ fn backlash_signatures_match_reference() {
     }
 }
 
-/// `pass` solves the inverse kinematics on every 10th sample and finely only where an axis may
-/// turn or rest; its directions must equal those of the full fine solution (20,001 samples),
-/// exactly, on every axis, for the three chains, both branches and both surfaces.
+/// `pass` finds the turns from the axis rates and solves the grid only around them; its
+/// directions must equal those of the full fine solution (20,001 samples), exactly, on every
+/// axis, for the three chains (and other L0 and pivot lengths), both branches and both surfaces.
 #[test]
 fn coarse_then_fine_directions_equal_the_full_grid() {
     let part = SShape::iso();
@@ -98,6 +98,10 @@ fn coarse_then_fine_directions_equal_the_full_grid() {
         Chain::paper000(PAPER000_L0),
         Chain::paper002(),
         Chain::paper001(120.0, 80.0),
+        // other settings of the page: a short and a long L0, other pivot lengths
+        Chain::paper000(250.0),
+        Chain::paper000(750.0),
+        Chain::paper001(60.0, 150.0),
     ] {
         for branch in [Branch::Signed, Branch::Positive] {
             let opts = SensitivityOptions::default()

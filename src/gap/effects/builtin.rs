@@ -1,6 +1,5 @@
 //! The signatures and point metadata of the built-in S-shape points, from the geometry.
 
-use super::path_length::{surface_path_length, surface_path_lengths};
 use super::EffectPoint;
 use crate::gap::data::{Candidate, NamedColumns, PointMeta};
 use crate::gap::effect::{Effect, SignatureModel};
@@ -8,39 +7,39 @@ use crate::gap::GapError;
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
+use crate::toolpath::tip_length::TipLength;
 
 /// Effect points (point, normal, h, s) of measurement points.
 pub fn effect_points(part: &SShape, points: &[MeasurementPoint]) -> Vec<EffectPoint> {
-    effect_points_after(part, points, surface_path_length(part, Surface::A, 1.0))
+    effect_points_on(
+        part,
+        points,
+        &[
+            TipLength::new(part, Surface::A),
+            TipLength::new(part, Surface::B),
+        ],
+    )
 }
 
-/// [`effect_points`] with the tool-tip path length of surface A (mm) already computed.
-fn effect_points_after(
+/// [`effect_points`] with the tool-tip path lengths of A and B already tabulated.
+fn effect_points_on(
     part: &SShape,
     points: &[MeasurementPoint],
-    a_total: f64,
+    lengths: &[TipLength; 2],
 ) -> Vec<EffectPoint> {
-    let mut s = vec![0.0; points.len()];
-    for (surface, offset) in [(Surface::A, 0.0), (Surface::B, a_total)] {
-        let idx: Vec<usize> = (0..points.len())
-            .filter(|&i| points[i].surface == surface)
-            .collect();
-        let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
-        for (k, len) in surface_path_lengths(part, surface, &us)
-            .into_iter()
-            .enumerate()
-        {
-            s[idx[k]] = offset + len;
-        }
-    }
     points
         .iter()
-        .zip(s)
-        .map(|(m, s)| EffectPoint {
-            p: m.point,
-            n: m.normal,
-            h: m.h,
-            s,
+        .map(|m| {
+            let s = match m.surface {
+                Surface::A => lengths[0].at(part, m.u),
+                Surface::B => lengths[0].total() + lengths[1].at(part, m.u),
+            };
+            EffectPoint {
+                p: m.point,
+                n: m.normal,
+                h: m.h,
+                s,
+            }
         })
         .collect()
 }
@@ -208,7 +207,7 @@ fn compute_model(
         .map_err(|e| GapError::Model(e.to_string()))?;
     let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
     let path = super::cache::path_model(part, opts)?;
-    let eps = effect_points_after(part, points, path.a_total);
+    let eps = effect_points_on(part, points, &path.lengths);
     let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
     let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)
         .map_err(|e| GapError::Model(e.to_string()))?

@@ -27,7 +27,7 @@ use crate::machine::{AxisKind, AxisName, AxisValues, Branch, Chain, ErrorParam, 
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::defect::axis_values;
 use crate::sensitivity::defect::jacobian_rows;
-use crate::sensitivity::reversal::{backlash_signatures_lagged, directions, Lag, Pass};
+use crate::sensitivity::reversal::{backlash_signatures_lagged, Lag, Pass, REVERSAL_GRID};
 use crate::sensitivity::SensitivityOptions;
 
 fn model_err(e: impl std::fmt::Display) -> GapError {
@@ -70,23 +70,23 @@ pub fn backlash_columns(
 }
 
 /// Where each axis of `axes` reverses along the passes (A then B): tool-tip path length from the
-/// start of A (mm).
-pub fn reversals(passes: &[Pass; 2], axes: &[AxisName]) -> Vec<Reversal> {
+/// start of A (mm), at the grid sample where the new direction starts.
+pub fn reversals(part: &SShape, passes: &[Pass; 2], axes: &[AxisName]) -> Vec<Reversal> {
     let mut out = Vec::new();
     let mut offset = 0.0;
     for p in passes {
         for &axis in axes {
-            let d = directions(p, axis);
-            for k in 1..d.len() {
-                if d[k] != d[k - 1] {
-                    out.push(Reversal {
-                        axis,
-                        s: offset + p.s[k],
-                    });
-                }
+            let Some(i) = p.axes.iter().position(|&a| a == axis) else {
+                continue;
+            };
+            for &(k, _) in &p.turns[i].at {
+                out.push(Reversal {
+                    axis,
+                    s: offset + p.length.at(part, k as f64 / REVERSAL_GRID as f64),
+                });
             }
         }
-        offset += p.s.last().copied().unwrap_or(0.0);
+        offset += p.length.total();
     }
     out.sort_by(|a, b| a.s.total_cmp(&b.s));
     out

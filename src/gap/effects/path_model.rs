@@ -4,13 +4,12 @@
 //! first-order lag of 2 mm of tool-tip path, paper 002 §4.3), where each axis reverses, the
 //! tool-tip path lengths of the surfaces ([`super::path_length`]) and the envelope's tables of
 //! tool poses ([`crate::toolpath::envelope`]). It is the expensive part of a part model (two
-//! passes of 20,001 tool poses and ~3,000 inverse kinematics each): kept by [`super::cache`] for
+//! passes of ~1,000 inverse kinematics and axis rates each): kept by [`super::cache`] for
 //! every later file with the same settings.
 //!
 //! Units: mm for path lengths, the lag per unit lost motion (mm/mm or rad/rad).
 
 use super::machine::reversals;
-use super::path_length::surface_path_length;
 use crate::gap::data::Reversal;
 use crate::gap::effect::backlash_axes;
 use crate::gap::GapError;
@@ -19,6 +18,7 @@ use crate::sensitivity::reversal::{passes, Lag};
 use crate::sensitivity::SensitivityOptions;
 use crate::toolpath::envelope::pose_table;
 use crate::toolpath::flank::ToolPose;
+use crate::toolpath::tip_length::TipLength;
 
 /// The settings-only part of a part model.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,6 +27,8 @@ pub struct PathModel {
     pub lags: [Lag; 2],
     /// Where each axis reverses, by tool-tip path length from the start of A (mm).
     pub reversals: Vec<Reversal>,
+    /// Tool-tip path lengths of A and B.
+    pub lengths: [TipLength; 2],
     /// Tool-tip path length of surface A (mm).
     pub a_total: f64,
     /// Tool-tip path length of A then B (mm).
@@ -40,13 +42,18 @@ impl PathModel {
     /// used: the passes follow the tool, not a displaced point).
     pub fn new(part: &SShape, opts: &SensitivityOptions) -> Result<Self, GapError> {
         let passes = passes(part, opts).map_err(|e| GapError::Model(e.to_string()))?;
-        let a_total = surface_path_length(part, Surface::A, 1.0);
+        let lengths = [passes[0].length.clone(), passes[1].length.clone()];
+        let a_total = lengths[0].total();
         let axes = backlash_axes(&opts.chain);
         Ok(Self {
-            lags: [Lag::of(&passes[0], &axes), Lag::of(&passes[1], &axes)],
-            reversals: reversals(&passes, &axes),
+            lags: [
+                Lag::of(part, &passes[0], &axes),
+                Lag::of(part, &passes[1], &axes),
+            ],
+            reversals: reversals(part, &passes, &axes),
             a_total,
-            s_total: a_total + surface_path_length(part, Surface::B, 1.0),
+            s_total: a_total + lengths[1].total(),
+            lengths,
             pose_tables: [pose_table(part, Surface::A), pose_table(part, Surface::B)],
         })
     }
