@@ -14,7 +14,7 @@
 //! `u`, so its rate is that interpolation's slope, given by the caller; the other four rates are
 //! then solved with it. Units: mm and rad per unit `u`.
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::Vector3;
 
 use super::chain::{AxisName, AxisValues, Chain};
 use super::direct::{jacobian_body_point, ErrorParam, MachineErrors};
@@ -41,7 +41,7 @@ pub fn axis_rates(
         })
         .collect();
     let (jp, jd) = jacobian_body_point(chain, q, tip, &MachineErrors::none(), &params)?;
-    let mut rhs = DVector::from_iterator(6, tip_u.iter().chain(w_u.iter()).copied());
+    let mut rhs = [tip_u.x, tip_u.y, tip_u.z, w_u.x, w_u.y, w_u.z];
     let free: Vec<usize> = (0..axes.len())
         .filter(|&k| fixed.is_none_or(|(a, _)| a != axes[k]))
         .collect();
@@ -55,24 +55,60 @@ pub fn axis_rates(
             out.set(a, rate);
         }
     }
-    let j = DMatrix::from_fn(6, free.len(), |r, c| {
-        if r < 3 {
-            jp[(r, free[c])]
-        } else {
-            jd[(r - 3, free[c])]
-        }
-    });
-    // Householder QR: least squares without squaring the condition number (the rotary columns
-    // are ~L0 mm/rad beside 1 mm/mm, and near-singular next to the vertical zone).
-    let qr = j.qr();
-    let x = qr
-        .r()
-        .solve_upper_triangular(&(qr.q().transpose() * &rhs))
+    let cols: Vec<[f64; 6]> = free
+        .iter()
+        .map(|&k| {
+            let (p, d) = (jp.column(k), jd.column(k));
+            [p[0], p[1], p[2], d[0], d[1], d[2]]
+        })
+        .collect();
+    let x = least_squares(cols, rhs)
         .ok_or_else(|| MachineError::Path("axis rates: singular Jacobian".into()))?;
     for (c, &k) in free.iter().enumerate() {
         out.set(axes[k], x[c]);
     }
     Ok(out)
+}
+
+/// Least squares `min ‖A x − b‖` of six equations by Householder QR (`A` by columns): the
+/// condition number is not squared as in the normal equations (the rotary columns are ~L0 mm/rad
+/// beside 1 mm/mm, and nearly dependent next to the vertical zone). `None` when a column is
+/// dependent on the ones before it.
+fn least_squares(mut a: Vec<[f64; 6]>, mut b: [f64; 6]) -> Option<Vec<f64>> {
+    let n = a.len();
+    let scale = a
+        .iter()
+        .flat_map(|c| c.iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    for k in 0..n {
+        // The reflection that maps column k's rows k.. onto e_k.
+        let norm = (k..6).map(|r| a[k][r] * a[k][r]).sum::<f64>().sqrt();
+        if norm <= 1e-14 * scale {
+            return None;
+        }
+        let alpha = if a[k][k] > 0.0 { -norm } else { norm };
+        let mut v = [0.0; 6];
+        v[k] = a[k][k] - alpha;
+        v[(k + 1)..6].copy_from_slice(&a[k][(k + 1)..6]);
+        let vv: f64 = (k..6).map(|r| v[r] * v[r]).sum();
+        let reflect = |c: &mut [f64; 6]| {
+            let f = 2.0 * (k..6).map(|r| v[r] * c[r]).sum::<f64>() / vv;
+            for r in k..6 {
+                c[r] -= f * v[r];
+            }
+        };
+        for col in a.iter_mut().skip(k + 1) {
+            reflect(col);
+        }
+        reflect(&mut b);
+        a[k][k] = alpha;
+    }
+    let mut x = vec![0.0; n];
+    for k in (0..n).rev() {
+        let sum: f64 = (k + 1..n).map(|c| a[c][k] * x[c]).sum();
+        x[k] = (b[k] - sum) / a[k][k];
+    }
+    Some(x)
 }
 
 #[cfg(test)]

@@ -26,8 +26,6 @@
 //! rigid tool motion evaluated where the tool touches the wall), `N` the normal of the mode
 //! ([`super`]). Units: mm, rad.
 
-use std::collections::BTreeMap;
-
 use nalgebra::Vector3;
 
 use crate::machine::direct::jacobian_body_point;
@@ -143,6 +141,23 @@ fn hermite_root(q0: f64, q1: f64, d0: f64, d1: f64) -> Option<f64> {
     Some(0.5 * (lo + hi))
 }
 
+/// The grid samples solved so far, sorted by index.
+struct Solved(Vec<(usize, AxisValues)>);
+
+impl Solved {
+    fn get(&self, k: usize) -> Option<&AxisValues> {
+        self.0
+            .binary_search_by_key(&k, |x| x.0)
+            .ok()
+            .map(|i| &self.0[i].1)
+    }
+
+    /// A sample every plan solved (the plans ask for each sample they read).
+    fn at(&self, k: usize) -> &AxisValues {
+        self.get(k).expect("grid sample solved by its plan")
+    }
+}
+
 /// The pass of surface `surface`: each axis's turns on the [`REVERSAL_GRID`] grid, as the grid
 /// solved at all 20,001 samples gives them (checked in tests/it/sensitivity_reversal.rs for the
 /// three chains, both branches and both surfaces), from ~1,000 inverse kinematics (module docs).
@@ -234,21 +249,28 @@ pub fn pass(
             Plan::Windows(windows)
         })
         .collect();
-    let mut solved: BTreeMap<usize, AxisValues> = coarse_k
-        .iter()
-        .zip(&coarse)
-        .map(|(&k, s)| (k, s.values))
-        .collect();
-    let solve = |ks: Vec<usize>, solved: &mut BTreeMap<usize, AxisValues>| {
-        let ks: Vec<usize> = ks.into_iter().filter(|k| !solved.contains_key(k)).collect();
+    let mut solved = Solved(
+        coarse_k
+            .iter()
+            .zip(&coarse)
+            .map(|(&k, s)| (k, s.values))
+            .collect(),
+    );
+    let solve = |ks: Vec<usize>, solved: &mut Solved| {
+        let ks: Vec<usize> = ks
+            .into_iter()
+            .filter(|&k| solved.get(k).is_none())
+            .collect();
         if ks.is_empty() {
             return Ok::<(), SensitivityError>(());
         }
         let us: Vec<f64> = ks.iter().map(|&k| grid_u(k)).collect();
         let got: Vec<PathSample> = machine_path(part, chain, surface, opts.branch, &us)?;
-        for (k, s) in ks.into_iter().zip(got) {
-            solved.insert(k, s.values);
-        }
+        solved
+            .0
+            .extend(ks.into_iter().zip(got.into_iter().map(|s| s.values)));
+        solved.0.sort_by_key(|x| x.0);
+        solved.0.dedup_by_key(|x| x.0);
         Ok(())
     };
     let wanted = |plans: &[Plan]| -> Vec<usize> {
@@ -274,7 +296,7 @@ pub fn pass(
         let ok = w.iter().all(|&(ai, a, b)| {
             let r0 = rates[j].as_ref().map_or(0.0, |r| r.get(axes[ai]));
             let incs: Vec<f64> = (a + 1..=b)
-                .map(|k| solved[&k].get(axes[ai]) - solved[&(k - 1)].get(axes[ai]))
+                .map(|k| solved.at(k).get(axes[ai]) - solved.at(k - 1).get(axes[ai]))
                 .collect();
             let (Some(&i0), Some(&i1)) = (incs.first(), incs.last()) else {
                 return false;
@@ -312,7 +334,7 @@ pub fn pass(
                 }
                 d = dir;
             };
-            let inc = |k: usize| solved[&k].get(a) - solved[&(k - 1)].get(a);
+            let inc = |k: usize| solved.at(k).get(a) - solved.at(k - 1).get(a);
             for (j, p) in plans.iter().enumerate() {
                 let (k0, k1) = (coarse_k[j], coarse_k[j + 1]);
                 let window = match p {
@@ -353,7 +375,7 @@ pub fn pass(
         axes,
         turns,
         length: TipLength::new(part, surface),
-        solved: solved.len(),
+        solved: solved.0.len(),
     })
 }
 
