@@ -37,7 +37,7 @@ use crate::toolpath::flank::tool_pose_derivs;
 use crate::toolpath::tip_length::TipLength;
 
 use super::defect::{Mode, SensitivityOptions};
-use super::path::machine_path;
+use super::path::{machine_path, solve_path};
 use super::SensitivityError;
 
 /// Time constant of the servo lag, in mm of tool-tip path (effects.md).
@@ -180,7 +180,7 @@ pub fn pass(
     let stride = n / RATE_SAMPLES;
     let coarse_k: Vec<usize> = (0..=RATE_SAMPLES).map(|j| j * stride).collect();
     let coarse_u: Vec<f64> = coarse_k.iter().map(|&k| grid_u(k)).collect();
-    let coarse = machine_path(part, chain, surface, opts.branch, &coarse_u)?;
+    let coarse = solve_path(part, chain, surface, opts.branch, &coarse_u)?;
     let axes: Vec<AxisName> = chain.axes().map(|a| a.name).collect();
     let outer = RotaryPair::of(chain)?.outer;
     // Rates per unit u at each coarse sample; on the vertical zone the outer angle's rate is the
@@ -265,7 +265,7 @@ pub fn pass(
             return Ok::<(), SensitivityError>(());
         }
         let us: Vec<f64> = ks.iter().map(|&k| grid_u(k)).collect();
-        let got: Vec<PathSample> = machine_path(part, chain, surface, opts.branch, &us)?;
+        let got: Vec<PathSample> = solve_path(part, chain, surface, opts.branch, &us)?;
         solved
             .0
             .extend(ks.into_iter().zip(got.into_iter().map(|s| s.values)));
