@@ -26,7 +26,8 @@ use crate::analysis::{analyse, AnalysisOptions};
 use crate::cmm::write::{canonical_csv, Precision};
 use crate::identify::{identify, Design, IdentifyOptions, Observations};
 use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
-use crate::sensitivity::{machine_path, sensitivity_matrix, SensitivityOptions};
+use crate::sensitivity::path::solve_path;
+use crate::sensitivity::{sensitivity_matrix, SensitivityOptions};
 
 /// The stage names, in table order.
 pub const STAGES: [&str; 17] = [
@@ -237,12 +238,14 @@ impl Stage {
                         .map(|p| p.u)
                         .collect();
                     let path =
-                        machine_path(part, &o.chain, surf, o.branch, &us).map_err(|x| e(&x))?;
+                        solve_path(part, &o.chain, surf, o.branch, &us).map_err(|x| e(&x))?;
                     s += path.len() as f64;
                 }
                 s
             }
             Stage::Matrix(part, pts) => {
+                // the kernel, not the points' kept axis values
+                crate::sensitivity::path::clear_kept();
                 sensitivity_matrix(part, pts, &SensitivityOptions::default())
                     .map_err(|x| e(&x))?
                     .values[(0, 0)]

@@ -68,6 +68,12 @@ pub fn machine_path(
     Ok(path)
 }
 
+/// Forgets the kept paths of this thread (they belong to points: a first file, a benchmark of
+/// the kernels).
+pub fn clear_kept() {
+    KEPT.with_borrow_mut(Memo::clear);
+}
+
 /// [`machine_path`] without keeping the result (the reversal passes' windows, asked once).
 pub fn solve_path(
     part: &SShape,

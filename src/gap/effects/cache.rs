@@ -26,7 +26,7 @@ use crate::machine::{Branch, Chain};
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::SensitivityOptions;
 
-/// Path models kept (each ~2 MB: the lags of five axes (backlash) on two 20,001-sample grids).
+/// Path models kept (each ~100 kB: the envelope's two pose tables, the lags in closed form between turns).
 pub const PATH_CAPACITY: usize = 4;
 /// Part models kept (each `points × ~40` numbers: 30 kB for 100 points).
 pub const MODEL_CAPACITY: usize = 4;
@@ -122,9 +122,11 @@ pub fn clear() {
 }
 
 /// Forgets the part models of this thread (and the decompositions of
-/// [`crate::gap::structure`], which belong to the points), keeps the path models (the benchmark
+/// [`crate::gap::structure`] and the axis values of [`crate::sensitivity::path`], which belong
+/// to the points), keeps the path models (the benchmark
 /// of a further file with the same settings).
 pub fn clear_part_models() {
+    crate::sensitivity::path::clear_kept();
     MODELS.with_borrow_mut(Memo::clear);
     crate::gap::structure::clear_kept();
 }
