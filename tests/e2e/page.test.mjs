@@ -178,6 +178,27 @@ test('after one visit the page works with the network off (service worker cache)
   await page.close();
 });
 
+/**
+ * Sets the pivot length L0 and cancels the analysis it starts (the sensitivity curves come
+ * first), in the microtask right after the page hands the analysis to the worker: the worker's
+ * answer cannot arrive before Cancel, however fast the core is.
+ */
+async function cancelAnalysisOfL0(page, l0) {
+  await page.evaluate((value) => new Promise((resolve) => {
+    const obs = new MutationObserver(() => {
+      if (document.body.dataset.busy === 'true' && document.getElementById('progress-text').textContent.startsWith('Analysing')) {
+        obs.disconnect();
+        document.getElementById('cancel').click();
+        resolve();
+      }
+    });
+    obs.observe(document.body, { attributes: true, attributeFilter: ['data-busy'] });
+    const input = document.getElementById('l0');
+    input.value = value;
+    input.dispatchEvent(new Event('change'));
+  }), l0);
+}
+
 test('the single-file build works from file:// with no server, its core in a Blob-URL worker that cancels', async () => {
   execFileSync('node', [path.join(ROOT, 'scripts', 'build-single.mjs')], { cwd: ROOT });
   const file = path.join(ROOT, 'dist', 'testpiece.html');
@@ -195,9 +216,14 @@ test('the single-file build works from file:// with no server, its core in a Blo
   assert.match(await page.textContent('#summary'), /from 100 points/);
   assert.equal(await page.evaluate(() => navigator.serviceWorker?.controller ?? null), null, 'no service worker');
   // No freeze: the longest gap between 10 ms ticks of the page's own event loop while the core
-  // computes (a re-analysis with the tool-radius term), and the page takes typed input meanwhile.
+  // computes (a pivot length never analysed: the sensitivity curves, the path model and the
+  // analysis computed anew, ~100 ms), and the page takes typed input meanwhile. Busy is
+  // recorded by an observer: the core may finish before a poll would see it.
   await page.evaluate(() => {
     window.__gaps = { max: 0, busyTicks: 0 };
+    window.__busySeen = false;
+    new MutationObserver(() => { if (document.body.dataset.busy === 'true') window.__busySeen = true; })
+      .observe(document.body, { attributes: true, attributeFilter: ['data-busy'] });
     let last = performance.now();
     window.__tick = setInterval(() => {
       const now = performance.now();
@@ -206,8 +232,9 @@ test('the single-file build works from file:// with no server, its core in a Blo
     }, 10);
   });
   const t1 = Date.now();
-  await page.check('#toolRadius');
-  await page.waitForFunction(() => document.body.dataset.busy === 'true', null, { timeout: 10000 });
+  await page.fill('#l0', '493.217');
+  await page.dispatchEvent('#l0', 'change');
+  await page.waitForFunction(() => window.__busySeen, null, { timeout: 10000 });
   await page.fill('#sigma', '1.7');
   const typedWhileBusy = await page.evaluate(() => document.body.dataset.busy === 'true' && document.getElementById('sigma').value === '1.7');
   await page.waitForFunction(() => !document.body.dataset.busy && document.querySelector('#summary')?.textContent.includes('from 100 points'), null, { timeout: 60000 });
@@ -216,25 +243,8 @@ test('the single-file build works from file:// with no server, its core in a Blo
   assert.ok(gaps.busyTicks > 0, 'the page ticked while the core computed');
   assert.ok(gaps.max < 250, `the page does not freeze while the core computes (longest gap ${gaps.max} ms)`);
   // Cancel: the worker is terminated and a new one made from the same inline source and bytes.
-  // A pivot length no part was analysed with, so the computation is long enough to cancel (a
-  // setting seen before is served by the core's settings cache in a few ms).
   await page.fill('#sigma', '');
-  // Cancel the analysis itself (the sensitivity curves come first), in the microtask right after
-  // the page hands it to the worker: the worker's answer cannot arrive before Cancel, however
-  // fast the core is.
-  await page.evaluate(() => new Promise((resolve) => {
-    const obs = new MutationObserver(() => {
-      if (document.body.dataset.busy === 'true' && document.getElementById('progress-text').textContent.startsWith('Analysing')) {
-        obs.disconnect();
-        document.getElementById('cancel').click();
-        resolve();
-      }
-    });
-    obs.observe(document.body, { attributes: true, attributeFilter: ['data-busy'] });
-    const l0 = document.getElementById('l0');
-    l0.value = '487.321';
-    l0.dispatchEvent(new Event('change'));
-  }));
+  await cancelAnalysisOfL0(page, '487.321');
   await page.waitForFunction(() => !document.body.dataset.busy, null, { timeout: 30000 });
   assert.match(await page.textContent('#summary'), /cancelled/);
   const t2 = Date.now();
@@ -332,13 +342,7 @@ test('the machine setting changes the chain, its error set and the curves; cone 
 test('a long computation can be cancelled (worker restarted) and the page keeps working', async () => {
   const { page } = await openPage();
   const t0 = Date.now();
-  // A pivot length no part was analysed with: the sensitivity curves and the part model are
-  // computed anew (the settings cache serves a setting seen before in a few ms, too fast to
-  // cancel), long enough to be cancelled.
-  await page.fill('#l0', '487.123');
-  await page.dispatchEvent('#l0', 'change');
-  await page.waitForFunction(() => document.body.dataset.busy === 'true', null, { timeout: 10000, polling: 5 });
-  await page.evaluate(() => document.getElementById('cancel').click());
+  await cancelAnalysisOfL0(page, '487.123');
   await page.waitForFunction(() => !document.body.dataset.busy, null, { timeout: 30000 });
   assert.match(await page.textContent('#summary'), /cancelled/);
   console.log(`cancelled after ${Date.now() - t0} ms`);
