@@ -52,6 +52,16 @@ pub enum ErrorParam {
 }
 
 impl ErrorParam {
+    /// A change of the value of `axis`: its own positioning error motion `E{axis}{axis}` of power
+    /// 0 (the axis moved by δ; a Jacobian column of it is `∂/∂q_axis`).
+    pub fn axis_value(axis: AxisName) -> Self {
+        ErrorParam::Motion {
+            component: axis,
+            axis,
+            power: 0,
+        }
+    }
+
     /// `EC0Y`, `EXX` (power 0), `EXX1` (coefficient of q¹).
     pub fn name(&self) -> String {
         match self {

@@ -32,14 +32,7 @@ pub fn axis_rates(
     fixed: Option<(AxisName, f64)>,
 ) -> Result<AxisValues, MachineError> {
     let axes: Vec<AxisName> = chain.axes().map(|a| a.name).collect();
-    let params: Vec<ErrorParam> = axes
-        .iter()
-        .map(|&a| ErrorParam::Motion {
-            component: a,
-            axis: a,
-            power: 0,
-        })
-        .collect();
+    let params: Vec<ErrorParam> = axes.iter().map(|&a| ErrorParam::axis_value(a)).collect();
     let (jp, jd) = jacobian_body_point(chain, q, tip, &MachineErrors::none(), &params)?;
     let mut rhs = [tip_u.x, tip_u.y, tip_u.z, w_u.x, w_u.y, w_u.z];
     let free: Vec<usize> = (0..axes.len())

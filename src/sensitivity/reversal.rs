@@ -646,11 +646,7 @@ fn axis_derivative(
     x: &Vector3<f64>,
     axis: AxisName,
 ) -> Result<Vector3<f64>, SensitivityError> {
-    let param = ErrorParam::Motion {
-        component: axis,
-        axis,
-        power: 0,
-    };
+    let param = ErrorParam::axis_value(axis);
     let (j, _) = jacobian_body_point(&opts.chain, q, x, &MachineErrors::none(), &[param])?;
     Ok(j.column(0).into_owned())
 }

@@ -108,11 +108,7 @@ impl ShapeColumns {
             .filter(|(_, c)| c.amax() > 1e-15)
             .collect();
         let cyclic_c = if opts.chain.axis(AxisName::C).is_some() {
-            let ecc = ErrorParam::Motion {
-                component: AxisName::C,
-                axis: AxisName::C,
-                power: 0,
-            };
+            let ecc = ErrorParam::axis_value(AxisName::C);
             let col = jacobian_rows(part, points, opts, &[ecc]).map_err(err)?;
             let c: Vec<f64> = axis_values(part, points, opts)
                 .map_err(err)?

@@ -170,14 +170,7 @@ pub fn index_signatures(
     if axes.is_empty() {
         return Ok(Vec::new());
     }
-    let params: Vec<ErrorParam> = axes
-        .iter()
-        .map(|&a| ErrorParam::Motion {
-            component: a,
-            axis: a,
-            power: 0,
-        })
-        .collect();
+    let params: Vec<ErrorParam> = axes.iter().map(|&a| ErrorParam::axis_value(a)).collect();
     let chain = &opts.chain;
     let none = MachineErrors::none();
     let q_ref =
