@@ -81,12 +81,23 @@ pub struct Pass {
     pub turns: Vec<Turns>,
     /// Tool-tip path length from the start of the pass.
     pub length: TipLength,
-    /// Samples at which the inverse kinematics was solved (rates included), of the grid's 20,001.
+    /// Grid samples at which the inverse kinematics was solved (the rate samples among them),
+    /// of the grid's 20,001.
     pub solved: usize,
 }
 
+impl Pass {
+    /// The turns of `axis`, `None` for an axis the chain does not have.
+    pub fn turns_of(&self, axis: AxisName) -> Option<&Turns> {
+        self.axes
+            .iter()
+            .position(|&a| a == axis)
+            .map(|i| &self.turns[i])
+    }
+}
+
 /// `u` of grid sample `k`.
-fn grid_u(k: usize) -> f64 {
+pub fn grid_u(k: usize) -> f64 {
     k as f64 / REVERSAL_GRID as f64
 }
 
@@ -411,8 +422,7 @@ pub fn pass(
 /// [`directions_of`] gives for constant values).
 pub fn directions(p: &Pass, axis: AxisName) -> Vec<f64> {
     let mut d = vec![1.0; REVERSAL_GRID + 1];
-    if let Some(i) = p.axes.iter().position(|&a| a == axis) {
-        let t = &p.turns[i];
+    if let Some(t) = p.turns_of(axis) {
         let mut cur = t.first;
         let mut next = t.at.iter().peekable();
         for (k, x) in d.iter_mut().enumerate() {
@@ -453,10 +463,7 @@ pub fn directions_of(q: &[AxisValues], axis: AxisName) -> Vec<f64> {
 
 /// Number of reversals of `axis` along the pass.
 pub fn reversal_count(p: &Pass, axis: AxisName) -> usize {
-    p.axes
-        .iter()
-        .position(|&a| a == axis)
-        .map_or(0, |i| p.turns[i].at.len())
+    p.turns_of(axis).map_or(0, |t| t.at.len())
 }
 
 /// The passes of surfaces A and B ([`Surface::BOTH`] order), for callers that need them for
@@ -496,15 +503,15 @@ impl Lag {
         let segments = axes
             .iter()
             .map(|&a| {
-                let first = p.axes.iter().position(|&x| x == a).map(|i| &p.turns[i]);
-                let start = -0.5 * first.map_or(1.0, |t| t.first);
+                let turns = p.turns_of(a);
+                let start = -0.5 * turns.map_or(1.0, |t| t.first);
                 let mut segs = vec![Segment {
                     k: 0,
                     target: start,
                     from: start,
                     s0: 0.0,
                 }];
-                for &(k, d) in first.map_or(&[][..], |t| &t.at[..]) {
+                for &(k, d) in turns.map_or(&[][..], |t| &t.at[..]) {
                     let s0 = p.length.at(part, grid_u(k - 1));
                     let from = offset_on(&segs, k - 1, s0);
                     segs.push(Segment {

@@ -14,9 +14,9 @@ pub fn effect_points(part: &SShape, points: &[MeasurementPoint]) -> Vec<EffectPo
     effect_points_on(
         part,
         points,
-        &[
-            TipLength::new(part, Surface::A),
-            TipLength::new(part, Surface::B),
+        [
+            &TipLength::new(part, Surface::A),
+            &TipLength::new(part, Surface::B),
         ],
     )
 }
@@ -25,7 +25,7 @@ pub fn effect_points(part: &SShape, points: &[MeasurementPoint]) -> Vec<EffectPo
 fn effect_points_on(
     part: &SShape,
     points: &[MeasurementPoint],
-    lengths: &[TipLength; 2],
+    lengths: [&TipLength; 2],
 ) -> Vec<EffectPoint> {
     points
         .iter()
@@ -207,7 +207,7 @@ fn compute_model(
         .map_err(|e| GapError::Model(e.to_string()))?;
     let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
     let path = super::cache::path_model(part, opts)?;
-    let eps = effect_points_on(part, points, &path.lengths);
+    let eps = effect_points_on(part, points, path.lengths());
     let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
     let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)
         .map_err(|e| GapError::Model(e.to_string()))?
@@ -215,7 +215,7 @@ fn compute_model(
         .map(|d| d.deviation)
         .collect();
     let model = SignatureModel {
-        s_total: path.s_total,
+        s_total: path.s_total(),
         envelope,
         backlash: backlash_columns(&path.lags, part, points, opts)?,
         scale: scale_signatures(part, points, opts)?,

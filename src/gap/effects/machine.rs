@@ -27,7 +27,7 @@ use crate::machine::{AxisKind, AxisName, AxisValues, Branch, Chain, ErrorParam, 
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::defect::axis_values;
 use crate::sensitivity::defect::jacobian_rows;
-use crate::sensitivity::reversal::{backlash_signatures_lagged, Lag, Pass, REVERSAL_GRID};
+use crate::sensitivity::reversal::{backlash_signatures_lagged, grid_u, Lag, Pass};
 use crate::sensitivity::SensitivityOptions;
 
 fn model_err(e: impl std::fmt::Display) -> GapError {
@@ -76,13 +76,10 @@ pub fn reversals(part: &SShape, passes: &[Pass; 2], axes: &[AxisName]) -> Vec<Re
     let mut offset = 0.0;
     for p in passes {
         for &axis in axes {
-            let Some(i) = p.axes.iter().position(|&a| a == axis) else {
-                continue;
-            };
-            for &(k, _) in &p.turns[i].at {
+            for &(k, _) in p.turns_of(axis).map_or(&[][..], |t| &t.at[..]) {
                 out.push(Reversal {
                     axis,
-                    s: offset + p.length.at(part, k as f64 / REVERSAL_GRID as f64),
+                    s: offset + p.length.at(part, grid_u(k)),
                 });
             }
         }

@@ -27,12 +27,6 @@ pub struct PathModel {
     pub lags: [Lag; 2],
     /// Where each axis reverses, by tool-tip path length from the start of A (mm).
     pub reversals: Vec<Reversal>,
-    /// Tool-tip path lengths of A and B.
-    pub lengths: [TipLength; 2],
-    /// Tool-tip path length of surface A (mm).
-    pub a_total: f64,
-    /// Tool-tip path length of A then B (mm).
-    pub s_total: f64,
     /// The envelope's pose tables of A and B ([`crate::toolpath::envelope::pose_table`]).
     pub pose_tables: [Vec<ToolPose>; 2],
 }
@@ -42,8 +36,6 @@ impl PathModel {
     /// used: the passes follow the tool, not a displaced point).
     pub fn new(part: &SShape, opts: &SensitivityOptions) -> Result<Self, GapError> {
         let passes = passes(part, opts).map_err(|e| GapError::Model(e.to_string()))?;
-        let lengths = [passes[0].length.clone(), passes[1].length.clone()];
-        let a_total = lengths[0].total();
         let axes = backlash_axes(&opts.chain);
         Ok(Self {
             lags: [
@@ -51,10 +43,17 @@ impl PathModel {
                 Lag::of(part, &passes[1], &axes),
             ],
             reversals: reversals(part, &passes, &axes),
-            a_total,
-            s_total: a_total + lengths[1].total(),
-            lengths,
             pose_tables: [pose_table(part, Surface::A), pose_table(part, Surface::B)],
         })
+    }
+
+    /// Tool-tip path lengths of A and B (the lags' tables).
+    pub fn lengths(&self) -> [&TipLength; 2] {
+        [&self.lags[0].length, &self.lags[1].length]
+    }
+
+    /// Tool-tip path length of A then B (mm).
+    pub fn s_total(&self) -> f64 {
+        self.lags.iter().map(|l| l.length.total()).sum()
     }
 }
