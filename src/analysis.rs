@@ -34,14 +34,13 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::cmm::{read_and_match, CmmError, MatchedPart, ReadOptions};
-use crate::gap::correct::{
+use crate::effects::builtin::{part_model, part_model_on, PartModel};
+use crate::effects::{Effect, GapError, GapInput};
+use crate::final_fit::correct::{
     correct, shifts, summary, Basis, Correction, CorrectionInput, EffectsChoice, Final,
 };
-use crate::gap::effects::builtin::{part_model, part_model_on, PartModel};
-use crate::gap::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
-use crate::gap::repeat::{self, LackOfFit, Measurement, PureError, RepeatError};
 use crate::gap::verdict::VerdictId;
-use crate::gap::{diagnose, DiagnosisReport, Effect, GapError, GapInput};
+use crate::gap::{diagnose, DiagnosisReport};
 use crate::identify::correlated::{whiten, whitened_limit, Whitened, Whitener};
 use crate::identify::monte_carlo::CmmMpe;
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
@@ -50,6 +49,8 @@ use crate::identify::{
 };
 use crate::machine::chain::PAPER000_L0;
 use crate::machine::{Branch, Chain};
+use crate::measurement::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
+use crate::measurement::repeat::{self, LackOfFit, Measurement, PureError, RepeatError};
 use crate::part::{Curve, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
 use crate::simulate::{ExactDefectModel, SimulateError};
@@ -138,7 +139,7 @@ pub struct AnalysisOptions {
     /// [`noise_from_mpe`]; not together with `noise_sigma`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub noise_mpe: Option<CmmMpe>,
-    /// Keep the single-point outliers ([`crate::gap::outliers`]) in the identification and the
+    /// Keep the single-point outliers ([`crate::measurement::outliers`]) in the identification and the
     /// diagnosis (they are still found and named).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub keep_outliers: bool,
@@ -245,7 +246,7 @@ pub struct Analysis {
     /// with them (`<id>.<parameter>`), when any.
     pub design: DesignColumns,
     /// The final answer (what every report and export uses): the location errors fitted with
-    /// what the diagnosis found ([`crate::gap::correct`]).
+    /// what the diagnosis found ([`crate::final_fit::correct`]).
     pub identification: Identification,
     /// What the exact-model refinement of the final answer did (absent when switched off).
     pub refinement: Option<RefineReport>,
@@ -265,7 +266,7 @@ pub struct Analysis {
     pub repeat: Option<RepeatReport>,
 }
 
-/// What repeat measurements of the part gave ([`crate::gap::repeat`]).
+/// What repeat measurements of the part gave ([`crate::measurement::repeat`]).
 #[derive(Debug, Clone, Serialize)]
 pub struct RepeatReport {
     /// σ from the differences of the measurements (pure error).
@@ -276,7 +277,7 @@ pub struct RepeatReport {
     pub summary: String,
 }
 
-/// The single-point outliers of an analysis ([`crate::gap::outliers`]).
+/// The single-point outliers of an analysis ([`crate::measurement::outliers`]).
 #[derive(Debug, Clone, Serialize)]
 pub struct Outliers {
     /// Whether the test was made (it needs the diagnosis's part model).
@@ -447,7 +448,7 @@ pub fn effects_on_machine(opts: &AnalysisOptions) -> Result<(), GapError> {
         return Ok(());
     };
     let chain = opts.machine.chain(opts.l0);
-    let same = crate::gap::effects::builtin::location_equivalents_of(
+    let same = crate::effects::builtin::location_equivalents_of(
         &SShape::iso(),
         &sensitivity_options(opts),
     )?;
@@ -615,7 +616,7 @@ fn diagnose_modelled(
         .and_then(|m| run(&m).map(|report| (report, m)));
     let mut unavailable = Effect::left_out(&opts.machine.chain(opts.l0));
     if let Ok(same) =
-        crate::gap::effects::builtin::location_equivalents_of(part, &sensitivity_options(opts))
+        crate::effects::builtin::location_equivalents_of(part, &sensitivity_options(opts))
     {
         unavailable.extend(same);
     }
@@ -705,7 +706,7 @@ pub fn analyse(
 
 /// [`analyse`] of the mean of several measurements of one part (the first file, then its
 /// repeats: the same point ids measured again). The CMM noise is the pure error of their
-/// differences ([`crate::gap::repeat`]), so neither σ nor an MPE may be given with them; the
+/// differences ([`crate::measurement::repeat`]), so neither σ nor an MPE may be given with them; the
 /// points, their order and the excluded rows are the first file's.
 pub fn analyse_repeats(
     files: &[(&[u8], &str)],
@@ -1001,14 +1002,14 @@ struct FinalInput<'a> {
     unavailable: &'a [(Effect, String)],
 }
 
-/// The final answer ([`crate::gap::correct`]), refined with the exact model like the baseline.
+/// The final answer ([`crate::final_fit::correct`]), refined with the exact model like the baseline.
 fn final_answer(
     f: FinalInput,
     opts: &AnalysisOptions,
     iopts: &IdentifyOptions,
 ) -> Result<(Design, Identification, Option<RefineReport>, Correction), AnalysisError> {
-    let no_candidates: Vec<crate::gap::Candidate> = Vec::new();
-    let no_points: Vec<crate::gap::PointMeta> = Vec::new();
+    let no_candidates: Vec<crate::effects::Candidate> = Vec::new();
+    let no_points: Vec<crate::effects::PointMeta> = Vec::new();
     let input = CorrectionInput {
         design: f.design,
         observations: f.observations,

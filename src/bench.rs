@@ -13,7 +13,7 @@
 //! `identify_100000` (the Figure-19 design with `dR`, the rows repeated, synthetic deviations),
 //! `analyse_100` (read, match, identify, refine and the full gap diagnosis of a 100-row file),
 //! `diagnose_100` (the gap diagnosis alone: part model with all candidates, cross-validation).
-//! Those two are the *first file*: the models kept by [`crate::gap::effects::cache`] are
+//! Those two are the *first file*: the models kept by [`crate::effects::cache`] are
 //! forgotten before each call. `analyse_100_further` and `diagnose_100_further` are a *further
 //! file with the same settings* (other deviations, so other matched points): the settings' path
 //! model is kept, the part model of the points is not. `analyse_100_again` and
@@ -114,7 +114,7 @@ pub enum Stage {
     Diagnose(SShape, Vec<MeasurementPoint>, Vec<f64>, Kept),
 }
 
-/// What a stage keeps of [`crate::gap::effects::cache`] between its calls.
+/// What a stage keeps of [`crate::effects::cache`] between its calls.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Kept {
     /// Nothing: every call is a first file.
@@ -127,10 +127,18 @@ pub enum Kept {
 
 impl Kept {
     fn apply(self) {
-        use crate::gap::effects::cache;
+        use crate::effects::cache;
+        // The decompositions of the final fit's structure belong to the points, like the part
+        // models.
         match self {
-            Kept::Nothing => cache::clear(),
-            Kept::Paths => cache::clear_part_models(),
+            Kept::Nothing => {
+                cache::clear();
+                crate::final_fit::structure::clear_kept();
+            }
+            Kept::Paths => {
+                cache::clear_part_models();
+                crate::final_fit::structure::clear_kept();
+            }
             Kept::Everything => {}
         }
     }
@@ -211,7 +219,7 @@ impl Stage {
             Stage::Points(part) => builtin_points(part)[99].u,
             Stage::Project(part, ps) => {
                 // As the reader does: the start rulings once per file, then each point.
-                let projector = crate::geometry::projection::Projector::new(part);
+                let projector = crate::part::projection::Projector::new(part);
                 let mut s = 0.0;
                 for p in ps {
                     s += projector.project(p).map_err(|x| e(&x))?.distance;

@@ -54,8 +54,9 @@ use crate::cmm::{read_and_match, ReadOptions};
 use crate::identify::refine::{apply_refinement, refine, ExactModel, RefineOptions, RefineReport};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
-    TOOL_RADIUS, TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM,
+    TOOL_RADIUS,
 };
+use crate::machine::location_errors::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
 use crate::part::{MeasurementPoint, SShape};
 use crate::simulate::ExactDefectModel;
 

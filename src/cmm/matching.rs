@@ -2,7 +2,7 @@
 //! (cmm-csv.md "What the reader does with what it finds", s-shape.md "Measurement points").
 //!
 //! Every point is matched by closest-point projection of its *own* coordinates onto the nominal
-//! surfaces ([`crate::geometry::projection::project`]), never by its id: the nominal position
+//! surfaces ([`crate::part::projection::project`]), never by its id: the nominal position
 //! where the file gives one, else the measured position. The projection gives the surface,
 //! `(u, v)`, the foot point and the model's outward normal `N(u,v)`. Then:
 //! 1. nominal position + deviation: the file's deviation is used;
@@ -23,8 +23,8 @@ use serde::{Deserialize, Serialize};
 use super::error::{CmmError, RowProblem, RowProblemKind};
 use super::options::ReadOptions;
 use super::table::{CmmFile, CmmPoint, CmmWarning, FormatInfo};
-use crate::geometry::projection::{Projection, Projector};
 use crate::geometry::GeometryError;
+use crate::part::projection::{Projection, Projector};
 use crate::part::{SShape, Surface};
 
 /// Which rule of cmm-csv.md gave the deviation.

@@ -14,7 +14,7 @@
 
 use serde::Serialize;
 
-use crate::gap::Effect;
+use crate::effects::Effect;
 use crate::machine::AxisName;
 
 /// What corrects an effect.

@@ -3,25 +3,25 @@
 
 use nalgebra::DVector;
 
-use super::data::GapInput;
-use super::equivalence::near_equivalent_pairs;
-use super::folds::{build_folds, withheld_sets};
-use super::layout::curve_degree;
-use super::location::curve_sequences;
-use super::location::{locate, DETECT_FACTOR};
-use super::lsq::{max_abs, rms, Factor};
-use super::noise::{
+use crate::effects::data::curve_sequences;
+use crate::effects::data::GapInput;
+use crate::effects::GapError;
+use crate::gap::equivalence::near_equivalent_pairs;
+use crate::gap::folds::{build_folds, withheld_sets};
+use crate::gap::location::{locate, DETECT_FACTOR};
+use crate::gap::pairs::best_pair;
+use crate::gap::report::{summary, BaselineReport, DiagnosisReport};
+use crate::gap::verdict::{decide, pair_verdict, DecisionInput, Finding, ALPHA};
+use crate::gap::which::{
+    cross_validate, cv_score, estimates, fit_candidate, per_curve, BaselineFit, Context, SmoothFit,
+};
+use crate::identify::solve::{max_abs, rms, Factor};
+use crate::measurement::layout::curve_degree;
+use crate::measurement::noise::{
     periodogram_sigma, projected_whiteness, second_difference_sigma, sinusoid_free_sigma,
     SmoothResidual, LJUNG_BOX_LAGS, NOT_WHITE_P,
 };
-use super::pairs::best_pair;
-use super::report::{summary, BaselineReport, DiagnosisReport};
-use super::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
-use super::verdict::{decide, pair_verdict, DecisionInput, Finding, ALPHA};
-use super::which::{
-    cross_validate, cv_score, estimates, fit_candidate, per_curve, BaselineFit, Context, SmoothFit,
-};
-use super::GapError;
+use crate::measurement::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
 
 /// Options of a diagnosis (defaults: α = 0.05 family-wise, 2.5 σ).
 #[derive(Debug, Clone, Copy)]
@@ -154,7 +154,12 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         .map(|f| (f.effect, f.unabsorbed_basis.clone()))
         .collect();
     let equivalences = near_equivalent_pairs(&spans);
-    let layout = super::layout::layout(&input.points, &fits);
+    let invisible = fits
+        .iter()
+        .filter(|f| f.with.is_none() && f.evidence.added_rank == 0)
+        .map(|f| f.effect)
+        .collect();
+    let layout = crate::measurement::layout::layout(&input.points, invisible);
 
     // (d) VERDICT and (e) HOW FAR.
     let mut verdict = decide(&DecisionInput {
@@ -183,7 +188,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         _ => None,
     };
     // on top of a named effect, the pair must keep it (or an equivalent)
-    let keeps_named = |pf: &super::pairs::PairFit| {
+    let keeps_named = |pf: &crate::gap::pairs::PairFit| {
         named_single.as_ref().is_none_or(|(named, equivalent)| {
             [pf.first, pf.second]
                 .iter()
@@ -201,7 +206,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         .effects()
         .into_iter()
         .filter_map(|e| match e {
-            super::Effect::Backlash(axis) => Some(axis),
+            crate::effects::Effect::Backlash(axis) => Some(axis),
             _ => None,
         })
         .collect();

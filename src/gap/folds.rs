@@ -4,7 +4,7 @@
 //! - **by curve**: 4 folds, each withholds one curve (`A_Z11`, `A_Z25`, `B_Z11`, `B_Z25`) and fits
 //!   the other three; an effect must predict a curve it has not seen (e.g. the Z25 curve of the
 //!   same surface, at another contact height);
-//! - **by region**: 5 folds, each withholds one band of `u` ([`super::regions::Region`]) on all
+//! - **by region**: 5 folds, each withholds one band of `u` ([`crate::gap::regions::Region`]) on all
 //!   curves; an effect must predict a part of the S it has not seen (steps at reversals, trends).
 //!
 //! The baseline design restricted to each training set is factorised once per fold
@@ -12,10 +12,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::data::PointMeta;
-use super::location::curve_sequences;
-use super::lsq::Factor;
-use super::regions::Region;
+use crate::effects::data::curve_sequences;
+use crate::effects::data::PointMeta;
+use crate::gap::regions::Region;
+use crate::identify::solve::Factor;
 
 /// One fold: which points are fitted and which are withheld, with the baseline factorised on the
 /// fitted ones.

@@ -3,12 +3,12 @@
 //! whether it is noise or structure.
 //!
 //! Structure test: with `σ` the noise (given, or the smallest of the structure-insensitive
-//! estimates of [`super::noise`]: smooth basis, variogram nugget), the excess of the residual variance over noise is
+//! estimates of [`crate::measurement::noise`]: smooth basis, variogram nugget), the excess of the residual variance over noise is
 //! `structure_rms = √max(0, RSS/(n − rank) − σ²)`; the residual is *structured* when
 //! `structure_rms > 2.5 σ` (the decision rule of effects.md). With σ estimated from differences,
 //! this is a variance-ratio test of the von Neumann kind (white noise has `Var r = γ(1)`); the
 //! runs / lag-1 / Ljung–Box tests (independent of σ) and `χ² = RSS/σ²` are reported as supporting
-//! evidence. The factor `k` (2.5) is [`super::DiagnoseOptions::detect_factor`].
+//! evidence. The factor `k` (2.5) is [`crate::gap::DiagnoseOptions::detect_factor`].
 //!
 //! Each group of points is a typed [`Group`] (curve, region of the S, lean of the wall, axis
 //! reversal with its axis, path position and nearest point), with the flags a page needs to draw
@@ -20,15 +20,15 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use super::data::{PointMeta, Reversal};
-use super::lsq::{max_abs, rms};
-use super::noise::{self, NoiseEstimate, Randomness};
-use super::regions::{Lean, Region};
-use super::stats;
+use crate::effects::data::{curve_sequences, PointMeta, Reversal};
+use crate::gap::regions::{Lean, Region};
+use crate::identify::solve::{max_abs, rms};
 use crate::machine::AxisName;
+use crate::measurement::noise::{self, NoiseEstimate, Randomness};
+use crate::numerics::stats;
 
 /// Factor of σ above which an effect (or structure) counts (effects.md); the default of
-/// [`super::DiagnoseOptions::detect_factor`].
+/// [`crate::gap::DiagnoseOptions::detect_factor`].
 pub const DETECT_FACTOR: f64 = 2.5;
 
 /// A group holding more than this multiple of its share of the residual sum of squares is where
@@ -153,21 +153,6 @@ impl WhereReport {
             }
         }
     }
-}
-
-/// Indices of the points of each curve, in increasing `u`, curves in order of first appearance.
-pub fn curve_sequences(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
-    let mut out: Vec<(String, Vec<usize>)> = Vec::new();
-    for (i, p) in points.iter().enumerate() {
-        match out.iter_mut().find(|(c, _)| *c == p.curve) {
-            Some((_, v)) => v.push(i),
-            None => out.push((p.curve.clone(), vec![i])),
-        }
-    }
-    for (_, v) in &mut out {
-        v.sort_by(|&a, &b| points[a].u.total_cmp(&points[b].u));
-    }
-    out
 }
 
 fn entry(

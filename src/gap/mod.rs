@@ -37,32 +37,15 @@
 //! Units: mm (deviations, residuals, RMS), parameters in their own units. Sign: deviation =
 //! `(measured − nominal)·N`, + = material left, − = overcut.
 
-pub mod correct;
-pub mod data;
 pub mod diagnose;
-pub mod effect;
-pub mod effects;
 pub mod equivalence;
-pub mod error;
 pub mod folds;
-pub mod layout;
 pub mod location;
-pub mod lsq;
-pub mod memo;
-pub mod noise;
-pub mod outliers;
 pub mod pairs;
 pub mod regions;
-pub mod repeat;
 pub mod report;
-pub mod smooth_noise;
-pub mod stats;
-pub mod structure;
 pub mod verdict;
 pub mod which;
 
-pub use data::{Candidate, GapInput, NamedColumns, PointMeta, Reversal};
 pub use diagnose::{diagnose, diagnose_with, DiagnoseOptions};
-pub use effect::Effect;
-pub use error::GapError;
 pub use report::DiagnosisReport;

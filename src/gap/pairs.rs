@@ -2,7 +2,7 @@
 //! pairs)"). A real part often carries two unmodelled effects at once, e.g. a worn tool and the
 //! lost motion of an axis. One at a time, each candidate then leaves the other effect in its
 //! residual: its σ is inflated, its visible part falls under 2.5 σ, and the single-candidate rule
-//! of [`super::verdict`] says `unexplained` (or even `none`, when the estimated noise absorbs the
+//! of [`crate::gap::verdict`] says `unexplained` (or even `none`, when the estimated noise absorbs the
 //! second effect).
 //!
 //! This step runs when the single-candidate verdict names no effect, and when it names one (a
@@ -37,12 +37,12 @@
 use nalgebra::DMatrix;
 use serde::Serialize;
 
-use super::data::{Candidate, NamedColumns};
-use super::equivalence::{cos_to_span, EQUIVALENT_COS};
-use super::stats;
-use super::stats::CHI2_1_95;
-use super::which::{fit_candidate, CandidateFit, Context};
-use super::Effect;
+use crate::effects::data::{Candidate, NamedColumns};
+use crate::effects::Effect;
+use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
+use crate::gap::which::{fit_candidate, CandidateFit, Context};
+use crate::numerics::stats;
+use crate::numerics::stats::CHI2_1_95;
 
 /// The accepted pair and its evidence.
 #[derive(Debug, Clone, Serialize)]

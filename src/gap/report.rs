@@ -5,13 +5,13 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use super::equivalence::Equivalence;
-use super::layout::{sentence as layout_sentence, Layout};
-use super::location::{WhereEntry, WhereReport};
-use super::pairs::PairFit;
-use super::verdict::{Finding, Verdict};
-use super::which::{CandidateFit, Estimate};
-use super::Effect;
+use crate::effects::Effect;
+use crate::gap::equivalence::Equivalence;
+use crate::gap::location::{WhereEntry, WhereReport};
+use crate::gap::pairs::PairFit;
+use crate::gap::verdict::{Finding, Verdict};
+use crate::gap::which::{CandidateFit, Estimate};
+use crate::measurement::layout::{sentence as layout_sentence, Layout};
 
 /// The baseline fit (location errors only).
 #[derive(Debug, Clone, Serialize)]
@@ -43,9 +43,9 @@ pub struct DiagnosisReport {
     /// Names of the folds of points withheld for cross-validation.
     pub folds: Vec<String>,
     pub verdict: Verdict,
-    /// The pair behind the verdict when two effects together explain the gap ([`super::pairs`]).
+    /// The pair behind the verdict when two effects together explain the gap ([`crate::gap::pairs`]).
     pub pair: Option<PairFit>,
-    /// The measured points' layout and what it cannot tell ([`super::layout`]).
+    /// The measured points' layout and what it cannot tell ([`crate::measurement::layout`]).
     pub layout: Layout,
     /// Plain-language summary; the first line is `Verdict: <plain name> (`<id>`)`.
     pub summary: String,
@@ -107,14 +107,16 @@ pub fn summary(r: &DiagnosisReport) -> String {
         },
         um(v.detection_limit)
     );
-    if r.structure.noise.given.is_none() && v.sigma > super::noise::PLAUSIBLE_CMM_SIGMA_MM {
+    if r.structure.noise.given.is_none()
+        && v.sigma > crate::measurement::noise::PLAUSIBLE_CMM_SIGMA_MM
+    {
         s += &format!(
             "Check: an estimated σ of {} is more than a CMM's usual {} on a part like this one: \
              it may hold structure that looks like noise (a short waviness) and then hides \
              effects. Give the CMM's figure (--sigma or --mpe) or measure the part again \
              (--repeat) so that σ is measured, not estimated.\n",
             um(v.sigma),
-            um(super::noise::PLAUSIBLE_CMM_SIGMA_MM)
+            um(crate::measurement::noise::PLAUSIBLE_CMM_SIGMA_MM)
         );
     }
     s += &format!(

@@ -4,18 +4,18 @@
 //! (a) adding it is significant after the multiple-testing correction (F-test, Bonferroni over
 //!     the K candidates tried, family-wise α = [`ALPHA`]) — effects.md;
 //! (b) the part of its fitted effect that the baseline cannot absorb has an RMS over the points
-//!     above `k σ` (`k` = [`super::DiagnoseOptions::detect_factor`], 2.5 by default) — effects.md;
+//!     above `k σ` (`k` = [`crate::gap::DiagnoseOptions::detect_factor`], 2.5 by default) — effects.md;
 //! (c) it predicts withheld points better than the baseline (`cv_score` lower) — **ours**;
 //! (d) it explains the gap: the structure left after it is at most `k σ` — **ours**.
 //!
 //! Why the two additions: (c) a candidate that only fits the points it was fitted on (a column
 //! that happens to follow the noise of a few points, or a backlash step that a smooth residual
 //! leans on) is significant by (a) yet predicts nothing; requiring a better prediction of
-//! withheld curves and regions ([`super::folds`]) keeps such fits from being named, and ranks the
+//! withheld curves and regions ([`crate::gap::folds`]) keeps such fits from being named, and ranks the
 //! winners. (d) effects.md names the best significant, visible candidate; but when a structured
 //! residual is only partly explained, naming its best partial candidate would tell the user the
 //! gap is closed when it is not. The verdict is then `unexplained`, with that candidate as
-//! `partial`, and a pair of effects is tried ([`super::pairs`]).
+//! `partial`, and a pair of effects is tried ([`crate::gap::pairs`]).
 //!
 //! Among candidates passing (a)-(c) the lowest `cv_score` wins. If the winner fails (d), the
 //! verdict is `unexplained` (it only explains part of a structured residual). With no winner, the
@@ -24,7 +24,7 @@
 //! limit.
 //!
 //! Candidates reported **equivalent** to the winner: those whose unabsorbed span reproduces the
-//! winner's visible (unabsorbed) fitted effect with a cosine ≥ [`super::equivalence::EQUIVALENT_COS`]
+//! winner's visible (unabsorbed) fitted effect with a cosine ≥ [`crate::gap::equivalence::EQUIVALENT_COS`]
 //! (the part cannot tell them apart at any magnitude), and those whose fit is not significantly
 //! worse than the winner's: `(RSS_b − RSS_win) / σ̂²_win < χ²₁(0.95) = 3.84`.
 //!
@@ -38,11 +38,11 @@ use std::fmt;
 
 use serde::{Serialize, Serializer};
 
-use super::equivalence::{cos_to_span, EQUIVALENT_COS};
-use super::pairs::PairFit;
-use super::stats::CHI2_1_95;
-use super::which::{CandidateFit, CurveShrink, Estimate};
-use super::Effect;
+use crate::effects::Effect;
+use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
+use crate::gap::pairs::PairFit;
+use crate::gap::which::{CandidateFit, CurveShrink, Estimate};
+use crate::numerics::stats::CHI2_1_95;
 
 /// Family-wise false-alarm rate of the significance test.
 pub const ALPHA: f64 = 0.05;
@@ -375,7 +375,7 @@ pub fn equivalents(fits: &[CandidateFit], w: &CandidateFit) -> Vec<Effect> {
         .collect()
 }
 
-/// The verdict of an accepted pair ([`super::pairs`]): its first member named, the second under
+/// The verdict of an accepted pair ([`crate::gap::pairs`]): its first member named, the second under
 /// `with`, the pair's figures and parameters. `before` is the single-candidate verdict.
 pub fn pair_verdict(
     before: &Verdict,

@@ -14,7 +14,7 @@
 //!   family-wise false-alarm rate at α.
 //! - **BIC** `n ln(RSS/n) + k ln n` (k = parameters): a penalty of `ln n` per extra parameter.
 //! - **Ranking** on withheld points: the cross-validated mean square `cv_mse` (folds of
-//!   [`super::folds`]) penalised like BIC, `cv_score = n ln(cv_mse) + q ln n`: a candidate with
+//!   [`crate::gap::folds`]) penalised like BIC, `cv_score = n ln(cv_mse) + q ln n`: a candidate with
 //!   more parameters must predict unseen points better by a factor `n^{1/n}` per parameter
 //!   (≈ 4.7 % in mean square for 100 points), so a nested candidate (`tool_taper` ⊃
 //!   `tool_radius`) only wins when its extra parameter is real.
@@ -24,12 +24,12 @@ use std::collections::BTreeMap;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::data::{Candidate, PointMeta};
-use super::folds::FoldFactor;
-use super::location::curve_sequences;
-use super::lsq::{max_abs, rms, Factor};
-use super::stats;
-use super::Effect;
+use crate::effects::data::curve_sequences;
+use crate::effects::data::{Candidate, PointMeta};
+use crate::effects::Effect;
+use crate::gap::folds::FoldFactor;
+use crate::identify::solve::{max_abs, rms, Factor};
+use crate::numerics::stats;
 
 /// A fitted value with its standard deviation (units of the parameter).
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]
@@ -167,7 +167,7 @@ pub struct Evidence {
 #[derive(Debug, Clone, Serialize)]
 pub struct CandidateFit {
     pub effect: Effect,
-    /// The second effect when this is the joint fit of a pair ([`super::pairs`]); its
+    /// The second effect when this is the joint fit of a pair ([`crate::gap::pairs`]); its
     /// parameters are then named `<effect>.<parameter>`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub with: Option<Effect>,
@@ -222,7 +222,7 @@ pub struct Context<'a> {
     pub folds: &'a [FoldFactor],
     /// CMM repeatability when given (mm).
     pub given_sigma: Option<f64>,
-    /// The baseline augmented with the per-curve smooth basis of [`super::smooth_noise`].
+    /// The baseline augmented with the per-curve smooth basis of [`crate::measurement::smooth_noise`].
     pub smooth: &'a SmoothFit,
     pub tries: usize,
     pub alpha: f64,
@@ -342,7 +342,7 @@ pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
         .into_iter()
         .map(|(_, idx)| idx.iter().map(|&i| residual[i]).collect())
         .collect();
-    let rnd = super::noise::randomness_pooled(&seqs);
+    let rnd = crate::measurement::noise::randomness_pooled(&seqs);
     let rms0 = (rss0 / nf).sqrt();
     let rms1 = (rss1 / nf).sqrt();
     let cv0 = ctx.baseline.cv.mse().sqrt();

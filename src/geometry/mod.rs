@@ -3,11 +3,9 @@
 
 pub mod arc_length;
 pub mod bspline;
-pub mod projection;
 
 pub use arc_length::ArcLength;
 pub use bspline::{BSplineCurve, CurveDerivs};
-pub use projection::{project, project_on, Projection};
 
 /// Failures of geometric construction and evaluation, with the offending values.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -8,13 +8,13 @@
 //! rules of [`super::identify`] apply to the directions the correlated errors leave
 //! determined. The residuals, fitted values and their statistics are then restated in mm on the
 //! measured (not whitened) deviations, and the σ reported is the white part given by the caller.
-//! Weights may only be 0 (a point excluded, e.g. an outlier of [`crate::gap::outliers`]) or 1;
+//! Weights may only be 0 (a point excluded, e.g. an outlier of [`crate::measurement::outliers`]) or 1;
 //! `Σ` must not correlate an excluded point with the others (block-diagonal), so that the
 //! whitened rows of the kept points do not depend on it.
 //!
-//! Used by the final identification of the gap stage ([`crate::gap::correct`]) when a part
+//! Used by the final identification of the gap stage ([`crate::final_fit::correct`]) when a part
 //! carries structure that no candidate effect explains: the structure is modelled as a
-//! correlated error ([`crate::gap::structure`]) and its influence on the location errors then
+//! correlated error ([`crate::final_fit::structure`]) and its influence on the location errors then
 //! shows in their std.
 
 use nalgebra::{DMatrix, DVector};

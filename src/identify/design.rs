@@ -19,10 +19,7 @@ pub const ISO_LOCATION_ERRORS: [&str; 8] = [
 /// Name of the tool-radius term (cli.md): mm, + = a larger tool, column = -1 (s-shape.md).
 pub const TOOL_RADIUS: &str = "dR";
 
-/// Typical magnitude of an angular location error (rad): the unit of paper 000 Figure 19.
-pub const TYPICAL_ANGLE_RAD: f64 = 1e-4;
-/// Typical magnitude of a linear location error or tool-radius error (mm): Figure 19's unit for `EX0B`.
-pub const TYPICAL_LENGTH_MM: f64 = 0.01;
+use crate::machine::location_errors::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
 
 /// One unknown: its name, unit, and a typical magnitude used to judge whether the part shows it
 /// above the measurement noise (see [`crate::identify`] "weak directions").

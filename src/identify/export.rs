@@ -9,7 +9,7 @@
 //! reproduces the measured part, but not necessarily the machine elsewhere.
 //!
 //! `fitted_with` says what the values were fitted with (the final identification of
-//! [`crate::gap::correct`]): the effect ids joined by `+` (`backlash_y`), `structure` (the
+//! [`crate::final_fit::correct`]): the effect ids joined by `+` (`backlash_y`), `structure` (the
 //! unexplained structure as a correlated error), or `none` (the location errors alone). The
 //! effect's own parameters (`backlash_y.b`) are rows of the table too: they are not machine
 //! location errors, and the compensation of the location errors must not include them twice.

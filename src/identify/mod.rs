@@ -33,13 +33,10 @@ mod scaled_svd;
 pub mod solve;
 mod stats;
 
-pub use design::{
-    Design, Parameter, ISO_LOCATION_ERRORS, TOOL_RADIUS, TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM,
-};
+pub use design::{Design, Parameter, ISO_LOCATION_ERRORS, TOOL_RADIUS};
 pub use error::IdentifyError;
 pub use groups::{
-    Combination, ConventionShare, Direction, Estimable, Group, GroupKind, Term,
-    CONVENTION_SHARE_FLOOR,
+    Combination, ConventionShare, Direction, Estimable, Group, GroupKind, CONVENTION_SHARE_FLOOR,
 };
 pub use least_squares::{identify, Factored, IdentifyOptions};
 pub use observations::Observations;

@@ -25,6 +25,11 @@ use serde::{Deserialize, Serialize};
 use super::chain::{AxisKind, AxisName, Chain};
 use super::MachineError;
 
+/// Typical magnitude of an angular location error (rad): the unit of paper 000 Figure 19.
+pub const TYPICAL_ANGLE_RAD: f64 = 1e-4;
+/// Typical magnitude of a linear location error or tool-radius error (mm): Figure 19's unit for `EX0B`.
+pub const TYPICAL_LENGTH_MM: f64 = 0.01;
+
 /// One location error: component (X, Y, Z position or A, B, C orientation) of one axis's line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct LocationError {

@@ -267,7 +267,7 @@ impl ConeFrustum {
                     v,
                     point: f.point,
                     normal: f.n,
-                    h: crate::toolpath::flank::contact_height(self, Surface::A, u, v),
+                    h: crate::part::ruled::contact_height(self, Surface::A, u, v),
                 });
             }
         }
@@ -389,7 +389,7 @@ mod tests {
         let c = ConeFrustum::m3_45(true);
         for (u, d) in [(0.0, 0.4), (0.999, -0.3), (0.5, 1.2)] {
             let f = c.frame_at(Surface::A, u, 0.6);
-            let pr = crate::geometry::project(&c, &(f.point + f.n * d)).unwrap();
+            let pr = crate::part::project(&c, &(f.point + f.n * d)).unwrap();
             assert_near!(pr.distance, d, 1e-10);
             assert_near!((pr.foot - f.point).norm(), 0.0, 1e-8);
             assert!(!pr.clamped);

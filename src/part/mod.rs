@@ -6,6 +6,7 @@ pub mod cone;
 pub mod flat;
 pub mod frame;
 pub mod points;
+pub mod projection;
 pub mod ruled;
 pub mod s_shape;
 
@@ -13,5 +14,6 @@ pub use cone::{ConeFrustum, ConePoint};
 pub use flat::{Flat, FLAT_COLUMNS};
 pub use frame::{Frame, FrameDerivs, Section};
 pub use points::{builtin_points, curve_points_n, Curve, MeasurementPoint};
+pub use projection::{project, project_on, Projection};
 pub use ruled::RuledPart;
 pub use s_shape::{SShape, Surface, HEIGHT};

@@ -17,7 +17,7 @@ use serde::Serialize;
 use super::flat::Flat;
 use super::s_shape::{SShape, Surface, HEIGHT};
 use crate::geometry::{ArcLength, BSplineCurve, GeometryError};
-use crate::toolpath::flank::contact_height;
+use crate::part::ruled::contact_height;
 
 /// Points per measurement curve.
 pub const POINTS_PER_CURVE: usize = 25;

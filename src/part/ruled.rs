@@ -9,6 +9,9 @@ use nalgebra::Vector3;
 use super::frame::{frame_derivs_from, Frame, FrameDerivs, Section};
 use super::s_shape::{SShape, Surface};
 
+/// Distance `L_tool` from the top curve down to the tool tip along the axis (mm), eq. 2.
+pub const TIP_OFFSET: f64 = 35.0;
+
 /// A part made of ruled flank surfaces.
 pub trait RuledPart: std::fmt::Debug {
     /// The surfaces of the part (the S-shape: A and B; a cone frustum: its flank, as `A`).
@@ -54,6 +57,13 @@ impl RuledPart for SShape {
         s.normal_sign()
     }
     fn tip_offset(&self) -> f64 {
-        crate::toolpath::flank::TIP_OFFSET
+        TIP_OFFSET
     }
+}
+
+/// Contact height `h` of the surface point `S(u,v)` above the tool tip along the axis (mm):
+/// `h = L_tool - (1-v)·|C1(u) - C0(u)|`, since `S(u,v) = C1 - (1-v)·D` lies on the ruling
+/// that the tool touches from `C1` down.
+pub fn contact_height<P: RuledPart + ?Sized>(part: &P, s: Surface, u: f64, v: f64) -> f64 {
+    part.tip_offset() - (1.0 - v) * part.section_at(s, u).d.point.norm()
 }

@@ -13,7 +13,7 @@
 //! the formula of the diagnosis's own `detection_limit` per parameter (`gap::which`), here on
 //! the plan's points before any part exists. A column the baseline absorbs entirely has no
 //! limit (JSON null: never visible on this part). Signatures come from the part model of the
-//! diagnosis ([`crate::gap::effects::builtin::part_model_on`]), not re-derived.
+//! diagnosis ([`crate::effects::builtin::part_model_on`]), not re-derived.
 
 use std::collections::BTreeMap;
 
@@ -21,8 +21,8 @@ use nalgebra::DMatrix;
 use serde::ser::SerializeMap;
 use serde::{Serialize, Serializer};
 
-use crate::gap::effects::builtin::PartModel;
-use crate::gap::Effect;
+use crate::effects::builtin::PartModel;
+use crate::effects::Effect;
 use crate::identify::solve::Factor;
 
 /// One parameter's limit.
@@ -91,7 +91,7 @@ pub fn detection_limits(model: &PartModel, sigma: f64, k: f64) -> DetectionLimit
 }
 
 /// Below this unabsorbed norm relative to the signature's (and below
-/// [`crate::gap::effects::builtin::INVISIBLE_SIGNATURE`] absolute) a column is absorbed entirely:
+/// [`crate::effects::builtin::INVISIBLE_SIGNATURE`] absolute) a column is absorbed entirely:
 /// the rank rule of [`crate::identify::solve::RANK_TOL`].
 const ABSORBED: f64 = crate::identify::solve::RANK_TOL;
 
@@ -112,8 +112,7 @@ fn parameter_limits(
             } else {
                 1.0
             };
-            let visible =
-                un > ABSORBED * sn && sn > crate::gap::effects::builtin::INVISIBLE_SIGNATURE;
+            let visible = un > ABSORBED * sn && sn > crate::effects::builtin::INVISIBLE_SIGNATURE;
             (visible.then(|| threshold * n.sqrt() / un), absorbed)
         })
         .collect()

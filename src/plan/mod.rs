@@ -32,7 +32,7 @@ pub use layout::{plan_points, split_total, MAX_PER_CURVE};
 pub use predict::{predicted_identification, PredictedParameter, Prediction};
 
 use crate::analysis::{noise_from_mpe, AnalysisOptions, MachineChoice};
-use crate::gap::effects::builtin::part_model_on;
+use crate::effects::builtin::part_model_on;
 use crate::gap::DiagnoseOptions;
 use crate::identify::monte_carlo::CmmMpe;
 use crate::identify::Group;
@@ -86,7 +86,7 @@ impl PlanOptions {
             l0: self.l0,
             tool_radius: self.tool_radius,
             noise_sigma: Some(sigma),
-            effects: crate::gap::correct::EffectsChoice::None,
+            effects: crate::final_fit::correct::EffectsChoice::None,
             ..AnalysisOptions::default()
         }
     }

@@ -30,9 +30,10 @@ use nalgebra::Vector3;
 use super::ProgramError;
 use crate::machine::direct::nominal;
 use crate::machine::{AxisName, AxisValues, Branch, Chain, PathSample};
+use crate::part::ruled::{contact_height, TIP_OFFSET};
 use crate::part::{SShape, Surface};
 use crate::sensitivity::path::machine_path;
-use crate::toolpath::{contact_height, tool_pose, TIP_OFFSET, TOOL_RADIUS};
+use crate::toolpath::{tool_pose, TOOL_RADIUS};
 
 /// Bisection rounds at most (each halves the failing intervals).
 const MAX_ROUNDS: usize = 30;

@@ -43,16 +43,16 @@ use std::rc::Rc;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use crate::gap::memo::Memo;
-use crate::identify::groups::{dominant, magnitude_text, Term};
-use crate::identify::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
 use crate::machine::chain::{AxisKind, AxisName, Chain, Side};
 use crate::machine::location_errors::{minimal_set, LocationError, LocationStatus};
+use crate::machine::location_errors::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
 use crate::machine::{Branch, ErrorParam};
+use crate::numerics::memo::Memo;
+use crate::numerics::terms::{dominant, magnitude_text, Term};
 use crate::part::{builtin_points, SShape};
 
-use super::defect::{jacobian_displacements, Mode, SensitivityOptions};
-use super::SensitivityError;
+use crate::sensitivity::defect::{jacobian_displacements, Mode, SensitivityOptions};
+use crate::sensitivity::SensitivityError;
 
 /// A column is kept when at least this fraction of its RMS is left after projection on the
 /// columns kept before it (condition index 30, the identification's limit of separability).
@@ -182,7 +182,7 @@ fn typical(e: &LocationError) -> (f64, &'static str) {
 }
 
 /// The set of `chain` on the built-in design with `branch` (computed once per chain and branch
-/// and kept by the thread, as the other settings-only results are: [`crate::gap::memo`]).
+/// and kept by the thread, as the other settings-only results are: [`crate::numerics::memo`]).
 pub fn error_set(chain: &Chain, branch: Branch) -> Result<Rc<ErrorSet>, SensitivityError> {
     thread_local! {
         static SETS: RefCell<Memo<(Chain, Branch), ErrorSet>> = const { RefCell::new(Memo::new(KEPT)) };
@@ -347,7 +347,7 @@ fn conventions(
     rows: &[ErrorRow],
 ) -> Result<Vec<String>, SensitivityError> {
     let chain = &opts.chain;
-    let q = super::defect::reference_pose(opts)?;
+    let q = crate::sensitivity::defect::reference_pose(opts)?;
     let pose: Vec<String> = chain
         .code_order()
         .iter()

@@ -6,9 +6,9 @@
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use crate::gap::memo::Memo;
 use crate::machine::inverse::inverse_path;
 use crate::machine::{Branch, Chain, PathSample};
+use crate::numerics::memo::Memo;
 use crate::part::{SShape, Surface};
 use crate::toolpath::flank::tool_pose;
 

@@ -15,8 +15,6 @@ use crate::part::{RuledPart, Surface};
 
 /// Nominal tool radius `R_tool` (mm), paper 000 §3.1.
 pub const TOOL_RADIUS: f64 = 10.0;
-/// Distance `L_tool` from the top curve down to the tool tip along the axis (mm), eq. 2.
-pub const TIP_OFFSET: f64 = 35.0;
 
 /// One tool position of the flank path.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,17 +62,11 @@ pub fn tool_pose_derivs<P: RuledPart + ?Sized>(part: &P, s: Surface, u: f64) -> 
     }
 }
 
-/// Contact height `h` of the surface point `S(u,v)` above the tool tip along the axis (mm):
-/// `h = L_tool - (1-v)·|C1(u) - C0(u)|`, since `S(u,v) = C1 - (1-v)·D` lies on the ruling
-/// that the tool touches from `C1` down.
-pub fn contact_height<P: RuledPart + ?Sized>(part: &P, s: Surface, u: f64, v: f64) -> f64 {
-    part.tip_offset() - (1.0 - v) * part.section_at(s, u).d.point.norm()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::assert_near;
+    use crate::part::ruled::TIP_OFFSET;
     use crate::tolerance::FD_REL;
 
     /// The fast pose (frame without curvature) is the pose of `tool_pose_derivs`, bit for bit,

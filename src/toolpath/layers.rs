@@ -24,9 +24,10 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use super::envelope::{cylinder_interval, FlankPath};
-use super::flank::{ToolPose, TIP_OFFSET};
+use super::flank::ToolPose;
 use super::profile::ToolProfile;
 use super::ToolpathError;
+use crate::part::ruled::TIP_OFFSET;
 use crate::part::{Curve, MeasurementPoint, SShape, Surface};
 
 /// The axial layers of a multi-layer flank milling.

@@ -10,9 +10,7 @@ pub use envelope::{
     builtin_envelope, points_deviation, surface_max_overcut, EnvelopeHit, FlankPath,
     PointDeviation, SurfaceMax,
 };
-pub use flank::{
-    contact_height, tool_pose, tool_pose_derivs, ToolPose, ToolPoseDerivs, TIP_OFFSET, TOOL_RADIUS,
-};
+pub use flank::{tool_pose, tool_pose_derivs, ToolPose, ToolPoseDerivs, TOOL_RADIUS};
 pub use layers::{multilayer_deviation, LayerPlan, LayeredDeviation};
 pub use profile::ToolProfile;
 

@@ -22,7 +22,7 @@ use serde::Serialize;
 use super::pairs::validate_pairs;
 use super::shapes::Shape;
 use super::single::{validate, validate_with, MachinePart, ValidateOptions, ValidationModel};
-use crate::gap::GapError;
+use crate::effects::GapError;
 use crate::part::{curve_points_n, Curve, MeasurementPoint, SShape};
 
 /// The conditions, in the table's order.

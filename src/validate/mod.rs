@@ -1,6 +1,6 @@
 //! The withheld-effect benchmark of the gap diagnosis (`testpiece validate`): simulated parts
 //! whose answer is known, diagnosed with the effect withheld from the baseline. A product
-//! feature beside the pipeline, not a stage of it: it builds parts with [`crate::random`] and
+//! feature beside the pipeline, not a stage of it: it builds parts with [`crate::numerics::random`] and
 //! calls [`crate::gap::diagnose`] as any user of the diagnosis would.
 //!
 //! - [`single`]: one effect of effects.md (or none, or an out-of-list shape) per part;

@@ -12,13 +12,13 @@
 use serde::Serialize;
 
 use super::single::{effect_parameters, machine_errors, ValidateOptions, ValidationModel};
-use crate::gap::data::GapInput;
+use crate::effects::data::GapInput;
+use crate::effects::Effect;
+use crate::effects::GapError;
 use crate::gap::diagnose::diagnose_with;
-use crate::gap::lsq::{hstack, Factor};
 use crate::gap::verdict::VerdictId;
-use crate::gap::Effect;
-use crate::gap::GapError;
-use crate::random::Sampler;
+use crate::identify::solve::{hstack, Factor};
+use crate::numerics::random::Sampler;
 
 /// Smallest simulated `ρ` of each effect of a pair.
 pub const RATIO_MIN: f64 = 1.5;

@@ -119,7 +119,7 @@ impl ErrorSummary {
             parameters += e.parameters;
         }
         ErrorSummary {
-            median_largest_error: crate::gap::stats::median(&mut largest),
+            median_largest_error: crate::numerics::stats::median(&mut largest),
             covered,
             parameters,
             coverage: if parameters > 0 {
@@ -137,7 +137,7 @@ pub struct ErrorComparison {
     pub cases: usize,
     /// The location errors fitted alone.
     pub baseline: ErrorSummary,
-    /// The final answer ([`crate::gap::correct`]).
+    /// The final answer ([`crate::final_fit::correct`]).
     pub final_answer: ErrorSummary,
 }
 

@@ -18,10 +18,10 @@
 
 use nalgebra::DVector;
 
-use crate::gap::GapError;
+use crate::effects::GapError;
 use crate::machine::{AxisName, ErrorParam};
+use crate::numerics::random::Sampler;
 use crate::part::{MeasurementPoint, SShape};
-use crate::random::Sampler;
 use crate::sensitivity::defect::{axis_values, jacobian_rows};
 use crate::sensitivity::SensitivityOptions;
 

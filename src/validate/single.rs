@@ -17,7 +17,7 @@
 //! - with `spikes` (`--spikes`), a single-point fault on every case: one point drawn uniformly,
 //!   its deviation moved by ±[`SPIKE_MIN_MM`]..[`SPIKE_MAX_MM`] (a chip, dirt, a probing error).
 //!
-//! Every case goes through the outlier test of the analysis ([`crate::gap::outliers`]): the
+//! Every case goes through the outlier test of the analysis ([`crate::measurement::outliers`]): the
 //! points it names are left out of the diagnosis, as `testpiece diagnose` does; the report
 //! counts how often the spike is named and how often another point is.
 //!
@@ -26,7 +26,7 @@
 //! diagnosis keeps fitting the linear baseline.
 //!
 //! Each case is then identified as a user would get it: the baseline fit of the location errors
-//! `A` alone, and the final answer of [`crate::gap::correct`] for the verdict (the location errors
+//! `A` alone, and the final answer of [`crate::final_fit::correct`] for the verdict (the location errors
 //! fitted with the named effect, by generalised least squares with the structure's covariance when
 //! `unexplained`, the baseline when `none`), without the exact-model refinement (the twin is
 //! linear). Both are compared with the simulated `ξ` ([`super::parameter_error`]: largest error in
@@ -45,18 +45,18 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use super::parameter_error::{answer_error, AnswerError, ErrorComparison};
-use crate::gap::correct::{self, Basis, CorrectionInput, EffectsChoice};
-use crate::gap::data::{Candidate, GapInput, NamedColumns, PointMeta};
+use crate::effects::data::{Candidate, GapInput, NamedColumns, PointMeta};
+use crate::effects::Effect;
+use crate::effects::GapError;
+use crate::final_fit::correct::{self, Basis, CorrectionInput, EffectsChoice};
 use crate::gap::diagnose::{diagnose_with, DiagnoseOptions};
 use crate::gap::equivalence::near_equivalent_pairs;
 use crate::gap::location::DETECT_FACTOR;
-use crate::gap::lsq::{hstack, rms, Factor};
-use crate::gap::outliers::{find_outliers, without_rows};
 use crate::gap::verdict::VerdictId;
-use crate::gap::Effect;
-use crate::gap::GapError;
+use crate::identify::solve::{hstack, rms, Factor};
 use crate::identify::{identify, Design, IdentifyOptions, Observations, Parameter};
-use crate::random::Sampler;
+use crate::measurement::outliers::{find_outliers, without_rows};
+use crate::numerics::random::Sampler;
 
 use super::shapes::{self, Shape, ShapeColumns};
 
@@ -79,7 +79,7 @@ pub struct ValidationModel {
 
 impl ValidationModel {
     /// The model of a part model's points, without the machine-made shapes' columns.
-    pub fn of(m: crate::gap::effects::builtin::PartModel) -> Self {
+    pub fn of(m: crate::effects::builtin::PartModel) -> Self {
         Self {
             points: m.points,
             baseline: m.baseline,
@@ -110,7 +110,7 @@ impl ValidationModel {
         opts: &crate::sensitivity::SensitivityOptions,
     ) -> Result<Self, GapError> {
         let opts = opts.clone().with_mode(crate::sensitivity::Mode::Physical);
-        let m = crate::gap::effects::builtin::part_model_on(part, points, &opts)?;
+        let m = crate::effects::builtin::part_model_on(part, points, &opts)?;
         let shapes = ShapeColumns::at(part, points, &opts)?;
         Ok(Self {
             shapes,

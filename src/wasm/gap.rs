@@ -2,8 +2,9 @@
 
 use wasm_bindgen::prelude::*;
 
-use crate::gap::effects::builtin::builtin_model;
-use crate::gap::{diagnose, GapInput};
+use crate::effects::builtin::builtin_model;
+use crate::effects::GapInput;
+use crate::gap::diagnose;
 use crate::part::SShape;
 
 /// Diagnoses the sim-to-real gap of a part measured at the 100 built-in points.

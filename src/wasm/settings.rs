@@ -40,14 +40,13 @@ pub fn error_set(options: JsValue) -> Result<JsValue, JsError> {
 }
 
 /// The machine's own effect catalogue for the settings `options`
-/// ([`crate::gap::effects::catalogue`]): `[{effect, status, reason}]`, `status` = `offered`,
+/// ([`crate::effects::catalogue`]): `[{effect, status, reason}]`, `status` = `offered`,
 /// `invisible` or `left_out`.
 #[wasm_bindgen(js_name = machineEffects)]
 pub fn machine_effects(options: JsValue) -> Result<JsValue, JsError> {
     let opts = settings(options)?;
-    let effects = crate::gap::effects::catalogue::machine_effects(
-        &crate::analysis::sensitivity_options(&opts),
-    )
-    .map_err(|e| JsError::new(&e.to_string()))?;
+    let effects =
+        crate::effects::catalogue::machine_effects(&crate::analysis::sensitivity_options(&opts))
+            .map_err(|e| JsError::new(&e.to_string()))?;
     super::to_js(&effects)
 }

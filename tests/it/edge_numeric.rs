@@ -77,7 +77,7 @@ fn all_points_on_one_curve() {
     let text = csv_of(&pts[..25], &y[..25]);
     // The baseline identification: noiseless data carry no effect for the diagnosis to name.
     let baseline = AnalysisOptions {
-        effects: testpiece::gap::correct::EffectsChoice::None,
+        effects: testpiece::final_fit::correct::EffectsChoice::None,
         ..AnalysisOptions::default()
     };
     let a = analyse(text.as_bytes(), "a_z11.csv", &baseline).unwrap();

@@ -4,11 +4,11 @@ use crate::gap_common::*;
 
 use nalgebra::{DMatrix, DVector};
 use testpiece::analysis::{analyse, AnalysisOptions};
-use testpiece::gap::correct::{correct, Basis, CorrectionInput, EffectsChoice};
+use testpiece::final_fit::correct::{correct, Basis, CorrectionInput, EffectsChoice};
 use testpiece::gap::diagnose;
 use testpiece::identify::refine::ExactModel;
 use testpiece::identify::{identify, Design, IdentifyOptions, Observations, Parameter};
-use testpiece::random::Sampler;
+use testpiece::numerics::random::Sampler;
 
 const LOCATION: [&str; 8] = [
     "EC0Y", "EA0Z", "EB0Z", "EA0C", "EB0C", "EX0B", "EA0B", "EC0B",

@@ -13,9 +13,9 @@
 use crate::edge_common::builtin;
 use nalgebra::{Matrix3, Vector3};
 use testpiece::analysis::MachineChoice;
-use testpiece::gap::effects::builtin::{part_model_every_candidate, part_model_on, PartModel};
-use testpiece::gap::effects::path_length::total_path_length;
-use testpiece::gap::Effect;
+use testpiece::effects::builtin::{part_model_every_candidate, part_model_on, PartModel};
+use testpiece::effects::path_length::total_path_length;
+use testpiece::effects::Effect;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::direct::nominal;
 use testpiece::machine::inverse::inverse;

@@ -4,9 +4,9 @@
 //! length `s` (Simpson integration of the tip speed) and 1e-5 mm for the envelope (`ENVELOPE_MM`).
 use crate::gap_common::*;
 use nalgebra::{Rotation3, Vector3};
-use testpiece::gap::effect::{Effect, SignatureModel};
-use testpiece::gap::effects::builtin::{effect_points, point_meta};
-use testpiece::gap::effects::path_length::total_path_length;
+use testpiece::effects::builtin::{effect_points, point_meta};
+use testpiece::effects::effect::{Effect, SignatureModel};
+use testpiece::effects::path_length::total_path_length;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::Chain;
 use testpiece::part::points::builtin_points;
@@ -46,7 +46,7 @@ fn geometric_signatures_match_the_reference() {
         points: eps.clone(),
         envelope: env,
         s_total: total_path_length(&part),
-        c_table_sign: testpiece::gap::effects::machine::c_table_sign(&Chain::paper000(PAPER000_L0)),
+        c_table_sign: testpiece::effects::machine::c_table_sign(&Chain::paper000(PAPER000_L0)),
         ..Default::default()
     };
     let geometric: Vec<Effect> = Effect::on_chain(&Chain::paper000(PAPER000_L0))
@@ -86,7 +86,7 @@ fn c_index_is_the_derivative_of_a_table_rotation() {
     let eps = effect_points(&part, &pts[..5]);
     let model = SignatureModel {
         points: eps.clone(),
-        c_table_sign: testpiece::gap::effects::machine::c_table_sign(&Chain::paper000(PAPER000_L0)),
+        c_table_sign: testpiece::effects::machine::c_table_sign(&Chain::paper000(PAPER000_L0)),
         ..Default::default()
     };
     let col = Effect::CIndex.signature(&model).unwrap();
@@ -109,7 +109,7 @@ fn c_index_is_the_derivative_of_a_table_rotation() {
 /// 1e-6 for the rest).
 #[test]
 fn full_model_matches_the_reference() {
-    use testpiece::gap::effects::builtin::builtin_model;
+    use testpiece::effects::builtin::builtin_model;
     let m = builtin_model(&SShape::iso()).unwrap();
     let sens = table("sensitivity_physical.csv");
     for (j, name) in m.baseline.names.iter().enumerate() {

@@ -6,16 +6,16 @@
 use crate::cli_common::{testpiece, testpiece_ok};
 use crate::edge_common::*;
 use testpiece::analysis::{analyse, diagnose_on_machine, AnalysisOptions, MachineChoice};
-use testpiece::gap::effects::builtin::{
+use testpiece::effects::builtin::{
     part_model, part_model_every_candidate, part_model_on, PartModel,
 };
-use testpiece::gap::lsq::{rms, Factor};
+use testpiece::effects::Effect;
 use testpiece::gap::verdict::VerdictId;
-use testpiece::gap::Effect;
+use testpiece::identify::solve::{rms, Factor};
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::AxisName;
+use testpiece::numerics::random::Sampler;
 use testpiece::part::SShape;
-use testpiece::random::Sampler;
 use testpiece::sensitivity::SensitivityOptions;
 
 fn options(machine: MachineChoice) -> AnalysisOptions {

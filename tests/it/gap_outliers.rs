@@ -5,13 +5,13 @@
 use crate::cli_common;
 
 use testpiece::analysis::{analyse, noise_from_mpe, Analysis, AnalysisOptions};
-use testpiece::gap::effects::builtin::builtin_model;
-use testpiece::gap::outliers::find_outliers;
-use testpiece::gap::{Effect, GapInput};
+use testpiece::effects::builtin::builtin_model;
+use testpiece::effects::{Effect, GapInput};
 use testpiece::identify::monte_carlo::CmmMpe;
 use testpiece::machine::AxisName;
+use testpiece::measurement::outliers::find_outliers;
+use testpiece::numerics::random::Sampler;
 use testpiece::part::SShape;
-use testpiece::random::Sampler;
 use testpiece::validate::{validate, ValidateOptions, ValidationModel};
 
 const CLEAN: &str = include_str!("../data/reference/examples/example_clean.csv");

@@ -5,8 +5,8 @@
 use crate::gap_common::*;
 use nalgebra::{DMatrix, DVector};
 use testpiece::gap::diagnose;
-use testpiece::gap::lsq::Factor;
-use testpiece::random::Sampler;
+use testpiece::identify::solve::Factor;
+use testpiece::numerics::random::Sampler;
 
 const SIGMA: f64 = 0.0015;
 
@@ -168,7 +168,7 @@ fn a_single_effect_is_not_paired_and_waviness_stays_unexplained() {
 /// radius error each at 4× the detection limit, noise σ = 1.5 µm, written to 6 decimals (mm).
 fn two_effects_file() -> String {
     use testpiece::cmm::write::{canonical_csv, Precision};
-    use testpiece::gap::effects::builtin::part_model;
+    use testpiece::effects::builtin::part_model;
     use testpiece::part::{builtin_points, SShape};
     let part = SShape::iso();
     let pts = builtin_points(&part);
@@ -243,7 +243,7 @@ fn a_measured_file_with_two_effects_gets_both() {
 /// 133 of 404 parts called `none`. Floors: 65 % both named, at most 8 % `none`.
 #[test]
 fn validate_pairs_floor() {
-    use testpiece::gap::effects::builtin::builtin_model;
+    use testpiece::effects::builtin::builtin_model;
     use testpiece::validate::{pairs_table, validate_pairs, ValidateOptions, ValidationModel};
     let m = builtin_model(&testpiece::part::SShape::iso()).unwrap();
     let model = ValidationModel::of(m);

@@ -66,7 +66,7 @@ fn accuracy_floors_on_a_fixed_seed() {
 /// benchmark, 418 cases (22 per kind; about 5 s in the test profile).
 #[test]
 fn final_answer_floors_on_a_fixed_seed() {
-    use testpiece::gap::correct::Basis;
+    use testpiece::final_fit::correct::Basis;
     use testpiece::gap::verdict::VerdictId;
 
     let r = validate(
@@ -123,7 +123,7 @@ fn same_seed_same_report() {
 /// verdict. Measured over 418 cases, seed 1 (`testpiece validate --exact`): 0 verdicts differ.
 #[test]
 fn verdicts_hold_on_the_exact_model() {
-    use testpiece::gap::effects::builtin::builtin_model;
+    use testpiece::effects::builtin::builtin_model;
     use testpiece::part::SShape;
     use testpiece::validate::{exact_machine_part, validate_with};
 

@@ -14,8 +14,8 @@
 
 use crate::cli_common::{testpiece, testpiece_ok};
 use testpiece::analysis::MachineChoice;
-use testpiece::gap::effects::builtin::location_equivalents_of;
-use testpiece::gap::Effect;
+use testpiece::effects::builtin::location_equivalents_of;
+use testpiece::effects::Effect;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::part::{builtin_points, SShape};
 use testpiece::sensitivity::SensitivityOptions;

@@ -8,8 +8,8 @@ use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::location_errors::LocationError;
 use testpiece::machine::{Branch, ErrorParam, MachineErrors};
+use testpiece::numerics::random::Sampler;
 use testpiece::part::{builtin_points, SShape};
-use testpiece::random::Sampler;
 use testpiece::sensitivity::defect::jacobian_rows;
 use testpiece::sensitivity::error_set::{
     error_set, full_list, ErrorStatus, INVISIBLE_NM, VISIBLE_FRACTION,

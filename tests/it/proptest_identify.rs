@@ -10,7 +10,7 @@ use crate::edge_common::*;
 use crate::identify_common::xi_strategy;
 use proptest::prelude::*;
 use testpiece::analysis::{analyse, AnalysisOptions};
-use testpiece::gap::correct::EffectsChoice;
+use testpiece::final_fit::correct::EffectsChoice;
 use testpiece::identify::Status;
 use testpiece::sensitivity::Mode;
 use testpiece::simulate::simulate_exact;

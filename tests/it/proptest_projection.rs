@@ -6,7 +6,7 @@
 
 use nalgebra::Vector3;
 use proptest::prelude::*;
-use testpiece::geometry::projection::project;
+use testpiece::part::projection::project;
 use testpiece::part::{SShape, Surface};
 
 proptest! {

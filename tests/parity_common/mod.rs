@@ -156,7 +156,7 @@ pub fn structured_scan() -> String {
     use testpiece::cmm::write::{canonical_csv, Precision};
     use testpiece::part::{Curve, MeasurementPoint, SShape};
     let part = SShape::iso();
-    let mut rng = testpiece::random::Sampler::new(5);
+    let mut rng = testpiece::numerics::random::Sampler::new(5);
     let mut pts = Vec::new();
     let mut id = 1;
     for (low, high) in [(Curve::AZ11, Curve::AZ25), (Curve::BZ11, Curve::BZ25)] {

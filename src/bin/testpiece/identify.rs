@@ -2,7 +2,7 @@
 
 use crate::args::Args;
 use testpiece::analysis::{AnalysisOptions, Fitted, MachineChoice};
-use testpiece::gap::correct::{Basis, EffectsChoice};
+use testpiece::final_fit::correct::{Basis, EffectsChoice};
 use testpiece::identify::monte_carlo::{monte_carlo, CmmMpe, MonteCarloOptions, Noise};
 use testpiece::identify::{export, ExcludedPoint, IdentifyOptions, Status};
 use testpiece::machine::Branch;

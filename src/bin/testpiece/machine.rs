@@ -1,7 +1,7 @@
 //! `testpiece machine [--machine M] [--l0 MM] [--branch signed|positive] [--json]`: the location
 //! errors a machine is identified with, derived from what the part sees, and its conventions.
 
-use testpiece::gap::effects::catalogue::machine_effects;
+use testpiece::effects::catalogue::machine_effects;
 use testpiece::machine::Branch;
 use testpiece::sensitivity::error_set::{error_set, ErrorStatus, VISIBLE_FRACTION};
 use testpiece::sensitivity::SensitivityOptions;

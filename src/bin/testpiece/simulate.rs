@@ -2,8 +2,8 @@
 
 use crate::args::Args;
 use testpiece::cmm::write::{canonical_csv, Precision};
-use testpiece::gap::effects::builtin::part_model_on;
-use testpiece::gap::Effect;
+use testpiece::effects::builtin::part_model_on;
+use testpiece::effects::Effect;
 use testpiece::identify::{Design, ISO_LOCATION_ERRORS};
 use testpiece::machine::Branch;
 use testpiece::part::{builtin_points, SShape};

@@ -5,7 +5,7 @@
 
 mod table;
 pub use table::Table;
-use testpiece::gap::{GapInput, NamedColumns, PointMeta};
+use testpiece::effects::{GapInput, NamedColumns, PointMeta};
 use testpiece::part::Surface;
 
 pub const ERRORS: [&str; 8] = [

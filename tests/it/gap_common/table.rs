@@ -7,7 +7,7 @@
 
 use nalgebra::DMatrix;
 
-use testpiece::gap::{Candidate, NamedColumns};
+use testpiece::effects::{Candidate, NamedColumns};
 
 /// Why a table could not be read (test support: the message is what a failing test prints).
 pub type TableError = String;

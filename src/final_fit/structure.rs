@@ -36,9 +36,9 @@ use std::rc::Rc;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::data::PointMeta;
-use super::lsq::Factor;
-use super::memo::Memo;
+use crate::effects::data::PointMeta;
+use crate::identify::solve::Factor;
+use crate::numerics::memo::Memo;
 
 /// Number of correlation lengths tried, geometric between the point spacing and the path.
 pub const LENGTH_GRID: usize = 14;
@@ -439,8 +439,8 @@ fn finish(m: DMatrix<f64>, by: &DVector<f64>, q: f64, logdet_sigma: f64) -> f64 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::numerics::random::Sampler;
     use crate::part::Surface;
-    use crate::random::Sampler;
 
     fn points(n: usize, spacing: f64) -> Vec<PointMeta> {
         (0..n)

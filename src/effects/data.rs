@@ -9,7 +9,7 @@
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
-use super::{Effect, GapError};
+use crate::effects::{Effect, GapError};
 use crate::machine::AxisName;
 use crate::part::Surface;
 
@@ -201,4 +201,19 @@ impl GapInput {
         }
         Ok(())
     }
+}
+
+/// Indices of the points of each curve, in increasing `u`, curves in order of first appearance.
+pub fn curve_sequences(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
+    let mut out: Vec<(String, Vec<usize>)> = Vec::new();
+    for (i, p) in points.iter().enumerate() {
+        match out.iter_mut().find(|(c, _)| *c == p.curve) {
+            Some((_, v)) => v.push(i),
+            None => out.push((p.curve.clone(), vec![i])),
+        }
+    }
+    for (_, v) in &mut out {
+        v.sort_by(|&a, &b| points[a].u.total_cmp(&points[b].u));
+    }
+    out
 }

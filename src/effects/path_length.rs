@@ -2,8 +2,8 @@
 //! surface, A machined first then B (effects.md), so a point of B has `s = s_A,total + s_B(u)`.
 //! The tables are [`crate::toolpath::tip_length::TipLength`]'s (agreement with the reference `s`
 //! column is checked in tests); a part model takes them from its kept path model
-//! ([`super::path_model::PathModel::lengths`]), its points' `s` from
-//! [`super::builtin::effect_points`].
+//! ([`crate::effects::path_model::PathModel::lengths`]), its points' `s` from
+//! [`crate::effects::builtin::effect_points`].
 
 use crate::part::{SShape, Surface};
 use crate::toolpath::tip_length::TipLength;

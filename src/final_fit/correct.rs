@@ -16,7 +16,7 @@
 //!   location errors do not depend on the choice.
 //! - **unexplained**: no effect is fitted (none was accepted; a partial candidate is only
 //!   mentioned). The structure is modelled as a correlated error along the tool path
-//!   ([`super::structure`]: squared-exponential covariance, amplitude and length by REML, the
+//!   ([`crate::final_fit::structure`]: squared-exponential covariance, amplitude and length by REML, the
 //!   white σ of the diagnosis) and the location errors are fitted by generalised least squares
 //!   ([`crate::identify::correlated`]). Why this and not the smooth basis as fixed nuisance
 //!   columns: the location errors' own signatures are smooth along each curve, so a per-curve
@@ -36,17 +36,16 @@ use nalgebra::DMatrix;
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::data::{Candidate, PointMeta};
-use super::lsq::{rms, Factor};
-use super::structure::{self, CovarianceForm, StructureCovariance};
-use super::verdict::{Finding, Verdict, VerdictId};
-use super::{Effect, GapError};
+use crate::effects::data::{Candidate, PointMeta};
+use crate::effects::{Effect, GapError};
+use crate::final_fit::structure::{self, CovarianceForm, StructureCovariance};
+use crate::gap::verdict::{Finding, Verdict, VerdictId};
 use crate::identify::correlated::{
     identify_correlated, identify_whitened, GroupedLowRank, Whitener,
 };
-use crate::identify::{
-    identify, Design, Identification, IdentifyOptions, Observations, Parameter, TYPICAL_LENGTH_MM,
-};
+use crate::identify::solve::{rms, Factor};
+use crate::identify::{identify, Design, Identification, IdentifyOptions, Observations, Parameter};
+use crate::machine::location_errors::TYPICAL_LENGTH_MM;
 
 /// A signature column whose RMS over the points is below this (mm per unit) leaves nothing on
 /// the part: it is not fitted.

@@ -12,10 +12,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::data::PointMeta;
-use super::layout::curve_degree;
-use super::location::curve_sequences;
-use super::lsq::{hstack, Factor};
+use crate::effects::data::curve_sequences;
+use crate::effects::data::PointMeta;
+use crate::identify::solve::{hstack, Factor};
+use crate::measurement::layout::curve_degree;
 
 /// Degree of the per-curve Legendre basis.
 pub const SMOOTH_DEGREE: usize = 5;
@@ -34,7 +34,7 @@ pub fn legendre(t: f64, d: usize) -> Vec<f64> {
 
 /// The per-curve smooth basis: on a curve of `m` points the Legendre polynomials up to degree
 /// [`curve_degree`]`(m, degree)` (`degree` on the built-in layout's 25 points a curve), so that
-/// half of a curve's points always remain to measure the noise ([`super::layout`]).
+/// half of a curve's points always remain to measure the noise ([`crate::measurement::layout`]).
 pub fn smooth_basis(points: &[PointMeta], degree: usize) -> DMatrix<f64> {
     let seqs = curve_sequences(points);
     let widths: Vec<usize> = seqs

@@ -20,10 +20,10 @@ use std::rc::Rc;
 
 use nalgebra::DVector;
 
-use crate::gap::data::{Candidate, NamedColumns};
-use crate::gap::memo::Memo;
-use crate::gap::{Effect, GapError};
+use crate::effects::data::{Candidate, NamedColumns};
+use crate::effects::{Effect, GapError};
 use crate::machine::{Branch, Chain};
+use crate::numerics::memo::Memo;
 use crate::sensitivity::error_set::VISIBLE_FRACTION;
 
 /// The candidates of a part model that are location errors of the machine, each with why
@@ -79,7 +79,7 @@ fn like_text(names: &[String], x: &DVector<f64>) -> String {
     let typical = |n: &str| crate::identify::Parameter::named(n).typical;
     let scaled: Vec<f64> = x.iter().zip(names).map(|(v, n)| v / typical(n)).collect();
     let mut text = String::new();
-    for (k, j) in crate::identify::groups::dominant(&scaled, 0.99)
+    for (k, j) in crate::numerics::terms::dominant(&scaled, 0.99)
         .into_iter()
         .enumerate()
     {
@@ -96,7 +96,7 @@ fn like_text(names: &[String], x: &DVector<f64>) -> String {
 }
 
 /// [`location_equivalents`] of the machine `(chain, branch)`, computed once per thread from
-/// `compute` (the built-in design's columns) and kept ([`crate::gap::memo`]).
+/// `compute` (the built-in design's columns) and kept ([`crate::numerics::memo`]).
 pub fn kept_for(
     chain: &Chain,
     branch: Branch,

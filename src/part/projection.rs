@@ -20,7 +20,7 @@
 use nalgebra::{Matrix2, Vector2, Vector3};
 use serde::Serialize;
 
-use super::GeometryError;
+use crate::geometry::GeometryError;
 #[cfg(all(test, not(target_arch = "wasm32")))]
 use crate::part::SShape;
 use crate::part::{RuledPart, Surface};

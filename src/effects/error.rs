@@ -32,36 +32,36 @@ pub enum GapError {
     #[error("noise sigma must be positive and finite, got {0}")]
     BadSigma(f64),
     #[error("candidate `{0}` appears twice")]
-    DuplicateCandidate(crate::gap::Effect),
+    DuplicateCandidate(crate::effects::Effect),
     #[error("candidate `{0}` has no signature column")]
-    EmptyCandidate(crate::gap::Effect),
+    EmptyCandidate(crate::effects::Effect),
     #[error("unknown effect id `{0}` (see shared/spec/effects.md)")]
     UnknownEffect(String),
     #[error("`{key}`: `{effect}` has the parameters {known}; write `{effect}.<parameter>`")]
     ParameterNeeded {
         key: String,
-        effect: crate::gap::Effect,
+        effect: crate::effects::Effect,
         known: String,
     },
     #[error("`{key}`: `{effect}` has no parameter `{name}` (its parameters: {known})")]
     UnknownParameter {
         key: String,
-        effect: crate::gap::Effect,
+        effect: crate::effects::Effect,
         name: String,
         known: String,
     },
     #[error("`{effect}` is not a candidate on the {machine}: {reason}")]
     NotOnMachine {
-        effect: crate::gap::Effect,
+        effect: crate::effects::Effect,
         /// The machine's description.
         machine: String,
-        /// Why its physics does not exist there ([`crate::gap::Effect::absent_from`]).
+        /// Why its physics does not exist there ([`crate::effects::Effect::absent_from`]).
         reason: String,
     },
     #[error(
         "`{0}` has no signature in this part model (its axis is not modelled on this machine)"
     )]
-    NotModelled(crate::gap::Effect),
+    NotModelled(crate::effects::Effect),
     #[error("{0}")]
     Invalid(String),
     #[error("final identification: {0}")]

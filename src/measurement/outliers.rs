@@ -6,7 +6,7 @@
 //! Weisberg, *Residuals and Influence in Regression*, 1982, §2.2.2; Belsley, Kuh & Welsch,
 //! *Regression Diagnostics*, 1980, §2.1; robust scale: Rousseeuw & Croux, JASA 88, 1993, MAD).
 //! On the kept points, the deviations `y` are fitted by the baseline design augmented with the
-//! per-curve smooth basis of [`super::smooth_noise`]: `X = [A | P]` (location errors and
+//! per-curve smooth basis of [`crate::measurement::smooth_noise`]: `X = [A | P]` (location errors and
 //! Legendre polynomials of degree [`SMOOTH_DEGREE`] along each curve, so that every effect that
 //! varies smoothly along the curves is fitted and not taken for an outlier). With `e = (I − H) y`,
 //! `h_ii` the leverage (the squared row norm of the orthonormal basis of `X`):
@@ -18,7 +18,7 @@
 //!   corrected for the truncation (see `robust_sigma`; a single spike does not move it, the
 //!   plain RMS would be inflated by it and hide it);
 //! - the **bound**: `|t_i| > t_crit` with `t_crit` the two-sided Student-t quantile at `α / n`
-//!   (Bonferroni over the `n` points tested, family-wise α = [`super::verdict::ALPHA`] = 0.05) on
+//!   (Bonferroni over the `n` points tested, family-wise α = [`crate::gap::verdict::ALPHA`] = 0.05) on
 //!   `n − rank(X)` degrees of freedom (≈ 3.65 for the 100 built-in points).
 //!
 //! `X` also holds the signature of the one candidate effect that leaves the smallest robust σ
@@ -47,11 +47,11 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::data::GapInput;
-use super::location::curve_sequences;
-use super::lsq::{hstack, Factor};
-use super::smooth_noise::{smooth_basis, SMOOTH_DEGREE};
-use super::stats;
+use crate::effects::data::curve_sequences;
+use crate::effects::data::GapInput;
+use crate::identify::solve::{hstack, Factor};
+use crate::measurement::smooth_noise::{smooth_basis, SMOOTH_DEGREE};
+use crate::numerics::stats;
 
 /// Family-wise false-alarm rate of the outlier test (Bonferroni over the points).
 pub const OUTLIER_ALPHA: f64 = 0.05;
@@ -415,7 +415,7 @@ pub fn without_rows(input: &GapInput, drop: &[usize]) -> GapInput {
         candidates: input
             .candidates
             .iter()
-            .map(|c| super::Candidate {
+            .map(|c| crate::effects::Candidate {
                 effect: c.effect,
                 signature: c.signature.select_rows(&keep),
             })

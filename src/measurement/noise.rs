@@ -6,7 +6,7 @@
 //!   `σ_d2 = 1.4826 · median|r_{i+1} − 2r_i + r_{i−1}| / √6` (var of a second difference of iid
 //!   noise is 6σ²; the median ignores the few differences that straddle a step such as a backlash
 //!   reversal, and second differences remove linear trends). Both are reported; the diagnosis
-//!   uses the smooth-basis estimate of [`super::smooth_noise`] (which also removes whatever the
+//!   uses the smooth-basis estimate of [`crate::measurement::smooth_noise`] (which also removes whatever the
 //!   baseline's own signatures explain) unless a CMM repeatability is given.
 //! - Noise σ as the **nugget of the robust variogram** along each curve (geostatistics: the
 //!   variogram of `r = structure + ε` is `γ(h) = σ² + γ_s(h)`, and a structure that is smooth at
@@ -41,7 +41,7 @@
 
 use serde::Serialize;
 
-use super::stats;
+use crate::numerics::stats;
 use crate::toolpath::envelope::golden_min;
 
 /// Largest σ (mm) an estimate may have before the report questions it: a CMM measuring a
@@ -66,7 +66,7 @@ pub struct NoiseEstimate {
     pub von_neumann: f64,
     /// Robust second-difference estimate (mm).
     pub second_difference: f64,
-    /// Residual σ of the baseline plus a smooth basis per curve ([`super::smooth_noise`]) (mm).
+    /// Residual σ of the baseline plus a smooth basis per curve ([`crate::measurement::smooth_noise`]) (mm).
     pub smooth: Option<f64>,
     /// Its robust (median) version (mm).
     pub smooth_robust: Option<f64>,
@@ -436,7 +436,7 @@ pub fn sinusoid_free_sigma(
         return Some((r.norm_squared() / dof as f64).sqrt());
     }
     let w = DMatrix::from_columns(&columns);
-    let left = crate::gap::lsq::Factor::new(&w, None).unabsorbed_vec(r);
+    let left = crate::identify::solve::Factor::new(&w, None).unabsorbed_vec(r);
     Some((left.norm_squared() / dof as f64).sqrt())
 }
 
@@ -716,7 +716,7 @@ mod tests {
 
     /// `curves` sequences of `m` standard normal values from one seeded stream.
     fn white(seed: u64, curves: usize, m: usize) -> Vec<Vec<f64>> {
-        let mut rng = crate::random::Sampler::new(seed);
+        let mut rng = crate::numerics::random::Sampler::new(seed);
         (0..curves)
             .map(|_| (0..m).map(|_| rng.normal()).collect())
             .collect()
@@ -771,7 +771,7 @@ mod tests {
 
     /// 4 curves of 25 points at uneven spacing (20-32 mm, as the built-in layout's tool path).
     fn uneven(seed: u64) -> (Vec<Vec<usize>>, Vec<f64>) {
-        let mut rng = crate::random::Sampler::new(seed);
+        let mut rng = crate::numerics::random::Sampler::new(seed);
         let mut t = Vec::new();
         let mut curves = Vec::new();
         for c in 0..4 {
@@ -804,7 +804,7 @@ mod tests {
                 }
             }
         }
-        let f = crate::gap::lsq::Factor::new(&x, None);
+        let f = crate::identify::solve::Factor::new(&x, None);
         let r = f.unabsorbed_vec(&DVector::from_column_slice(y));
         (f.basis, r)
     }
@@ -815,7 +815,7 @@ mod tests {
         // below 1e-4 (the gate of NOT_WHITE_P); an uncalibrated Ljung-Box test on the same
         // residuals rejects far more often (the projection's own autocorrelation).
         let (curves, t) = uneven(1);
-        let mut rng = crate::random::Sampler::new(2);
+        let mut rng = crate::numerics::random::Sampler::new(2);
         let (mut below5, mut below4, mut lb5) = (0, 0, 0);
         for _ in 0..300 {
             let y: Vec<f64> = t.iter().map(|_| rng.normal()).collect();
@@ -853,7 +853,7 @@ mod tests {
         // sampling error with ~70 dof is ~9 %); the lower-quartile periodogram, whose taper
         // cannot fully confine the wave's leakage on uneven spacing, is only less inflated.
         let (curves, t) = uneven(3);
-        let mut rng = crate::random::Sampler::new(4);
+        let mut rng = crate::numerics::random::Sampler::new(4);
         let y: Vec<f64> = t
             .iter()
             .map(|s| 10.0 * (2.0 * std::f64::consts::PI * s / 90.0 + 0.4).sin() + rng.normal())

@@ -22,7 +22,7 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use super::stats;
+use crate::numerics::stats;
 
 /// Largest distance (mm) between the nominal positions of the same point id in two files.
 pub const SAME_POINT_MM: f64 = 0.5;
@@ -288,7 +288,7 @@ pub fn sentence(pe: &PureError, l: &LackOfFit) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::random::Sampler;
+    use crate::numerics::random::Sampler;
 
     fn ids(n: usize) -> Vec<String> {
         (1..=n).map(|i| i.to_string()).collect()

@@ -12,9 +12,9 @@
 //! - `overcut.k`: `k ×` the exact envelope deviation of the flank path at the points (paper 000
 //!   §3, [`crate::toolpath::envelope`]); `k = 1` is the exact envelope.
 //! - `backlash_<axis>.b`: the first-order-lag reversal model of
-//!   [`crate::sensitivity::reversal`] on the machine's own axis path ([`super::effects::machine`]).
+//!   [`crate::sensitivity::reversal`] on the machine's own axis path ([`crate::effects::machine`]).
 //! - `scale_<axis>.k`: `E_XX = k·X`, `E_YY = k·Y`, `E_ZZ = k·(Z − L0)`, the linear term of the
-//!   axis's own positioning error motion ([`super::effects::machine`]).
+//!   axis's own positioning error motion ([`crate::effects::machine`]).
 //! - `thermal_drift.g`: the head grows along machine Z in proportion to machining time, i.e. to
 //!   the tool-tip path length `s` from the start of A (through B); a drift `g` over the whole
 //!   path moves the tool by `−g·(s/s_total)·ẑ_machine` (towards the table), which in the part
@@ -34,7 +34,7 @@
 //!   axis's constant angular positioning error (`EAA`, `ECC`: exactly a change of the axis value)
 //!   at the tool-body point at the contact point, minus the tip's at the reference pose where the
 //!   part origin is set, as for the location errors in `physical` mode
-//!   ([`super::effects::machine::index_signatures`]).
+//!   ([`crate::effects::machine::index_signatures`]).
 //! - `pivot_length.dL0`: a real pivot-to-tip length `L0 + dL0` moves the tool by `−dL0·w` along
 //!   its own axis `w`, which has no normal component on a flank-milled wall (`N·w = 0`); the part
 //!   origin was set with B = 0, which removed `−dL0·ẑ`, so what shows is `+dL0·ẑ·N = dL0·N_z`.
@@ -45,7 +45,7 @@ use std::str::FromStr;
 use nalgebra::Vector3;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::GapError;
+use crate::effects::GapError;
 use crate::machine::chain::AxisKind;
 use crate::machine::{AxisName, Chain};
 
@@ -372,7 +372,7 @@ pub struct EffectPoint {
 
 /// The part model the signatures are read from: the points, the exact envelope deviation at
 /// them, the total path length, and the per-axis columns the kinematics stage computes
-/// (backlash and scale, [`super::effects::machine`]).
+/// (backlash and scale, [`crate::effects::machine`]).
 #[derive(Debug, Clone, Default)]
 pub struct SignatureModel {
     pub points: Vec<EffectPoint>,

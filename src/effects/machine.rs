@@ -18,9 +18,9 @@
 
 use nalgebra::{Rotation3, Vector3};
 
-use crate::gap::data::Reversal;
-pub use crate::gap::effect::{backlash_axes, BACKLASH_AXES, SCALE_AXES};
-use crate::gap::GapError;
+use crate::effects::data::Reversal;
+pub use crate::effects::effect::{backlash_axes, BACKLASH_AXES, SCALE_AXES};
+use crate::effects::GapError;
 use crate::machine::direct::{jacobian, jacobian_body_point};
 use crate::machine::inverse::inverse;
 use crate::machine::{AxisKind, AxisName, AxisValues, Branch, Chain, ErrorParam, MachineErrors};
@@ -57,7 +57,7 @@ pub fn scale_signatures(
 }
 
 /// `backlash_<axis>.b` columns (mm/mm or mm/rad), axes of the lags, on the lags of the passes
-/// of [`crate::sensitivity::reversal::passes`] ([`super::path_model::PathModel::lags`]: the
+/// of [`crate::sensitivity::reversal::passes`] ([`crate::effects::path_model::PathModel::lags`]: the
 /// axes of [`BACKLASH_AXES`]).
 pub fn backlash_columns(
     lags: &[Lag; 2],
@@ -92,7 +92,7 @@ pub fn reversals(part: &SShape, passes: &[Pass; 2], axes: &[AxisName]) -> Vec<Re
 /// `s_C` (+1, or −1 when primed) when the C axis of `chain` is the workpiece-side axis next to
 /// the part with no offset (paper 000's `C`, paper 002's `C'`): a zero offset `dC` then turns the
 /// part frame by `s_C·dC` about z through the origin, and `c_index` is the rotation
-/// `−s_C·(ẑ × p)·N` ([`crate::gap::Effect::signature`]). `None` otherwise.
+/// `−s_C·(ẑ × p)·N` ([`crate::effects::Effect::signature`]). `None` otherwise.
 pub fn c_table_sign(chain: &Chain) -> Option<f64> {
     chain
         .workpiece_axes()

@@ -1,9 +1,9 @@
 //! The signatures and point metadata of the built-in S-shape points, from the geometry.
 
-use super::EffectPoint;
-use crate::gap::data::{Candidate, NamedColumns, PointMeta};
-use crate::gap::effect::{Effect, SignatureModel};
-use crate::gap::GapError;
+use crate::effects::data::{Candidate, NamedColumns, PointMeta};
+use crate::effects::effect::{Effect, SignatureModel};
+use crate::effects::EffectPoint;
+use crate::effects::GapError;
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
@@ -78,7 +78,7 @@ pub struct PartModel {
     pub points: Vec<PointMeta>,
     pub baseline: NamedColumns,
     pub candidates: Vec<Candidate>,
-    pub reversals: Vec<crate::gap::data::Reversal>,
+    pub reversals: Vec<crate::effects::data::Reversal>,
 }
 
 impl PartModel {
@@ -152,12 +152,12 @@ pub fn part_model_on(
     opts: &crate::sensitivity::SensitivityOptions,
 ) -> Result<PartModel, GapError> {
     let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
-    super::cache::part_model(part, points, opts, || {
+    crate::effects::cache::part_model(part, points, opts, || {
         compute_part_model(part, points, opts)
     })
 }
 
-/// [`part_model_on`] computed (not taken from [`super::cache`]), on the path model of the
+/// [`part_model_on`] computed (not taken from [`crate::effects::cache`]), on the path model of the
 /// settings (from the cache), `opts` in `physical` mode.
 fn compute_part_model(
     part: &SShape,
@@ -168,13 +168,13 @@ fn compute_part_model(
 }
 
 /// The candidates of the machine of `opts` that are its location errors under another name
-/// ([`super::location_equivalent`]), decided on the part's built-in points, once per machine.
+/// ([`crate::effects::location_equivalent`]), decided on the part's built-in points, once per machine.
 pub fn location_equivalents_of(
     part: &SShape,
     opts: &crate::sensitivity::SensitivityOptions,
 ) -> Result<Vec<(Effect, String)>, GapError> {
     let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
-    super::location_equivalent::kept_for(&opts.chain, opts.branch, || {
+    crate::effects::location_equivalent::kept_for(&opts.chain, opts.branch, || {
         let m = compute_model(part, &crate::part::builtin_points(part), opts, false)?;
         Ok((m.baseline, m.candidates))
     })
@@ -183,7 +183,7 @@ pub fn location_equivalents_of(
 
 /// The model with every candidate whose physics the chain has ([`Effect::on_chain`]), the
 /// location equivalents included (not kept by the cache): what the formulas give, for tests of
-/// the physics and for [`super::location_equivalent`].
+/// the physics and for [`crate::effects::location_equivalent`].
 pub fn part_model_every_candidate(
     part: &SShape,
     points: &[MeasurementPoint],
@@ -200,13 +200,13 @@ fn compute_model(
     opts: &crate::sensitivity::SensitivityOptions,
     filter: bool,
 ) -> Result<PartModel, GapError> {
-    use super::machine::{
+    use crate::effects::machine::{
         backlash_columns, c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
     let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)
         .map_err(|e| GapError::Model(e.to_string()))?;
     let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
-    let path = super::cache::path_model(part, opts)?;
+    let path = crate::effects::cache::path_model(part, opts)?;
     let eps = effect_points_on(part, points, path.lengths());
     let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
     let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)

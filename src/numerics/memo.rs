@@ -1,6 +1,6 @@
 //! A small bounded memo for values that depend only on the settings and the part design, kept
-//! between calls by the caches of [`super::effects::cache`], [`super::structure`],
-//! [`super::effects::location_equivalent`] and [`crate::sensitivity::error_set`] (issue 21).
+//! between calls by the caches of [`crate::effects::cache`], [`crate::final_fit::structure`],
+//! [`crate::effects::location_equivalent`] and [`crate::sensitivity::error_set`] (issue 21).
 //! Keys are compared by a predicate (bit-exact comparisons of floating-point inputs); the most
 //! recently used entry is first, the least recently used is dropped beyond the capacity.
 

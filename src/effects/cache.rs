@@ -18,11 +18,11 @@
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use super::builtin::PartModel;
-use super::path_model::PathModel;
-use crate::gap::memo::Memo;
-use crate::gap::GapError;
+use crate::effects::builtin::PartModel;
+use crate::effects::path_model::PathModel;
+use crate::effects::GapError;
 use crate::machine::{Branch, Chain};
+use crate::numerics::memo::Memo;
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::SensitivityOptions;
 
@@ -89,7 +89,7 @@ pub fn path_model(part: &SShape, opts: &SensitivityOptions) -> Result<Rc<PathMod
     Ok(m)
 }
 
-/// The part model of `points` on `opts` ([`super::builtin::part_model_on`]), computed once per
+/// The part model of `points` on `opts` ([`crate::effects::builtin::part_model_on`]), computed once per
 /// settings and points with `compute`.
 pub fn part_model(
     part: &SShape,
@@ -114,21 +114,18 @@ pub fn part_model(
     Ok(m)
 }
 
-/// Forgets every kept model of this thread, and the decompositions kept by
-/// [`crate::gap::structure`] (the benchmark of a first file; tests).
+/// Forgets every kept model of this thread (the benchmark of a first file; tests).
 pub fn clear() {
     PATHS.with_borrow_mut(Memo::clear);
     clear_part_models();
 }
 
-/// Forgets the part models of this thread (and the decompositions of
-/// [`crate::gap::structure`] and the axis values of [`crate::sensitivity::path`], which belong
-/// to the points), keeps the path models (the benchmark
-/// of a further file with the same settings).
+/// Forgets the part models of this thread (and the axis values of [`crate::sensitivity::path`],
+/// which belong to the points), keeps the path models (the benchmark of a further file with the
+/// same settings).
 pub fn clear_part_models() {
     crate::sensitivity::path::clear_kept();
     MODELS.with_borrow_mut(Memo::clear);
-    crate::gap::structure::clear_kept();
 }
 
 /// Number of (path, part) models kept by this thread.
@@ -139,7 +136,7 @@ pub fn len() -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gap::effects::builtin::part_model_on;
+    use crate::effects::builtin::part_model_on;
     use crate::part::builtin_points;
 
     #[test]

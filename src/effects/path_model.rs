@@ -2,17 +2,17 @@
 //! the machine's chain with its L0, the B branch), not on the measured points: the lag of every
 //! backlash axis of the chain along the two reversal passes ([`crate::sensitivity::reversal`], the
 //! first-order lag of 2 mm of tool-tip path, paper 002 §4.3), where each axis reverses, the
-//! tool-tip path lengths of the surfaces ([`super::path_length`]) and the envelope's tables of
+//! tool-tip path lengths of the surfaces ([`crate::effects::path_length`]) and the envelope's tables of
 //! tool poses ([`crate::toolpath::envelope`]). It is the expensive part of a part model (two
-//! passes of ~1,000 inverse kinematics and axis rates each): kept by [`super::cache`] for
+//! passes of ~1,000 inverse kinematics and axis rates each): kept by [`crate::effects::cache`] for
 //! every later file with the same settings.
 //!
 //! Units: mm for path lengths, the lag per unit lost motion (mm/mm or rad/rad).
 
-use super::machine::reversals;
-use crate::gap::data::Reversal;
-use crate::gap::effect::backlash_axes;
-use crate::gap::GapError;
+use crate::effects::data::Reversal;
+use crate::effects::effect::backlash_axes;
+use crate::effects::machine::reversals;
+use crate::effects::GapError;
 use crate::part::{SShape, Surface};
 use crate::sensitivity::reversal::{passes, Lag};
 use crate::sensitivity::SensitivityOptions;

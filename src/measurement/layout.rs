@@ -5,7 +5,7 @@
 //! to 200 points, leave a curve out, number the points its own way and write the rows in any
 //! order: the diagnosis groups points by curve label and orders them by `u`, so the rules hold on
 //! any layout, with these limits:
-//! - the per-curve smooth basis of [`super::smooth_noise`] has degree `min(5, ⌊m/2⌋ − 1)` on a
+//! - the per-curve smooth basis of [`crate::measurement::smooth_noise`] has degree `min(5, ⌊m/2⌋ − 1)` on a
 //!   curve of `m` points ([`curve_degree`]): at least half of each curve's points stay free to
 //!   measure the noise (with 6 points a degree-5 basis would fit them exactly and leave no
 //!   noise to see); a waviness the lower degree cannot follow then counts as noise there;
@@ -16,12 +16,11 @@
 
 use serde::Serialize;
 
-use super::data::PointMeta;
-use super::location::curve_sequences;
-use super::noise::LJUNG_BOX_LAGS;
-use super::smooth_noise::SMOOTH_DEGREE;
-use super::which::CandidateFit;
-use super::Effect;
+use crate::effects::data::curve_sequences;
+use crate::effects::data::PointMeta;
+use crate::effects::Effect;
+use crate::measurement::noise::LJUNG_BOX_LAGS;
+use crate::measurement::smooth_noise::SMOOTH_DEGREE;
 use crate::part::Curve;
 
 /// Fewest points on a curve for the full [`SMOOTH_DEGREE`] basis (`⌊m/2⌋ − 1 ≥ 5`).
@@ -57,8 +56,9 @@ pub struct Layout {
     pub notes: Vec<String>,
 }
 
-/// The layout of `points`, with the candidates' fits (for the invisible ones).
-pub fn layout(points: &[PointMeta], fits: &[CandidateFit]) -> Layout {
+/// The layout of `points`; `invisible`: the candidates these points cannot show (no rank added
+/// to the baseline), in any order.
+pub fn layout(points: &[PointMeta], mut invisible: Vec<Effect>) -> Layout {
     let seqs = curve_sequences(points);
     let curves: Vec<CurveCount> = seqs
         .iter()
@@ -72,11 +72,6 @@ pub fn layout(points: &[PointMeta], fits: &[CandidateFit]) -> Layout {
         .iter()
         .map(|c| c.name().to_string())
         .filter(|name| !curves.iter().any(|c| &c.curve == name))
-        .collect();
-    let mut invisible: Vec<Effect> = fits
-        .iter()
-        .filter(|f| f.with.is_none() && f.evidence.added_rank == 0)
-        .map(|f| f.effect)
         .collect();
     invisible.sort_by_key(|e| e.id());
     let full = not_measured.is_empty() && curves.iter().all(|c| c.points >= FULL_BASIS_POINTS);

@@ -5,8 +5,8 @@
 
 use serde::Serialize;
 
-use super::builtin::{location_equivalents_of, part_model_on};
-use crate::gap::{Effect, GapError};
+use crate::effects::builtin::{location_equivalents_of, part_model_on};
+use crate::effects::{Effect, GapError};
 use crate::part::{builtin_points, SShape};
 use crate::sensitivity::SensitivityOptions;
 

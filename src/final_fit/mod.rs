@@ -1,0 +1,8 @@
+//! The final identification: the machine's location errors fitted together with what the gap
+//! diagnosis found ([`correct`]): with the named effect's columns, or with the unexplained
+//! structure as a correlated error whose covariance along the tool path is estimated by REML
+//! ([`structure`]), or the baseline when the residual is noise. The errors reported and exported
+//! for compensation are these.
+
+pub mod correct;
+pub mod structure;

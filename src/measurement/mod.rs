@@ -1,0 +1,17 @@
+//! The measurement model: what the CMM and the part add to a deviation besides the machine, and
+//! what a layout of points can tell, before any effect is diagnosed.
+//!
+//! - [`noise`]: noise σ independent of smooth structure, and the whiteness tests of a residual;
+//! - [`smooth_noise`]: the residual of the baseline augmented with a smooth basis per curve;
+//! - [`outliers`]: single-point faults (a chip, dirt, a probing error), by externally studentised
+//!   residuals against a robust σ with a Bonferroni bound;
+//! - [`repeat`]: repeat measurements of one part, pure error and lack of fit;
+//! - [`layout`]: what a layout of measured points limits (points per curve, curves not measured).
+//!
+//! Units: mm (deviations, σ). Sign: deviation = `(measured − nominal)·N`.
+
+pub mod layout;
+pub mod noise;
+pub mod outliers;
+pub mod repeat;
+pub mod smooth_noise;
