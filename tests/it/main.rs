@@ -16,6 +16,7 @@ mod parity_common;
 mod pool_common;
 
 // The tests, one module per stage file.
+mod architecture;
 mod budget_cli;
 mod budget_envelope;
 mod budget_examples;
