@@ -48,71 +48,13 @@ use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
 };
 use crate::machine::chain::PAPER000_L0;
-use crate::machine::{Branch, Chain};
+use crate::machine::Branch;
 use crate::measurement::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
 use crate::measurement::repeat::{self, LackOfFit, Measurement, PureError, RepeatError};
 use crate::part::{Curve, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
+use crate::settings::{CmmNoise, MachineChoice, NoiseError, NoiseKind};
 use crate::simulate::{ExactDefectModel, SimulateError};
-
-/// The machine whose location errors are identified (the page's "Kinematic chain" setting).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum MachineChoice {
-    /// Paper 000: B head on Z on X, C table on Y (`w C Y' b X Z B t`), tip `L0` below the B axis.
-    #[default]
-    Paper000,
-    /// Paper 001 Appendix 2: X table, A-B head (`w X' b Y Z B A t`), tip `L0 = ls + lt` below A.
-    Paper001,
-    /// Paper 002 eq. 1: B-C tilting table (`w C' B' b X Y Z t`), tip at the machine point (no L0).
-    Paper002,
-}
-
-impl MachineChoice {
-    /// The chain with the pivot length `l0` (mm; unused by the tilting table).
-    pub fn chain(self, l0: f64) -> Chain {
-        match self {
-            MachineChoice::Paper000 => Chain::paper000(l0),
-            // Only ls + lt enters the tool tip (T_12p raises Z by ls + lt, the tip is ls + lt below A).
-            MachineChoice::Paper001 => Chain::paper001(l0, 0.0),
-            MachineChoice::Paper002 => Chain::paper002(),
-        }
-    }
-    /// The three chains, in the page's order.
-    pub const ALL: [MachineChoice; 3] = [
-        MachineChoice::Paper000,
-        MachineChoice::Paper002,
-        MachineChoice::Paper001,
-    ];
-    /// Whether the pivot length L0 enters the chain (not on the tilting table).
-    pub fn uses_l0(self) -> bool {
-        self != MachineChoice::Paper002
-    }
-    /// What a page or report shows of the machine.
-    pub fn info(self) -> MachineInfo {
-        MachineInfo {
-            id: self,
-            name: self.describe(),
-            uses_l0: self.uses_l0(),
-        }
-    }
-    /// A plain description for reports.
-    pub fn describe(self) -> &'static str {
-        match self {
-            MachineChoice::Paper000 => "B head / C table (paper 000, w C Y' b X Z B t)",
-            MachineChoice::Paper001 => "A-B head, X table (paper 001, w X' b Y Z B A t)",
-            MachineChoice::Paper002 => "B-C tilting table (paper 002, w C' B' b X Y Z t)",
-        }
-    }
-}
-
-/// A machine as the page lists it (JSON `{id, name, uses_l0}`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct MachineInfo {
-    pub id: MachineChoice,
-    pub name: &'static str,
-    pub uses_l0: bool,
-}
 
 /// Settings of an analysis; `Default` is the spec's default (physical mode, signed B, paper
 /// 000's machine with L0 = 499.889 mm, no tool-radius term, rows with problems reject the file).
@@ -194,14 +136,8 @@ pub enum AnalysisError {
     Identify(#[from] IdentifyError),
     #[error("L0 = {0} mm is not a positive finite length")]
     BadL0(f64),
-    #[error("CMM uncertainty σ = {0} mm is not a positive finite number")]
-    BadSigma(f64),
-    #[error(
-        "the CMM noise is given twice: σ = {sigma} mm and MPE = {a} + L/{k} µm; give one of them"
-    )]
-    SigmaAndMpe { sigma: f64, a: f64, k: f64 },
-    #[error("CMM MPE: {0}")]
-    BadMpe(IdentifyError),
+    #[error(transparent)]
+    Noise(#[from] NoiseError),
     #[error("exact model: {0}")]
     Exact(#[from] SimulateError),
     #[error("exact-model refinement: {0}")]
@@ -302,7 +238,7 @@ pub struct Outliers {
 pub struct NoiseSource {
     /// `given` (σ), `mpe` (from the CMM's MPE), `repeat` (σ of the mean of repeat
     /// measurements, from their differences) or `estimated` (from the residual).
-    pub source: &'static str,
+    pub source: NoiseKind,
     /// The σ given or from the MPE (mm); `None` when estimated (the diagnosis's own estimate is
     /// `diagnosis.report.verdict.sigma`).
     pub sigma: Option<f64>,
@@ -313,76 +249,30 @@ pub struct NoiseSource {
     pub summary: String,
 }
 
-/// σ (mm) from a CMM's MPE at points at distances `lengths` (mm) from the part origin: each
-/// point's `σ_i = max(MPE_E(L_i)/√3, R0/1.693)` (the Monte Carlo's rule,
-/// [`crate::identify::monte_carlo::CmmMpe::sigma_mm`]); the analysis uses their **median** as
-/// one σ for every point, in the identification and in the diagnosis. Why one σ and not
-/// per-point weights: the diagnosis's tests (χ², F, the k σ rule) and the correlated fit of an
-/// unexplained structure take one white σ, and the final answer must be fitted as the diagnosis
-/// was; on the S-shape (L ≤ 160 mm) the σ_i differ by less than a factor 1.3 for usual MPEs
-/// (`3 + L/75`: 1.77..2.96 µm), so weights would change the estimates little. Returns (median,
-/// min, max).
-pub fn noise_from_mpe(mpe: &CmmMpe, lengths: &[f64]) -> (f64, f64, f64) {
-    let mut s: Vec<f64> = lengths.iter().map(|&l| mpe.sigma_mm(l)).collect();
-    s.sort_by(f64::total_cmp);
-    if s.is_empty() {
-        return (0.0, 0.0, 0.0);
-    }
-    let m = s.len();
-    let med = if m % 2 == 1 {
-        s[m / 2]
-    } else {
-        0.5 * (s[m / 2 - 1] + s[m / 2])
-    };
-    (med, s[0], s[m - 1])
-}
-
 /// The σ an analysis uses (checked) and where it came from.
 fn noise_source(opts: &AnalysisOptions, lengths: &[f64]) -> Result<NoiseSource, AnalysisError> {
-    if let Some(s) = opts.noise_sigma {
-        if !(s.is_finite() && s > 0.0) {
-            return Err(AnalysisError::BadSigma(s));
-        }
-    }
-    match (opts.noise_sigma, &opts.noise_mpe) {
-        (Some(sigma), Some(m)) => Err(AnalysisError::SigmaAndMpe {
-            sigma,
-            a: m.a_um,
-            k: m.k_mm,
-        }),
-        (Some(sigma), None) => Ok(NoiseSource {
-            source: "given",
-            sigma: Some(sigma),
-            mpe_range: None,
-            summary: format!("Noise: σ = {:.2} µm, as given.", sigma * 1e3),
-        }),
-        (None, Some(m)) => {
-            let m = CmmMpe::try_new(m.a_um, m.k_mm, m.r0_um).map_err(AnalysisError::BadMpe)?;
-            let (med, lo, hi) = noise_from_mpe(&m, lengths);
-            Ok(NoiseSource {
-                source: "mpe",
-                sigma: Some(med),
-                mpe_range: Some((lo, hi)),
-                summary: format!(
-                    "Noise: σ = {:.2} µm from the CMM's MPE_E = {} + L/{} µm (R0 = {} µm): \
-                     σ_i = max(MPE_E(L_i)/√3, R0/1.693) = {:.2}..{:.2} µm over the points \
-                     (L = distance from the part origin), median used.",
-                    med * 1e3,
-                    m.a_um,
-                    m.k_mm,
-                    m.r0_um,
-                    lo * 1e3,
-                    hi * 1e3
-                ),
-            })
-        }
-        (None, None) => Ok(NoiseSource {
-            source: "estimated",
-            sigma: None,
-            mpe_range: None,
-            summary: "Noise: σ estimated from the residual (no CMM figure given).".to_string(),
-        }),
-    }
+    let noise = CmmNoise::try_new(opts.noise_sigma, opts.noise_mpe.as_ref())?.resolve(lengths);
+    let summary = match (noise.sigma, noise.mpe) {
+        (Some(med), Some(r)) => format!(
+            "Noise: σ = {:.2} µm from the CMM's MPE_E = {} + L/{} µm (R0 = {} µm): \
+             σ_i = max(MPE_E(L_i)/√3, R0/1.693) = {:.2}..{:.2} µm over the points \
+             (L = distance from the part origin), median used.",
+            med * 1e3,
+            r.mpe.a_um,
+            r.mpe.k_mm,
+            r.mpe.r0_um,
+            r.lo * 1e3,
+            r.hi * 1e3
+        ),
+        (Some(sigma), None) => format!("Noise: σ = {:.2} µm, as given.", sigma * 1e3),
+        (None, _) => "Noise: σ estimated from the residual (no CMM figure given).".to_string(),
+    };
+    Ok(NoiseSource {
+        source: noise.kind,
+        sigma: noise.sigma,
+        mpe_range: noise.mpe.map(|r| (r.lo, r.hi)),
+        summary,
+    })
 }
 
 /// The baseline identification of an analysis: the location errors alone (`--effects none`).
@@ -780,7 +670,7 @@ pub fn analyse_parts(
 ) -> Result<(Analysis, Fitted), AnalysisError> {
     if let Some(s) = opts.noise_sigma {
         if !(s.is_finite() && s > 0.0) {
-            return Err(AnalysisError::BadSigma(s));
+            return Err(NoiseError::BadSigma(s).into());
         }
     }
     let part = SShape::iso();
@@ -788,7 +678,7 @@ pub fn analyse_parts(
     let points = measurement_points(&part, &matched);
     let noise = match &pure {
         Some(pe) => NoiseSource {
-            source: "repeat",
+            source: NoiseKind::Repeat,
             sigma: Some(pe.sigma_mean),
             mpe_range: None,
             // written with the lack of fit, once the baseline is fitted (below)
@@ -872,11 +762,11 @@ pub fn analyse_parts(
     }
     for id in [&mut identification, &mut final_id] {
         name_outliers(id, &outliers);
-        if noise.source != "estimated" && noise.source != "given" {
+        if noise.source.is_derived() {
             id.notes.push(noise.summary.clone());
         }
     }
-    if noise.source != "estimated" && noise.source != "given" {
+    if noise.source.is_derived() {
         if let Diagnosis::Made { report, .. } = &mut diagnosis {
             report.summary = format!("{}\n{}\n", report.summary.trim_end(), noise.summary);
         }

@@ -34,6 +34,7 @@ pub mod plan;
 pub mod pool;
 pub mod program;
 pub mod sensitivity;
+pub mod settings;
 pub mod simulate;
 pub mod summary;
 pub mod tolerance;

@@ -337,7 +337,7 @@ pub fn identify_parts(
         if !(s.is_finite() && s > 0.0) {
             return Err(PoolError::Part {
                 name: "settings".into(),
-                source: AnalysisError::BadSigma(s),
+                source: crate::settings::NoiseError::BadSigma(s).into(),
             });
         }
         iopts = iopts.with_sigma(s);

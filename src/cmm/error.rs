@@ -216,7 +216,7 @@ pub enum CmmError {
     #[error("wrong units: {detail}")]
     WrongUnits { detail: String },
 
-    #[error("the measurement is not aligned to the part: {detail}; the CMM coordinate system must be the part's (origin and axes of s-shape.md), or this is another part")]
+    #[error("the measurement is not aligned to the part: {detail}; the CMM coordinate system must be the part's (origin and axes of the part frame: paper 000 Table 1's, Z = 0 at the base, Z up), or this is another part")]
     NotAligned { detail: String },
 
     #[error("{count} bad row(s) on {lines} line(s) of {rows} data rows; the file is rejected as a whole (choose to exclude these rows explicitly to use the others):{}", list_rows(.problems))]

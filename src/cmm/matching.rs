@@ -195,7 +195,7 @@ fn far_reason(part: &Projector<SShape>, p: &Vector3<f64>, max_mm: f64) -> String
             }
         }
     }
-    "no unit conversion brings it onto the part: probably the alignment (part origin and axes of s-shape.md), or a point not on the test piece (probe slip, fixture)".into()
+    "no unit conversion brings it onto the part: probably the alignment (part origin and axes of the part frame: paper 000 Table 1's, Z = 0 at the base, Z up), or a point not on the test piece (probe slip, fixture)".into()
 }
 
 /// Matches the points of `file` to `part` with the rules of the module docs. Bad rows (points

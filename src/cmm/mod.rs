@@ -379,7 +379,7 @@ fn exclude_bad_rows(
 }
 
 /// Warnings about how the table was read: title lines before the header (`all`: every line
-/// of the file, for the excerpt), positions read as measured (cmm-csv.md rule 3).
+/// of the file, for the excerpt), positions read as measured.
 fn layout_warnings(table: &ParsedTable, all: &[&str]) -> Vec<CmmWarning> {
     let mut warnings = Vec::new();
     if !table.preamble.is_empty() {
@@ -396,7 +396,7 @@ fn layout_warnings(table: &ParsedTable, all: &[&str]) -> Vec<CmmWarning> {
     }
     if table.layout.positions_read_as_measured {
         warnings.push(CmmWarning::file(
-            "the file has positions x, y, z but neither a deviation nor measured columns: they are read as measured positions and projected onto the nominal part (cmm-csv.md rule 3)",
+            "the file has positions x, y, z but neither a deviation nor measured columns: they are read as measured positions and projected onto the nominal part",
         ));
     }
     warnings

@@ -99,7 +99,7 @@ pub struct FormatInfo {
     /// The columns with their meaning and unit.
     pub columns: Vec<Column>,
     /// Positions x, y, z with neither a deviation nor measured columns: read as measured
-    /// positions and projected (cmm-csv.md rule 3).
+    /// positions and projected.
     #[serde(default)]
     pub positions_read_as_measured: bool,
 }

@@ -35,7 +35,7 @@ pub enum GapError {
     DuplicateCandidate(crate::effects::Effect),
     #[error("candidate `{0}` has no signature column")]
     EmptyCandidate(crate::effects::Effect),
-    #[error("unknown effect id `{0}` (see shared/spec/effects.md)")]
+    #[error("unknown effect id `{0}` (`testpiece machine` lists the ids)")]
     UnknownEffect(String),
     #[error("`{key}`: `{effect}` has the parameters {known}; write `{effect}.<parameter>`")]
     ParameterNeeded {

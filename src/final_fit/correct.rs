@@ -685,7 +685,7 @@ mod tests {
                 .parse::<EffectsChoice>()
                 .unwrap_err()
                 .to_string(),
-            "unknown effect id `backlash_q` (see shared/spec/effects.md)"
+            "unknown effect id `backlash_q` (`testpiece machine` lists the ids)"
         );
         assert_eq!(
             "c_index,c_index"

@@ -39,7 +39,7 @@ pub fn write_dmis(points: &[MeasurementPoint], header: &str) -> String {
     for line in header.lines() {
         let _ = writeln!(s, "$$ {line}");
     }
-    s.push_str("$$ part frame of ISO 10791-7 S-shape (shared/spec/s-shape.md); probe approaches along -N\n");
+    s.push_str("$$ part frame of ISO 10791-7 S-shape (paper 000 Table 1, Z = 0 at the base, Z up); probe approaches along -N\n");
     s.push_str("UNITS/MM,ANGDEC\n");
     s.push_str("MODE/PROG,MAN\n");
     for p in points {

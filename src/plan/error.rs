@@ -9,14 +9,8 @@ pub enum PlanError {
     PointsPerCurve { per_curve: usize, max: usize },
     #[error("{total} points in all: expected 4 to {max} (spread over the 4 curves)")]
     TotalPoints { total: usize, max: usize },
-    #[error("CMM uncertainty σ = {0} mm is not a positive finite number")]
-    BadSigma(f64),
-    #[error(
-        "the CMM noise is given twice: σ = {sigma} mm and MPE = {a} + L/{k} µm; give one of them"
-    )]
-    SigmaAndMpe { sigma: f64, a: f64, k: f64 },
-    #[error("CMM MPE: {0}")]
-    BadMpe(String),
+    #[error(transparent)]
+    Noise(#[from] crate::settings::NoiseError),
     #[error("L0 = {0} mm is not a positive finite length")]
     BadL0(f64),
     #[error("design at the plan's points: {0}")]

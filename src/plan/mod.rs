@@ -12,7 +12,7 @@
 //! - the CMM program ([`dmis`], ISO 22093) and the nominal table ([`nominal_csv`]).
 //!
 //! σ is the CMM's standard uncertainty of one deviation: given (mm), or from its MPE
-//! `A + L/K` µm by the analysis's own rule ([`crate::analysis::noise_from_mpe`]: the median over
+//! `A + L/K` µm by the analysis's own rule ([`crate::settings::cmm_noise::noise_from_mpe`]: the median over
 //! the plan's points of `max(MPE_E(L)/√3, R0/1.693)`), by default the CMM of paper 000 §6
 //! (`3 + L/75` µm, `R0` = 3 µm). Units: mm and rad.
 
@@ -31,7 +31,7 @@ pub use error::PlanError;
 pub use layout::{plan_points, split_total, MAX_PER_CURVE};
 pub use predict::{predicted_identification, PredictedParameter, Prediction};
 
-use crate::analysis::{noise_from_mpe, AnalysisOptions, MachineChoice};
+use crate::analysis::AnalysisOptions;
 use crate::effects::builtin::part_model_on;
 use crate::gap::DiagnoseOptions;
 use crate::identify::monte_carlo::CmmMpe;
@@ -40,6 +40,8 @@ use crate::machine::chain::PAPER000_L0;
 use crate::machine::Branch;
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::Mode;
+use crate::settings::MachineChoice;
+use crate::settings::{CmmNoise, NoiseKind};
 
 /// Settings of a plan; `Default`: 25 points per curve, the CMM of paper 000 (MPE `3 + L/75` µm,
 /// `R0` 3 µm), paper 000's machine with L0 = 499.889 mm, `physical` mode, signed B, no `dR`.
@@ -96,7 +98,7 @@ impl PlanOptions {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PlanNoise {
     /// `given` or `mpe`.
-    pub source: &'static str,
+    pub source: NoiseKind,
     /// σ of one deviation (mm).
     pub sigma: f64,
     /// The MPE it came from (source `mpe`).
@@ -152,42 +154,34 @@ impl PredictedMap {
 
 /// The σ of `opts` at `points` (checked).
 pub fn plan_noise(opts: &PlanOptions, points: &[MeasurementPoint]) -> Result<PlanNoise, PlanError> {
-    match (opts.sigma, opts.mpe) {
-        (Some(sigma), Some(m)) => Err(PlanError::SigmaAndMpe {
-            sigma,
-            a: m.a_um,
-            k: m.k_mm,
-        }),
-        (Some(s), None) if !(s.is_finite() && s > 0.0) => Err(PlanError::BadSigma(s)),
-        (Some(sigma), None) => Ok(PlanNoise {
-            source: "given",
-            sigma,
-            mpe: None,
-            summary: format!("CMM σ = {:.2} µm, as given.", sigma * 1e3),
-        }),
-        (None, m) => {
-            let m = m.unwrap_or_else(CmmMpe::paper000);
-            let m = CmmMpe::try_new(m.a_um, m.k_mm, m.r0_um)
-                .map_err(|e| PlanError::BadMpe(e.to_string()))?;
-            let lengths: Vec<f64> = points.iter().map(|p| p.point.norm()).collect();
-            let (sigma, lo, hi) = noise_from_mpe(&m, &lengths);
-            Ok(PlanNoise {
-                source: "mpe",
-                sigma,
-                mpe: Some(m),
-                summary: format!(
-                    "CMM σ = {:.2} µm from MPE_E = {} + L/{} µm (R0 = {} µm): \
-                     max(MPE_E(L)/√3, R0/1.693) = {:.2}..{:.2} µm over the points, median used.",
-                    sigma * 1e3,
-                    m.a_um,
-                    m.k_mm,
-                    m.r0_um,
-                    lo * 1e3,
-                    hi * 1e3
-                ),
-            })
-        }
-    }
+    // No figure given: the plan assumes paper 000's CMM.
+    let paper000 = CmmMpe::paper000();
+    let mpe = opts
+        .mpe
+        .as_ref()
+        .or(opts.sigma.is_none().then_some(&paper000));
+    let lengths: Vec<f64> = points.iter().map(|p| p.point.norm()).collect();
+    let noise = CmmNoise::try_new(opts.sigma, mpe)?.resolve(&lengths);
+    let sigma = noise.sigma.unwrap_or_default();
+    let summary = match noise.mpe {
+        Some(r) => format!(
+            "CMM σ = {:.2} µm from MPE_E = {} + L/{} µm (R0 = {} µm): \
+             max(MPE_E(L)/√3, R0/1.693) = {:.2}..{:.2} µm over the points, median used.",
+            sigma * 1e3,
+            r.mpe.a_um,
+            r.mpe.k_mm,
+            r.mpe.r0_um,
+            r.lo * 1e3,
+            r.hi * 1e3
+        ),
+        None => format!("CMM σ = {:.2} µm, as given.", sigma * 1e3),
+    };
+    Ok(PlanNoise {
+        source: noise.kind,
+        sigma,
+        mpe: noise.mpe.map(|r| r.mpe),
+        summary,
+    })
 }
 
 /// The measurement plan of `opts`.

@@ -26,12 +26,12 @@ pub use error::ProgramError;
 pub use gcode::{read_gcode, write_gcode, GcodePass, RETRACT};
 pub use sampling::{max_step, sample_surface};
 
-use crate::analysis::MachineChoice;
 use crate::budget::ToolPath;
 use crate::machine::chain::PAPER000_L0;
 use crate::machine::inverse::solve_linear;
 use crate::machine::{AxisValues, Branch, Chain};
 use crate::part::{SShape, Surface};
+use crate::settings::MachineChoice;
 use crate::toolpath::{tool_pose, TOOL_RADIUS};
 
 /// Settings of a program; `Default`: paper 000's machine, L0 = 499.889 mm, signed B, 1 µm
@@ -226,7 +226,7 @@ impl Program {
              tool: flat end mill, diameter {} mm, programmed point = tool tip, axis = ruling R(u) (paper 000 eq. 2)\n\
              branch: {branch}\n\
              chord tolerance: {} mm; feed {} mm/min; {} + {} positions\n\
-             units: mm, degrees; part frame of shared/spec/s-shape.md",
+             units: mm, degrees; part frame of paper 000 Table 1 (Z = 0 at the base, Z up)",
             self.version,
             self.machine,
             2.0 * TOOL_RADIUS,

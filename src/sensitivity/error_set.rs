@@ -360,7 +360,7 @@ fn conventions(
         format!(
             "Reference pose: the part origin is set with the tool tip on it and the tool \
              vertical, at {}; a constant displacement of the tool relative to the part is \
-             removed there (physical mode of s-shape.md).",
+             removed there (the physical mode).",
             pose.join(", ")
         ),
         "Directions: X is the primary axis (it defines x), Y the secondary (with X, the xy \

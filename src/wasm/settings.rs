@@ -2,7 +2,7 @@
 
 use wasm_bindgen::prelude::*;
 
-use crate::analysis::MachineChoice;
+use crate::settings::MachineChoice;
 
 /// The machines of the "Kinematic chain" setting: `[{id, name, uses_l0}]`, `id` being the
 /// value of the analysis setting `machine`.

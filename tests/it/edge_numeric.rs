@@ -286,7 +286,13 @@ fn zero_negative_and_non_finite_noise_are_refused() {
             ..Default::default()
         };
         let e = analyse(&clean, "c.csv", &o).unwrap_err();
-        assert!(matches!(e, AnalysisError::BadSigma(_)), "{e}");
+        assert!(
+            matches!(
+                e,
+                AnalysisError::Noise(testpiece::settings::NoiseError::BadSigma(_))
+            ),
+            "{e}"
+        );
         assert_eq!(
             e.to_string(),
             format!("CMM uncertainty σ = {s} mm is not a positive finite number")

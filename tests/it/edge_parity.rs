@@ -19,10 +19,11 @@ use std::path::PathBuf;
 
 use crate::parity_common::*;
 use serde_json::Value;
-use testpiece::analysis::{analyse, AnalysisOptions, MachineChoice};
+use testpiece::analysis::{analyse, AnalysisOptions};
 use testpiece::cmm::{read_and_match, ReadOptions};
 use testpiece::identify::monte_carlo::{monte_carlo, MonteCarloOptions, Noise};
 use testpiece::identify::{identify, IdentifyOptions, Observations};
+use testpiece::settings::MachineChoice;
 use testpiece::simulate::{builtin_design, simulate_deviation, simulate_exact};
 
 fn root() -> PathBuf {

@@ -178,7 +178,7 @@ fn the_choice_overrides_the_verdict() {
     assert_eq!(a.identification, a.baseline.identification);
     assert_eq!(a.correction.verdict.unwrap().as_str(), "backlash_c");
     let o = AnalysisOptions {
-        machine: testpiece::analysis::MachineChoice::Paper001,
+        machine: testpiece::settings::MachineChoice::Paper001,
         effects: "backlash_c".parse().unwrap(),
         ..Default::default()
     };
@@ -194,7 +194,7 @@ fn the_choice_overrides_the_verdict() {
         &example_file("example_backlash_c"),
         "b",
         &AnalysisOptions {
-            machine: testpiece::analysis::MachineChoice::Paper001,
+            machine: testpiece::settings::MachineChoice::Paper001,
             ..Default::default()
         },
     )

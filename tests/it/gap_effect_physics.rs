@@ -12,7 +12,6 @@
 
 use crate::edge_common::builtin;
 use nalgebra::{Matrix3, Vector3};
-use testpiece::analysis::MachineChoice;
 use testpiece::effects::builtin::{part_model_every_candidate, part_model_on, PartModel};
 use testpiece::effects::path_length::total_path_length;
 use testpiece::effects::Effect;
@@ -23,6 +22,7 @@ use testpiece::machine::{AxisName, AxisValues, Branch, Chain};
 use testpiece::part::{MeasurementPoint, SShape};
 use testpiece::sensitivity::defect::axis_values;
 use testpiece::sensitivity::SensitivityOptions;
+use testpiece::settings::MachineChoice;
 
 fn chain_of(m: MachineChoice) -> Chain {
     m.chain(PAPER000_L0)

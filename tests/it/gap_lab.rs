@@ -57,7 +57,7 @@ fn repeats_give_sigma_from_their_differences() {
         "{}",
         r.pure_error.sigma
     );
-    assert_eq!(a.noise.source, "repeat");
+    assert_eq!(a.noise.source, testpiece::settings::NoiseKind::Repeat);
     assert_eq!(a.noise.sigma, Some(r.pure_error.sigma / 3f64.sqrt()));
     // the backlash leaves structure: lack of fit of the location errors alone
     assert!(r.lack_of_fit.p_value < 1e-6, "{:?}", r.lack_of_fit);

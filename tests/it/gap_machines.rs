@@ -5,7 +5,7 @@
 
 use crate::cli_common::{testpiece, testpiece_ok};
 use crate::edge_common::*;
-use testpiece::analysis::{analyse, diagnose_on_machine, AnalysisOptions, MachineChoice};
+use testpiece::analysis::{analyse, diagnose_on_machine, AnalysisOptions};
 use testpiece::effects::builtin::{
     part_model, part_model_every_candidate, part_model_on, PartModel,
 };
@@ -17,6 +17,7 @@ use testpiece::machine::AxisName;
 use testpiece::numerics::random::Sampler;
 use testpiece::part::SShape;
 use testpiece::sensitivity::SensitivityOptions;
+use testpiece::settings::MachineChoice;
 
 fn options(machine: MachineChoice) -> AnalysisOptions {
     AnalysisOptions {

@@ -4,7 +4,7 @@
 
 use crate::cli_common;
 
-use testpiece::analysis::{analyse, noise_from_mpe, Analysis, AnalysisOptions};
+use testpiece::analysis::{analyse, Analysis, AnalysisOptions};
 use testpiece::effects::builtin::builtin_model;
 use testpiece::effects::{Effect, GapInput};
 use testpiece::identify::monte_carlo::CmmMpe;
@@ -12,6 +12,7 @@ use testpiece::machine::AxisName;
 use testpiece::measurement::outliers::find_outliers;
 use testpiece::numerics::random::Sampler;
 use testpiece::part::SShape;
+use testpiece::settings::cmm_noise::noise_from_mpe;
 use testpiece::validate::{validate, ValidateOptions, ValidationModel};
 
 const CLEAN: &str = include_str!("../data/reference/examples/example_clean.csv");
@@ -207,7 +208,7 @@ fn the_cmm_mpe_gives_the_median_sigma_and_is_reported() {
         ..Default::default()
     };
     let a = run(CLEAN, &opts);
-    assert_eq!(a.noise.source, "mpe");
+    assert_eq!(a.noise.source, testpiece::settings::NoiseKind::Mpe);
     assert_eq!(a.noise.sigma, Some(med));
     assert_eq!(a.noise.mpe_range, Some((lo, hi)));
     assert_eq!(a.baseline.identification.sigma, Some(med));
@@ -226,7 +227,7 @@ fn the_cmm_mpe_gives_the_median_sigma_and_is_reported() {
             ..Default::default()
         },
     );
-    assert_eq!(b.noise.source, "given");
+    assert_eq!(b.noise.source, testpiece::settings::NoiseKind::Given);
     assert_eq!(
         a.identification.values(),
         b.identification.values(),

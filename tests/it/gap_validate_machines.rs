@@ -13,12 +13,12 @@
 //! | paper002 | 79/80 98.8 %   | 98/103 95.1 %  | 15/17 88.2 %  |
 
 use crate::cli_common::{testpiece, testpiece_ok};
-use testpiece::analysis::MachineChoice;
 use testpiece::effects::builtin::location_equivalents_of;
 use testpiece::effects::Effect;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::part::{builtin_points, SShape};
 use testpiece::sensitivity::SensitivityOptions;
+use testpiece::settings::MachineChoice;
 use testpiece::validate::single::ValidationReport;
 use testpiece::validate::{
     exact_machine_part_on, table, validate, validate_with, ValidateOptions, ValidationModel,

@@ -3,7 +3,7 @@
 //! the whole ISO 230-1 list, and the tilting table's C-axis offset is identified.
 
 use nalgebra::{DMatrix, DVector};
-use testpiece::analysis::{analyse, AnalysisOptions, MachineChoice};
+use testpiece::analysis::{analyse, AnalysisOptions};
 use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::location_errors::LocationError;
@@ -15,6 +15,7 @@ use testpiece::sensitivity::error_set::{
     error_set, full_list, ErrorStatus, INVISIBLE_NM, VISIBLE_FRACTION,
 };
 use testpiece::sensitivity::{defect, SensitivityOptions};
+use testpiece::settings::MachineChoice;
 
 /// Columns of the whole list in typical sizes (1e-4 rad, 0.01 mm), mm.
 fn columns(m: MachineChoice, branch: Branch) -> (Vec<LocationError>, Vec<DVector<f64>>) {

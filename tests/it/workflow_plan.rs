@@ -20,8 +20,8 @@ use testpiece::tolerance::{PLAN_STD_REL as STD_REL, POINTS_MM};
 #[test]
 fn predicted_std_equals_the_identification_on_a_part_measured_with_the_plan() {
     for (per_curve, machine) in [
-        ([13; 4], testpiece::analysis::MachineChoice::Paper000),
-        ([7, 9, 11, 13], testpiece::analysis::MachineChoice::Paper002),
+        ([13; 4], testpiece::settings::MachineChoice::Paper000),
+        ([7, 9, 11, 13], testpiece::settings::MachineChoice::Paper002),
     ] {
         let opts = PlanOptions {
             per_curve,

@@ -6,12 +6,12 @@
 //!   and both B branches.
 
 use crate::cli_common::testpiece_ok;
-use testpiece::analysis::MachineChoice;
 use testpiece::budget::synthetic::write_trace_csv;
 use testpiece::budget::{read_trace, TraceMachine};
 use testpiece::machine::description::AngleUnit;
 use testpiece::machine::Branch;
 use testpiece::program::{program, read_gcode, ProgramOptions};
+use testpiece::settings::MachineChoice;
 use testpiece::tolerance::GCODE_REPLAY_MM as REPLAY_MM;
 
 fn budget_cam(cl: &str, tolerance: f64) -> (f64, f64) {

@@ -104,7 +104,7 @@ const NATIVE_PAPER002: &str = include_str!("../data/parity/analysis_paper002.jso
 /// `PARITY_REL`, the refined final answer to `LM_FTOL_REL`.
 #[wasm_bindgen_test]
 fn tilting_table_not_separable_values_match_native() {
-    use testpiece::analysis::MachineChoice;
+    use testpiece::settings::MachineChoice;
     let native: serde_json::Value =
         serde_json::from_str(NATIVE_PAPER002).expect("analysis_paper002.json");
     let opts = AnalysisOptions {

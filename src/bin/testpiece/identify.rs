@@ -1,13 +1,14 @@
 //! `testpiece identify FILE`: identify the machine's errors from a measured part.
 
 use crate::args::Args;
-use testpiece::analysis::{AnalysisOptions, Fitted, MachineChoice};
+use testpiece::analysis::{AnalysisOptions, Fitted};
 use testpiece::final_fit::correct::{Basis, EffectsChoice};
 use testpiece::identify::monte_carlo::{monte_carlo, CmmMpe, MonteCarloOptions, Noise};
 use testpiece::identify::{export, ExcludedPoint, IdentifyOptions, Status};
 use testpiece::machine::Branch;
 use testpiece::pool::{identify_pooled, PoolOptions};
 use testpiece::sensitivity::Mode;
+use testpiece::settings::MachineChoice;
 
 const HELP: &str = "\
 testpiece identify FILE [--mode physical|paper] [--branch signed|positive] [--tool-radius]

@@ -122,7 +122,7 @@ pub fn run(rest: &[String]) -> Result<(), String> {
         }
     }
     // Paper 000 with its eight errors keeps the design-based path (its parts bit for bit).
-    let on_chain = machine != testpiece::analysis::MachineChoice::Paper000
+    let on_chain = machine != testpiece::settings::MachineChoice::Paper000
         || errs
             .iter()
             .any(|(n, _)| n != "dR" && !ISO_LOCATION_ERRORS.contains(&n.as_str()));

@@ -1,10 +1,10 @@
 //! `testpiece validate [--machine M] [--cases N] [--seed S] [--known-sigma] [--exact] [--pairs]
 //! [--json]`: the withheld-effect benchmark of the gap diagnosis.
 
-use testpiece::analysis::MachineChoice;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::part::{builtin_points, SShape};
 use testpiece::sensitivity::SensitivityOptions;
+use testpiece::settings::MachineChoice;
 use testpiece::validate::shapes::Shape;
 use testpiece::validate::{
     conditions_table, exact_machine_part, exact_machine_part_on, pairs_table, run_conditions,
