@@ -112,7 +112,7 @@ pub fn run_conditions(
     which: &[&str],
     cases: usize,
     seed: u64,
-) -> Result<ConditionsReport, GapError> {
+) -> Result<ConditionsReport, super::ValidateError> {
     let base = ValidateOptions::default().with_cases(cases).with_seed(seed);
     let mut rows = Vec::new();
     for &name in CONDITIONS
@@ -165,10 +165,10 @@ pub fn run_conditions(
                 }
             }
             other => {
-                return Err(GapError::Invalid(format!(
+                return Err(super::ValidateError::from(GapError::Invalid(format!(
                     "unknown condition `{other}` (known: {})",
                     CONDITIONS.join(", ")
-                )))
+                ))))
             }
         };
         r.rate = r.correct as f64 / r.cases.max(1) as f64;

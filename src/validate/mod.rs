@@ -15,6 +15,20 @@ pub mod parameter_error;
 pub mod shapes;
 pub mod single;
 
+/// Why a validation run stopped, with the stage's own message.
+#[derive(Debug, thiserror::Error)]
+pub enum ValidateError {
+    #[error("{0}")]
+    Model(#[from] crate::effects::GapError),
+    #[error("case {case}: {source}")]
+    Analysis {
+        case: usize,
+        source: crate::analysis::AnalysisError,
+    },
+    #[error("case {case}: no diagnosis was made ({reason})")]
+    NotDiagnosed { case: usize, reason: String },
+}
+
 pub use conditions::{conditions_table, run_conditions, ConditionsReport, CONDITIONS};
 pub use pairs::{pairs_table, validate_pairs, PairCase, PairValidation};
 pub use parameter_error::{answer_error, AnswerError, ErrorComparison, ErrorSummary};

@@ -17,21 +17,21 @@
 //! - with `spikes` (`--spikes`), a single-point fault on every case: one point drawn uniformly,
 //!   its deviation moved by ±[`SPIKE_MIN_MM`]..[`SPIKE_MAX_MM`] (a chip, dirt, a probing error).
 //!
-//! Every case goes through the outlier test of the analysis ([`crate::measurement::outliers`]): the
-//! points it names are left out of the diagnosis, as `testpiece diagnose` does; the report
-//! counts how often the spike is named and how often another point is.
+//! Every case is then analysed exactly as a user's file is: [`crate::analysis::fit_points`], the
+//! function the CLI and the page run once a file's points are matched, with the model's
+//! settings (machine, L0, branch; σ estimated, or the simulated σ with `known_sigma`): the
+//! outlier test ([`crate::measurement::outliers`]; the points it names are left out), the
+//! diagnosis with the axis reversals of the chain, the baseline fit of the location errors with
+//! its exact-model refinement, and the final answer of [`crate::final_fit::correct`] for the
+//! verdict (the location errors fitted with the named effect, by generalised least squares with
+//! the structure's covariance when `unexplained`, the baseline when `none`), refined likewise.
+//! The report counts how often a spike is named and how often another point is; the baseline
+//! and the final answer are compared with the simulated `ξ` ([`super::parameter_error`]: largest
+//! error in typical units, coverage by 2 std), per case and summarised per group of expected
+//! verdict and per effect.
 //!
 //! [`validate_with`] replaces the linear machine part `A ξ` by any model of it (the CLI's
-//! `--exact`: the exact eq. 12 defect of [`crate::simulate::ExactDefectModel`]) while the
-//! diagnosis keeps fitting the linear baseline.
-//!
-//! Each case is then identified as a user would get it: the baseline fit of the location errors
-//! `A` alone, and the final answer of [`crate::final_fit::correct`] for the verdict (the location errors
-//! fitted with the named effect, by generalised least squares with the structure's covariance when
-//! `unexplained`, the baseline when `none`), without the exact-model refinement (the twin is
-//! linear). Both are compared with the simulated `ξ` ([`super::parameter_error`]: largest error in
-//! typical units, coverage by 2 std), per case and summarised per group of expected verdict and
-//! per effect.
+//! `--exact`: the exact eq. 12 defect of [`crate::simulate::ExactDefectModel`]).
 //!
 //! Expected verdict: the effect when `ρ > 1` (detectable), `none` when `ρ ≤ 1` or no effect,
 //! `unexplained` for a detectable out-of-list effect. A verdict counts as correct when it is the
@@ -45,18 +45,21 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use super::parameter_error::{answer_error, AnswerError, ErrorComparison};
-use crate::effects::data::{Candidate, GapInput, NamedColumns, PointMeta};
+use super::ValidateError;
+use crate::analysis::{fit_points, sensitivity_options, AnalysisOptions, Diagnosis};
+use crate::effects::data::{Candidate, NamedColumns, PointMeta};
 use crate::effects::Effect;
 use crate::effects::GapError;
-use crate::final_fit::correct::{self, Basis, CorrectionInput, EffectsChoice};
-use crate::gap::diagnose::{diagnose_with, DiagnoseOptions};
+use crate::final_fit::correct::Basis;
+use crate::gap::diagnose::DiagnoseOptions;
 use crate::gap::equivalence::near_equivalent_pairs;
 use crate::gap::location::DETECT_FACTOR;
 use crate::gap::verdict::VerdictId;
 use crate::identify::solve::{hstack, rms, Factor};
-use crate::identify::{identify, Design, IdentifyOptions, Observations, Parameter};
-use crate::measurement::outliers::{find_outliers, without_rows};
+use crate::identify::{Design, Parameter};
 use crate::numerics::random::Sampler;
+use crate::part::{MeasurementPoint, SShape};
+use crate::sensitivity::Mode;
 
 use super::shapes::{self, Shape, ShapeColumns};
 
@@ -70,6 +73,11 @@ pub use super::shapes::{WAVE_MAX_MM, WAVE_MIN_MM};
 /// The part a validation simulates: points, baseline design and candidate signatures.
 #[derive(Debug, Clone)]
 pub struct ValidationModel {
+    /// The part and its measurement points, and the settings of the analysis every simulated
+    /// part goes through ([`crate::analysis::fit_points`], as the CLI and the page run it).
+    pub part: SShape,
+    pub measured: Vec<MeasurementPoint>,
+    pub settings: AnalysisOptions,
     pub points: Vec<PointMeta>,
     pub baseline: NamedColumns,
     pub candidates: Vec<Candidate>,
@@ -78,44 +86,46 @@ pub struct ValidationModel {
 }
 
 impl ValidationModel {
-    /// The model of a part model's points, without the machine-made shapes' columns.
-    pub fn of(m: crate::effects::builtin::PartModel) -> Self {
-        Self {
-            points: m.points,
-            baseline: m.baseline,
-            candidates: m.candidates,
-            shapes: ShapeColumns::default(),
-        }
-    }
-
     /// The model of `points` of the part on paper 000's machine (physical mode, signed B), with
     /// every out-of-list shape's columns.
-    pub fn at(
-        part: &crate::part::SShape,
-        points: &[crate::part::MeasurementPoint],
-    ) -> Result<Self, GapError> {
-        Self::on(
-            part,
-            points,
-            &crate::sensitivity::SensitivityOptions::default(),
-        )
+    pub fn at(part: &SShape, points: &[MeasurementPoint]) -> Result<Self, GapError> {
+        Self::on(part, points, &AnalysisOptions::default())
     }
 
-    /// The model of `points` of the part on the machine of `opts` (its chain and branch,
-    /// `physical` mode): that machine's baseline (its location errors) and its candidates
-    /// ([`Effect::on_chain`]), with every out-of-list shape's columns the chain has.
+    /// The model of `points` of the part on the machine of `settings` (its chain with its L0,
+    /// its branch; `physical` mode): that machine's baseline (its location errors) and its
+    /// candidates ([`Effect::on_chain`]), with every out-of-list shape's columns the chain has.
+    /// Every simulated part is analysed with `settings` (σ estimated unless the validation
+    /// passes the simulated one).
     pub fn on(
-        part: &crate::part::SShape,
-        points: &[crate::part::MeasurementPoint],
-        opts: &crate::sensitivity::SensitivityOptions,
+        part: &SShape,
+        points: &[MeasurementPoint],
+        settings: &AnalysisOptions,
     ) -> Result<Self, GapError> {
-        let opts = opts.clone().with_mode(crate::sensitivity::Mode::Physical);
+        let settings = AnalysisOptions {
+            mode: Mode::Physical,
+            ..settings.clone()
+        };
+        let opts = sensitivity_options(&settings);
         let m = crate::effects::builtin::part_model_on(part, points, &opts)?;
         let shapes = ShapeColumns::at(part, points, &opts)?;
         Ok(Self {
+            part: part.clone(),
+            measured: points.to_vec(),
+            settings,
+            points: m.points,
+            baseline: m.baseline,
+            candidates: m.candidates,
             shapes,
-            ..Self::of(m)
         })
+    }
+
+    /// The same model without the out-of-list shapes (their cases are skipped).
+    pub fn without_shapes(self) -> Self {
+        Self {
+            shapes: ShapeColumns::default(),
+            ..self
+        }
     }
 
     /// The location errors' design (the baseline's columns, named with their units).
@@ -481,7 +491,7 @@ pub fn effect_parameters(
 pub fn validate(
     model: &ValidationModel,
     opts: &ValidateOptions,
-) -> Result<ValidationReport, GapError> {
+) -> Result<ValidationReport, ValidateError> {
     let a = model.baseline.matrix.clone();
     validate_with(model, opts, &move |xi: &DVector<f64>| Ok(&a * xi))
 }
@@ -493,7 +503,7 @@ pub fn validate_with(
     model: &ValidationModel,
     opts: &ValidateOptions,
     machine: &MachinePart,
-) -> Result<ValidationReport, GapError> {
+) -> Result<ValidationReport, ValidateError> {
     let n = model.points.len();
     let a = &model.baseline.matrix;
     let base = Factor::new(a, None);
@@ -501,6 +511,7 @@ pub fn validate_with(
     let s_path: Vec<f64> = model.points.iter().map(|p| p.s).collect();
     let kinds = model.candidates.len() + 2 + opts.shapes.len();
     let location = model.location_design()?;
+    let ids: Vec<String> = model.measured.iter().map(|p| p.id.to_string()).collect();
     let mut rng = Sampler::new(opts.seed);
     let mut results = Vec::with_capacity(opts.cases);
     for case in 0..opts.cases {
@@ -512,11 +523,6 @@ pub fn validate_with(
             None => opts.noise_sigma,
         };
         let limit = opts.detect_factor * sigma;
-        let iopts = if opts.known_sigma {
-            IdentifyOptions::default().with_sigma(sigma)
-        } else {
-            IdentifyOptions::default()
-        };
         let mut parameters = BTreeMap::new();
         let (truth, effect, design): (Truth, DVector<f64>, Option<DMatrix<f64>>) =
             if kind < model.candidates.len() {
@@ -572,20 +578,26 @@ pub fn validate_with(
             Truth::Effect(e) => VerdictId::Effect(e),
             _ => VerdictId::Unexplained,
         };
-        let input = GapInput {
-            deviations: y.iter().copied().collect(),
-            points: model.points.clone(),
-            baseline: model.baseline.clone(),
-            candidates: model.candidates.clone(),
+        // The part as a user's file would give it, through the analysis the CLI and the page
+        // run: outliers, diagnosis, baseline (refined on the exact model) and final answer.
+        let settings = AnalysisOptions {
             noise_sigma: opts.known_sigma.then_some(sigma),
-            reversals: Vec::new(),
+            ..model.settings.clone()
         };
-        let test = find_outliers(&input);
-        let named = test.indices();
-        let report = if named.is_empty() {
-            diagnose_with(&input, opts.diagnose_options())?
-        } else {
-            diagnose_with(&without_rows(&input, &named), opts.diagnose_options())?
+        let fit = fit_points(&model.part, &model.measured, y.as_slice(), &ids, &settings)
+            .map_err(|source| ValidateError::Analysis { case, source })?;
+        let report = match &fit.diagnosis {
+            Diagnosis::Made { report, .. } => report,
+            Diagnosis::NotMade { reason } => {
+                return Err(ValidateError::NotDiagnosed {
+                    case,
+                    reason: reason.clone(),
+                })
+            }
+        };
+        let named: Vec<usize> = match (&fit.outliers.test, fit.outliers.excluded) {
+            (Some(t), true) => t.points.iter().map(|o| o.index).collect(),
+            _ => Vec::new(),
         };
         let v = &report.verdict;
         let exact = v.id() == expected;
@@ -608,22 +620,6 @@ pub fn validate_with(
             }
             None => v.rms_before,
         };
-        // the points the outlier test named are left out of the final answer too (weight 0)
-        let observations = Observations::plain(y.iter().copied().collect()).excluding(&named);
-        let baseline = identify(&location, &observations, &iopts)?;
-        let fin = correct::correct(
-            &CorrectionInput {
-                design: &location,
-                observations: &observations,
-                baseline: &baseline,
-                points: &model.points,
-                candidates: &model.candidates,
-                verdict: Some(v),
-                unavailable: &[],
-                options: &iopts,
-            },
-            &EffectsChoice::Auto,
-        )?;
         results.push(CaseResult {
             case,
             truth,
@@ -641,9 +637,9 @@ pub fn validate_with(
             sigma,
             sigma_used: v.sigma,
             structure_rms: report.structure.structure_rms,
-            basis: fin.correction.basis,
-            baseline_error: answer_error(location.parameters(), &xi, &baseline),
-            final_error: answer_error(location.parameters(), &xi, &fin.identification),
+            basis: fit.correction.basis,
+            baseline_error: answer_error(location.parameters(), &xi, &fit.baseline.identification),
+            final_error: answer_error(location.parameters(), &xi, &fit.identification),
             spike: spike.map(|(i, size)| (model.points[i].id, size)),
             outliers: named.iter().map(|&i| model.points[i].id).collect(),
         });

@@ -286,8 +286,10 @@ fn the_cli_lists_outliers_and_refuses_sigma_with_mpe() {
 fn validate_with_spikes_names_them_and_keeps_the_verdicts() {
     // Floors on seed 1 (chosen on; 418 cases: 97.1 % of the spikes named, 98.4 / 99.0 / 96.4 %
     // detectable / none / unexplained). Here 126 cases (6 of each kind).
-    let m = builtin_model(&SShape::iso()).unwrap();
-    let model = ValidationModel::of(m);
+    let part = SShape::iso();
+    let model = ValidationModel::at(&part, &testpiece::part::builtin_points(&part))
+        .unwrap()
+        .without_shapes();
     let opts = ValidateOptions::default()
         .with_cases(126)
         .with_seed(1)

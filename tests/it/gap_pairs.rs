@@ -243,10 +243,11 @@ fn a_measured_file_with_two_effects_gets_both() {
 /// 133 of 404 parts called `none`. Floors: 65 % both named, at most 8 % `none`.
 #[test]
 fn validate_pairs_floor() {
-    use testpiece::effects::builtin::builtin_model;
     use testpiece::validate::{pairs_table, validate_pairs, ValidateOptions, ValidationModel};
-    let m = builtin_model(&testpiece::part::SShape::iso()).unwrap();
-    let model = ValidationModel::of(m);
+    let part = testpiece::part::SShape::iso();
+    let model = ValidationModel::at(&part, &testpiece::part::builtin_points(&part))
+        .unwrap()
+        .without_shapes();
     let r = validate_pairs(&model, &ValidateOptions::default().with_cases(202)).unwrap();
     print!("{}", pairs_table(&r));
     assert!(r.rate >= 0.65, "{}", r.rate);

@@ -1,19 +1,15 @@
-//! The withheld-effect benchmark on the reference columns (baseline = the 8 location errors of
-//! `sensitivity_physical.csv`, candidates = `effect_signatures.csv`): accuracy floors on a fixed
+//! The withheld-effect benchmark on the built-in points (the points of `example_clean.csv`), each
+//! simulated part through the analysis the CLI and the page run: accuracy floors on a fixed
 //! seed. 19 cases = one per kind (15 effects, 2 none, waviness, bump) to stay near 10 s in debug;
 //! the CLI runs the full benchmark (`testpiece validate --cases 418 --seed 1`), as does the test of
 //! the final answer's parameter error (the groups need that many cases).
-use crate::gap_common::*;
 use testpiece::validate::{table, validate, ValidateOptions, ValidationModel};
 
 fn model() -> ValidationModel {
-    let inp = input(example("example_clean"));
-    ValidationModel {
-        points: inp.points,
-        baseline: inp.baseline,
-        candidates: inp.candidates,
-        shapes: Default::default(),
-    }
+    let part = testpiece::part::SShape::iso();
+    ValidationModel::at(&part, &testpiece::part::builtin_points(&part))
+        .unwrap()
+        .without_shapes()
 }
 
 #[test]
@@ -123,12 +119,13 @@ fn same_seed_same_report() {
 /// verdict. Measured over 418 cases, seed 1 (`testpiece validate --exact`): 0 verdicts differ.
 #[test]
 fn verdicts_hold_on_the_exact_model() {
-    use testpiece::effects::builtin::builtin_model;
     use testpiece::part::SShape;
     use testpiece::validate::{exact_machine_part, validate_with};
 
-    let m = builtin_model(&SShape::iso()).unwrap();
-    let model = ValidationModel::of(m);
+    let part = SShape::iso();
+    let model = ValidationModel::at(&part, &testpiece::part::builtin_points(&part))
+        .unwrap()
+        .without_shapes();
     let machine = exact_machine_part(&model.baseline.names).unwrap();
     let o = ValidateOptions::default().with_cases(19).with_seed(1);
     let lin = validate(&model, &o).unwrap();

@@ -13,6 +13,7 @@
 //! | paper002 | 79/80 98.8 %   | 98/103 95.1 %  | 15/17 88.2 %  |
 
 use crate::cli_common::{testpiece, testpiece_ok};
+use testpiece::analysis::AnalysisOptions;
 use testpiece::effects::builtin::location_equivalents_of;
 use testpiece::effects::Effect;
 use testpiece::machine::chain::PAPER000_L0;
@@ -31,9 +32,16 @@ fn options(m: MachineChoice) -> SensitivityOptions {
     SensitivityOptions::default().with_chain(m.chain(PAPER000_L0))
 }
 
+fn settings(m: MachineChoice) -> AnalysisOptions {
+    AnalysisOptions {
+        machine: m,
+        ..Default::default()
+    }
+}
+
 fn model_on(m: MachineChoice) -> ValidationModel {
     let part = SShape::iso();
-    ValidationModel::on(&part, &builtin_points(&part), &options(m)).unwrap()
+    ValidationModel::on(&part, &builtin_points(&part), &settings(m)).unwrap()
 }
 
 fn check_floors(m: MachineChoice, what: &str, r: &ValidationReport) {

@@ -98,7 +98,14 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     let model = if machine == MachineChoice::Paper000 {
         ValidationModel::at(&part, &builtin_points(&part))
     } else {
-        ValidationModel::on(&part, &builtin_points(&part), &sens)
+        ValidationModel::on(
+            &part,
+            &builtin_points(&part),
+            &testpiece::analysis::AnalysisOptions {
+                machine,
+                ..Default::default()
+            },
+        )
     }
     .map_err(|e| e.to_string())?;
     if conditions.is_some() && machine != MachineChoice::Paper000 {
