@@ -46,10 +46,10 @@ pub struct Args {
     /// number of axial layers (default 1)
     #[arg(long, value_name = "N", value_parser = whole)]
     layers: Option<usize>,
-    /// between layer tips (mm, default 3)
+    /// the distance between layer tips (mm, default 3)
     #[arg(long, value_name = "MM", value_parser = number, allow_negative_numbers = true)]
     pitch: Option<f64>,
-    /// of the tool (mm, default 50)
+    /// the cutting length of the tool (mm, default 50)
     #[arg(long, value_name = "MM", value_parser = number, allow_negative_numbers = true)]
     cutting_length: Option<f64>,
     /// M3_15|M3_45: the cone frustums of paper 002 Table 3 instead (48 points, `curve` =

@@ -139,7 +139,7 @@ pub struct Args {
     /// the chain: paper000 (B head / C table), paper001 (A-B head), paper002 (B-C tilting table)
     #[arg(long, value_name = "paper000|paper001|paper002", default_value = "paper000", value_parser = machine)]
     machine: MachineChoice,
-    /// its pivot-to-tip length (mm)
+    /// the pivot-to-tip length (mm)
     #[arg(long, value_name = "MM", default_value_t = PAPER000_L0, value_parser = mm, allow_negative_numbers = true)]
     l0: f64,
     /// with several files: each part's CMM datum alignment Rz[k] (rad), Tx[k], Ty[k] (mm)
