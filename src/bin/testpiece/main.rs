@@ -110,3 +110,14 @@ fn refused(e: clap::Error) -> ExitCode {
     }
     e.exit()
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// clap's own consistency check of every command's definition (names, defaults, value names).
+    #[test]
+    fn definitions_are_consistent() {
+        super::Cli::command().debug_assert();
+    }
+}
