@@ -1,63 +1,68 @@
 //! `testpiece compare A B`: the differences of two parts' identified parameters.
 
-use crate::args::Args;
 use testpiece::analysis::{analyse, AnalysisOptions};
-use testpiece::compare::{compare, parameters_of, Flag};
+use testpiece::compare::{compare, parameters_of, Comparison, Flag};
 use testpiece::machine::Branch;
 use testpiece::sensitivity::Mode;
 
-const HELP: &str = "\
-testpiece compare A B [--mode physical|paper] [--branch signed|positive] [--tool-radius]
-                      [--sigma MM] [--json]
+use crate::common::{branch, file_name, mm, mode, print_json, read};
 
-Identifies the machine from each of two measured parts (before / after compensation, two
-machines, two dates) and prints, per parameter, d = B - A with σ_d = √(σ_A² + σ_B²) (independent
-parts) and z = d/σ_d. Flags: different (|z| >= 3), suspect (2 <= |z| < 3), consistent, and
-undetermined when a side has no std (not separable). CSV: name,unit,a,a_std,b,b_std,diff,std,z,flag
---json {a, b, differences: [...], different, suspect, summary}
-";
+/// differences of two parts' parameters with σ_d = √(σa²+σb²), flagged at 2 and 3 σ
+///
+/// Identifies the machine from each of two measured parts (before / after compensation, two
+/// machines, two dates) and prints, per parameter, d = B - A with σ_d = √(σ_A² + σ_B²) (independent
+/// parts) and z = d/σ_d. Flags: different (|z| >= 3), suspect (2 <= |z| < 3), consistent, and
+/// undetermined when a side has no std (not separable). CSV: name,unit,a,a_std,b,b_std,diff,std,z,flag
+#[derive(clap::Args)]
+#[command(verbatim_doc_comment)]
+pub struct Args {
+    /// the first measured part (any CMM export)
+    a: String,
+    /// the second measured part
+    b: String,
+    /// the defect's displaced point, normal and reference (as `testpiece sensitivity`)
+    #[arg(long, value_name = "physical|paper", default_value = "physical", value_parser = mode)]
+    mode: Mode,
+    /// the B-axis branch of the inverse kinematics
+    #[arg(long, value_name = "signed|positive", default_value = "signed", value_parser = branch)]
+    branch: Branch,
+    /// also fit the tool-radius error dR (mm)
+    #[arg(long)]
+    tool_radius: bool,
+    /// a priori σ of the deviations (mm)
+    #[arg(long, value_name = "MM", value_parser = mm, allow_negative_numbers = true)]
+    sigma: Option<f64>,
+    /// {a, b, differences: [...], different, suspect, summary}
+    #[arg(long)]
+    json: bool,
+}
 
-pub fn run(rest: &[String]) -> Result<(), String> {
-    if crate::wants_help(rest, HELP) {
-        return Ok(());
-    }
-    let args = Args::parse(rest, &["mode", "branch", "sigma"])?;
-    let (mode, branch) = crate::simulate::mode_and_branch(&args)?;
-    let json = args.flag("json");
-    let sigma = match args.value("sigma") {
-        Some(t) => Some(
-            t.parse::<f64>()
-                .map_err(|_| format!("--sigma `{t}`: expected a number of mm"))?,
-        ),
-        None => None,
-    };
+pub fn run(a: Args) -> Result<(), String> {
     let settings = AnalysisOptions {
-        mode: Mode::parse(&mode).map_err(|e| e.to_string())?,
-        branch: Branch::parse(&branch).unwrap_or_default(),
-        tool_radius: args.flag("tool-radius"),
-        noise_sigma: sigma,
+        mode: a.mode,
+        branch: a.branch,
+        tool_radius: a.tool_radius,
+        noise_sigma: a.sigma,
         ..AnalysisOptions::default()
     };
-    args.reject_unknown("compare")?;
-    let [fa, fb] = args.positional.as_slice() else {
-        return Err("`testpiece compare` needs two files A B (see --help)".to_string());
+    let run_one = |f: &str| -> Result<_, String> {
+        let name = file_name(f);
+        let part = analyse(&read(f)?, &name, &settings).map_err(|e| format!("{f}: {e}"))?;
+        Ok((name, parameters_of(&part.identification)))
     };
-    let run_one = |f: &String| -> Result<_, String> {
-        let bytes = std::fs::read(f).map_err(|e| format!("{f}: {e}"))?;
-        let name = crate::identify::file_name(f);
-        let a = analyse(&bytes, &name, &settings).map_err(|e| format!("{f}: {e}"))?;
-        Ok((name, parameters_of(&a.identification)))
-    };
-    let (na, pa) = run_one(fa)?;
-    let (nb, pb) = run_one(fb)?;
+    let (na, pa) = run_one(&a.a)?;
+    let (nb, pb) = run_one(&a.b)?;
     let c = compare(&na, &pa, &nb, &pb).map_err(|e| e.to_string())?;
-    if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&c).map_err(|e| e.to_string())?
-        );
-        return Ok(());
+    if a.json {
+        return print_json(&c);
     }
+    print_csv(&c);
+    eprintln!("{}", c.summary);
+    Ok(())
+}
+
+/// `name,unit,a,a_std,b,b_std,diff,std,z,flag`, one row per parameter.
+fn print_csv(c: &Comparison) {
     let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
     println!("name,unit,a,a_std,b,b_std,diff,std,z,flag");
     for d in &c.differences {
@@ -80,6 +85,4 @@ pub fn run(rest: &[String]) -> Result<(), String> {
             d.z.map_or(String::new(), |z| format!("{z:.3}"))
         );
     }
-    eprintln!("{}", c.summary);
-    Ok(())
 }

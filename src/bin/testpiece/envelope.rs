@@ -1,48 +1,154 @@
 //! `testpiece envelope`: deviation left by the flank path (paper 000 §3-4), optionally with a tool
 //! rotation-profile error and multi-layer milling (paper 001 §2-3), or on a cone frustum.
 
-use crate::args::Args;
 use testpiece::part::{builtin_points, ConeFrustum, SShape, Surface};
 use testpiece::toolpath::{
     multilayer_deviation, points_deviation, surface_max_overcut, FlankPath, LayerPlan, ToolProfile,
     TOOL_RADIUS,
 };
 
-const HELP: &str = "\
-testpiece envelope [--surface-max] [--dr MM] [--json]
-                   [--profile paper001|FILE] [--rho MM] [--phi RAD]
-                   [--layers N] [--pitch MM] [--cutting-length MM]
-                   [--part s-shape|M3_15|M3_45] [--offsets]
+use crate::common::{number, part, whole, Part};
 
-Deviation left by the flank tool path of paper 000 eq. 2 (cylindrical tool, radius 10 mm) at the
-100 built-in points, as the exact envelope of the tool (paper 000 §4.1, Fig. 13, refined in u):
-CSV `id,curve,deviation` (mm; + = material left, - = overcut).
+/// flank-path deviation at the points (id,curve,deviation); --surface-max per surface
+///
+/// Deviation left by the flank tool path of paper 000 eq. 2 (cylindrical tool, radius 10 mm) at the
+/// 100 built-in points, as the exact envelope of the tool (paper 000 §4.1, Fig. 13, refined in u):
+/// CSV `id,curve,deviation` (mm; + = material left, - = overcut).
+///
+/// Tool rotation profile and multi-layer milling (paper 001): any of --profile, --rho, --phi,
+/// --layers, --pitch, --cutting-length switches to the columns
+/// `id,curve,deviation,layer,height,own_layer,own_deviation` (layer = the one that cut deepest,
+/// height = contact height on its tool, own_* = the point's first layer alone, i.e. without
+/// inter-layer interference).
+#[derive(clap::Args)]
+#[command(verbatim_doc_comment)]
+pub struct Args {
+    /// instead, per surface, the largest overcut over Z 0..30 and where it is:
+    /// `surface,max_overcut,u,z` (max_overcut > 0 in mm, z in mm)
+    #[arg(long, verbatim_doc_comment)]
+    surface_max: bool,
+    /// tool radius error (mm, + = a larger tool), path unchanged
+    #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = number, allow_negative_numbers = true)]
+    dr: f64,
+    /// {"points": [...]} or {"surfaces": [...]}, same fields as the CSV
+    #[arg(long)]
+    json: bool,
+    /// the tool profile: `paper001` (Table 2 radii) or a CSV file `height,radius` (mm above the
+    /// tip, mm)
+    #[arg(long, value_name = "paper001|FILE", verbatim_doc_comment)]
+    profile: Option<String>,
+    /// tool setup error: parallel offset (mm)
+    #[arg(long, value_name = "MM", value_parser = number, allow_negative_numbers = true)]
+    rho: Option<f64>,
+    /// tool setup error: inclination (rad)
+    #[arg(long, value_name = "RAD", value_parser = number, allow_negative_numbers = true)]
+    phi: Option<f64>,
+    /// number of axial layers (default 1)
+    #[arg(long, value_name = "N", value_parser = whole)]
+    layers: Option<usize>,
+    /// the distance between layer tips (mm, default 3)
+    #[arg(long, value_name = "MM", value_parser = number, allow_negative_numbers = true)]
+    pitch: Option<f64>,
+    /// the cutting length of the tool (mm, default 50)
+    #[arg(long, value_name = "MM", value_parser = number, allow_negative_numbers = true)]
+    cutting_length: Option<f64>,
+    /// M3_15|M3_45: the cone frustums of paper 002 Table 3 instead (48 points, `curve` =
+    /// <part>_Z<level>)
+    #[arg(long, value_name = "s-shape|M3_15|M3_45", default_value = "s-shape", value_parser = part, verbatim_doc_comment)]
+    part: Part,
+    /// places the cone frustum with d = 62.5, p = 30 mm
+    #[arg(long)]
+    offsets: bool,
+}
 
-  --surface-max      instead, per surface, the largest overcut over Z 0..30 and where it is:
-                     `surface,max_overcut,u,z` (max_overcut > 0 in mm, z in mm)
-  --dr MM            tool radius error (+ = a larger tool), path unchanged
-  --json             {\"points\": [...]} or {\"surfaces\": [...]}, same fields as the CSV
+impl Args {
+    /// Whether a profile or layer option is given (the layered columns).
+    fn layered(&self) -> bool {
+        self.profile.is_some()
+            || self.rho.is_some()
+            || self.phi.is_some()
+            || self.layers.is_some()
+            || self.pitch.is_some()
+            || self.cutting_length.is_some()
+    }
+}
 
-Tool rotation profile and multi-layer milling (paper 001); any of these switches to the columns
-`id,curve,deviation,layer,height,own_layer,own_deviation` (layer = the one that cut deepest,
-height = contact height on its tool, own_* = the point's first layer alone, i.e. without
-inter-layer interference):
-  --profile P        `paper001` (Table 2 radii) or a CSV file `height,radius` (mm above the tip, mm)
-  --rho MM, --phi RAD  tool setup error: parallel offset and inclination
-  --layers N         number of axial layers (default 1); --pitch MM between layer tips (default 3);
-  --cutting-length MM  of the tool (default 50)
+pub fn run(a: Args) -> Result<(), String> {
+    let profile = a.profile.as_deref().map(read_profile).transpose()?;
+    let layered = a.layered();
+    if let Some(cone) = a.part.cone(a.offsets) {
+        if a.surface_max || layered {
+            return Err(
+                "--surface-max and the profile/layer options apply to the S-shape only".into(),
+            );
+        }
+        return cone_deviation(&cone, a.dr, a.json);
+    }
+    let part = SShape::iso();
+    if a.surface_max {
+        if a.dr != 0.0 || layered {
+            return Err(
+                "--surface-max is for the nominal tool; --dr and the profile/layer options apply to the points"
+                    .into(),
+            );
+        }
+        let maxima = Surface::BOTH
+            .iter()
+            .map(|s| surface_max_overcut(&part, *s))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| e.to_string())?;
+        return print_rows(a.json, "surfaces", "surface,max_overcut,u,z", &maxima);
+    }
+    if layered {
+        return layered_deviation(&a, &part, profile);
+    }
+    let dev = points_deviation(&part, &builtin_points(&part), a.dr).map_err(|e| e.to_string())?;
+    print_rows(a.json, "points", "id,curve,deviation", &dev)
+}
 
-  --part M3_15|M3_45 the cone frustums of paper 002 Table 3 instead (48 points, `curve` =
-                     <part>_Z<level>); --offsets places them with d = 62.5, p = 30 mm
-";
+/// The deviation at a cone frustum's points (surface A's flank path).
+fn cone_deviation(cone: &ConeFrustum, dr: f64, json: bool) -> Result<(), String> {
+    let path = FlankPath::new(cone, Surface::A);
+    let mut rows = Vec::new();
+    for p in cone.builtin_points() {
+        let hit = path
+            .deviation_at(&p.point, &p.normal, p.u, TOOL_RADIUS + dr)
+            .map_err(|e| e.to_string())?;
+        rows.push(serde_json::json!({
+            "id": p.id,
+            "curve": format!("{}_Z{}", cone.name, p.level),
+            "deviation": hit.deviation,
+        }));
+    }
+    print_rows(json, "points", "id,curve,deviation", &rows)
+}
 
-fn number(args: &Args, name: &str) -> Result<Option<f64>, String> {
-    args.value(name)
-        .map(|s| {
-            s.parse::<f64>()
-                .map_err(|_| format!("--{name} expects a number, found `{s}`"))
-        })
-        .transpose()
+/// The deviation with a tool profile, setup error and layers (paper 001).
+fn layered_deviation(a: &Args, part: &SShape, profile: Option<ToolProfile>) -> Result<(), String> {
+    let base = match profile {
+        Some(p) => p,
+        None => ToolProfile::constant(TOOL_RADIUS).map_err(|e| e.to_string())?,
+    };
+    if a.dr != 0.0 {
+        return Err("--dr cannot be combined with a profile; put the radii in the profile".into());
+    }
+    let tool = base
+        .with_setup_error(a.rho.unwrap_or(0.0), a.phi.unwrap_or(0.0))
+        .map_err(|e| e.to_string())?;
+    let plan = LayerPlan::try_new(
+        a.layers.unwrap_or(1),
+        a.pitch.unwrap_or(3.0),
+        a.cutting_length.unwrap_or(50.0),
+    )
+    .map_err(|e| e.to_string())?;
+    let res = multilayer_deviation(part, &builtin_points(part), &tool, &plan)
+        .map_err(|e| e.to_string())?;
+    print_rows(
+        a.json,
+        "points",
+        "id,curve,deviation,layer,height,own_layer,own_deviation",
+        &res,
+    )
 }
 
 fn read_profile(spec: &str) -> Result<ToolProfile, String> {
@@ -101,130 +207,4 @@ fn print_rows<T: serde::Serialize>(
         println!("{}", cells.join(","));
     }
     Ok(())
-}
-
-pub fn run(rest: &[String]) -> Result<(), String> {
-    if crate::wants_help(rest, HELP) {
-        return Ok(());
-    }
-    let args = Args::parse(
-        rest,
-        &[
-            "dr",
-            "profile",
-            "rho",
-            "phi",
-            "layers",
-            "pitch",
-            "cutting-length",
-            "part",
-        ],
-    )?;
-    let json = args.flag("json");
-    let surface_max = args.flag("surface-max");
-    let offsets = args.flag("offsets");
-    let dr = number(&args, "dr")?.unwrap_or(0.0);
-    let profile = args.value("profile").map(read_profile).transpose()?;
-    let rho = number(&args, "rho")?;
-    let phi = number(&args, "phi")?;
-    let layers = args
-        .value("layers")
-        .map(|s| {
-            s.parse::<usize>()
-                .map_err(|_| format!("--layers expects a whole number, found `{s}`"))
-        })
-        .transpose()?;
-    let pitch = number(&args, "pitch")?;
-    let cutting_length = number(&args, "cutting-length")?;
-    let part_name = args.value("part").unwrap_or("s-shape").to_string();
-    args.reject_unknown("envelope")?;
-    if !args.positional.is_empty() {
-        return Err(format!(
-            "`testpiece envelope` takes no arguments, found `{}`",
-            args.positional.join(" ")
-        ));
-    }
-    let layered = profile.is_some()
-        || rho.is_some()
-        || phi.is_some()
-        || layers.is_some()
-        || pitch.is_some()
-        || cutting_length.is_some();
-
-    let cone = match part_name.to_ascii_uppercase().as_str() {
-        "S-SHAPE" | "S_SHAPE" | "SSHAPE" => None,
-        "M3_15" => Some(ConeFrustum::m3_15(offsets)),
-        "M3_45" => Some(ConeFrustum::m3_45(offsets)),
-        _ => {
-            return Err(format!(
-                "unknown part `{part_name}` (expected s-shape, M3_15 or M3_45)"
-            ))
-        }
-    };
-    if let Some(cone) = cone {
-        if surface_max || layered {
-            return Err(
-                "--surface-max and the profile/layer options apply to the S-shape only".into(),
-            );
-        }
-        let path = FlankPath::new(&cone, Surface::A);
-        let mut rows = Vec::new();
-        for p in cone.builtin_points() {
-            let hit = path
-                .deviation_at(&p.point, &p.normal, p.u, TOOL_RADIUS + dr)
-                .map_err(|e| e.to_string())?;
-            rows.push(serde_json::json!({
-                "id": p.id,
-                "curve": format!("{}_Z{}", cone.name, p.level),
-                "deviation": hit.deviation,
-            }));
-        }
-        return print_rows(json, "points", "id,curve,deviation", &rows);
-    }
-
-    let part = SShape::iso();
-    if surface_max {
-        if dr != 0.0 || layered {
-            return Err(
-                "--surface-max is for the nominal tool; --dr and the profile/layer options apply to the points"
-                    .into(),
-            );
-        }
-        let maxima = Surface::BOTH
-            .iter()
-            .map(|s| surface_max_overcut(&part, *s))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| e.to_string())?;
-        return print_rows(json, "surfaces", "surface,max_overcut,u,z", &maxima);
-    }
-    let points = builtin_points(&part);
-    if layered {
-        let base = match profile {
-            Some(p) => p,
-            None => ToolProfile::constant(TOOL_RADIUS).map_err(|e| e.to_string())?,
-        };
-        let tool = if dr != 0.0 {
-            return Err(
-                "--dr cannot be combined with a profile; put the radii in the profile".into(),
-            );
-        } else {
-            base.with_setup_error(rho.unwrap_or(0.0), phi.unwrap_or(0.0))
-                .map_err(|e| e.to_string())?
-        };
-        let plan = LayerPlan::try_new(
-            layers.unwrap_or(1),
-            pitch.unwrap_or(3.0),
-            cutting_length.unwrap_or(50.0),
-        )
-        .map_err(|e| e.to_string())?;
-        let res = multilayer_deviation(&part, &points, &tool, &plan).map_err(|e| e.to_string())?;
-        return print_rows(
-            json,
-            "points",
-            "id,curve,deviation,layer,height,own_layer,own_deviation",
-            &res,
-        );
-    }
-    let dev = points_deviation(&part, &points, dr).map_err(|e| e.to_string())?;
-    print_rows(json, "points", "id,curve,deviation", &dev)
 }

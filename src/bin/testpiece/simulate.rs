@@ -1,164 +1,118 @@
 //! `testpiece simulate`: a synthetic measured part in the canonical CSV format.
 
-use crate::args::Args;
 use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::effects::builtin::part_model_on;
 use testpiece::effects::Effect;
-use testpiece::identify::{Design, ISO_LOCATION_ERRORS};
+use testpiece::identify::ISO_LOCATION_ERRORS;
+use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::Branch;
 use testpiece::part::{builtin_points, SShape};
-use testpiece::sensitivity::SensitivityOptions;
-use testpiece::simulate::{parse_errors, simulate_deviation, simulate_exact};
+use testpiece::sensitivity::error_set::full_list;
+use testpiece::sensitivity::{Mode, SensitivityOptions};
+use testpiece::settings::MachineChoice;
+use testpiece::simulate::{
+    builtin_design, parse_errors, simulate_deviation, simulate_exact, simulate_on,
+};
 
-const HELP: &str = "\
-testpiece simulate --errors EX0B=0.03,EA0B=3e-4 [--effect backlash_c=1e-4,tool_taper.g=2e-4]
-                   [--noise 0.0015] [--seed 7] [--mode physical|paper]
-                   [--branch signed|positive] [--linear] [--machine M] [--l0 MM]
+use crate::common::{branch, branch_name, machine, mm, mode, positive_l0, seed};
 
-Prints a synthetic measured part at the 100 built-in points in the canonical format
-`id,curve,x,y,z,nx,ny,nz,deviation` (mm; deviation = (machined - nominal)·N, + = material left).
-The deviation is the exact machined defect of paper 000 eq. 12 (--linear: its linearisation,
-eq. 14; they differ by < 0.3 µm at 3e-4 rad) for the given errors
-(EC0Y EA0Z EB0Z EA0C EB0C EA0B EC0B in rad, EX0B in mm; others 0), plus dR (mm, a tool larger by
-dR overcuts by dR) if given in --errors, plus Gaussian noise of σ = --noise mm (default 0) drawn
-from a ChaCha8 stream seeded by --seed (default 7): the same seed gives the same part.
-
---machine paper000|paper001|paper002 (default paper000) and --l0: the chain. With another
-machine than paper000, or an error outside the eight above, the part is the exact eq. 12 defect
-on that chain for any of its ISO 230-1 location errors (`testpiece machine --machine M` lists
-them: e.g. EY0C=0.02,EX0C=-0.015 for a C axis off the part origin on the tilting table), and
---effect uses that machine's signatures.
-
---effect adds unmodelled effects of shared/spec/effects.md, each as ID=VALUE for a one-parameter
-effect (backlash_c=1e-4: rad for B and C, mm for X, Y, Z) or ID.PARAMETER=VALUE (tool_taper.g=2e-4,
-setup_error.thetaz=1e-4), in the parameter's unit: the deviation gains VALUE times the effect's
-signature at the points (paper 000's machine, physical mode, the --branch given), the signature
-`testpiece diagnose` fits. Ids: tool_radius, tool_taper, overcut, backlash_x|y|z|b|c,
-thermal_drift, setup_error, scale_x|y|z, c_index, pivot_length.
-";
-
-/// The design of the 100 built-in points for a mode and branch, with the dR column if asked.
-pub fn design_for(mode: &str, branch: &str, tool_radius: bool) -> Result<Design, String> {
-    testpiece::simulate::builtin_design(mode, branch, tool_radius).map_err(|e| e.to_string())
+/// a synthetic measured part for given errors: id,curve,x,y,z,nx,ny,nz,deviation
+///
+/// Prints a synthetic measured part at the 100 built-in points in the canonical format
+/// `id,curve,x,y,z,nx,ny,nz,deviation` (mm; deviation = (machined - nominal)·N, + = material left).
+/// The deviation is the exact machined defect of paper 000 eq. 12 (--linear: its linearisation,
+/// eq. 14; they differ by < 0.3 µm at 3e-4 rad) for the given errors
+/// (EC0Y EA0Z EB0Z EA0C EB0C EA0B EC0B in rad, EX0B in mm; others 0), plus dR (mm, a tool larger by
+/// dR overcuts by dR) if given in --errors, plus Gaussian noise of σ = --noise mm (default 0) drawn
+/// from a ChaCha8 stream seeded by --seed (default 7): the same seed gives the same part.
+///
+/// --machine paper000|paper001|paper002 (default paper000) and --l0: the chain. With another
+/// machine than paper000, or an error outside the eight above, the part is the exact eq. 12 defect
+/// on that chain for any of its ISO 230-1 location errors (`testpiece machine --machine M` lists
+/// them: e.g. EY0C=0.02,EX0C=-0.015 for a C axis off the part origin on the tilting table), and
+/// --effect uses that machine's signatures.
+///
+/// --effect adds unmodelled effects of shared/spec/effects.md, each as ID=VALUE for a one-parameter
+/// effect (backlash_c=1e-4: rad for B and C, mm for X, Y, Z) or ID.PARAMETER=VALUE (tool_taper.g=2e-4,
+/// setup_error.thetaz=1e-4), in the parameter's unit: the deviation gains VALUE times the effect's
+/// signature at the points (paper 000's machine, physical mode, the --branch given), the signature
+/// `testpiece diagnose` fits. Ids: tool_radius, tool_taper, overcut, backlash_x|y|z|b|c,
+/// thermal_drift, setup_error, scale_x|y|z, c_index, pivot_length.
+#[derive(clap::Args)]
+#[command(verbatim_doc_comment)]
+pub struct Args {
+    /// the machine's errors, NAME=VALUE separated by commas (rad; mm for offsets and dR)
+    #[arg(long, value_name = "EX0B=0.03,EA0B=3e-4", value_parser = errors)]
+    errors: Option<Errors>,
+    /// unmodelled effects of effects.md: ID=VALUE or ID.PARAMETER=VALUE, separated by commas
+    #[arg(long, value_name = "backlash_c=1e-4,tool_taper.g=2e-4", value_parser = effects)]
+    effect: Option<EffectValues>,
+    /// σ of the Gaussian noise (mm)
+    #[arg(long, value_name = "MM", default_value_t = 0.0, value_parser = mm, allow_negative_numbers = true)]
+    noise: f64,
+    /// the seed of the noise's ChaCha8 stream
+    #[arg(long, value_name = "S", default_value_t = 7, value_parser = seed)]
+    seed: u64,
+    /// the defect's displaced point, normal and reference (as `testpiece sensitivity`)
+    #[arg(long, value_name = "physical|paper", default_value = "physical", value_parser = mode)]
+    mode: Mode,
+    /// the B-axis branch of the inverse kinematics
+    #[arg(long, value_name = "signed|positive", default_value = "signed", value_parser = branch)]
+    branch: Branch,
+    /// the linearised defect (eq. 14) instead of the exact one; paper000's eight errors only
+    #[arg(long)]
+    linear: bool,
+    /// the chain: paper000 (B head / C table), paper001 (A-B head), paper002 (B-C tilting table)
+    #[arg(long, value_name = "paper000|paper001|paper002", default_value = "paper000", value_parser = machine)]
+    machine: MachineChoice,
+    /// the pivot-to-tip length (mm)
+    #[arg(long, value_name = "MM", default_value_t = PAPER000_L0, value_parser = mm, allow_negative_numbers = true)]
+    l0: f64,
 }
 
-/// `--effect ID=VALUE,ID.PARAMETER=VALUE`: each effect parameter and its value.
-fn parse_effects(text: &str) -> Result<Vec<(Effect, usize, f64)>, String> {
-    parse_errors(text)
-        .map_err(|e| format!("--effect: {e}"))?
+/// `--errors`: each error's name and value.
+#[derive(Debug, Clone)]
+pub struct Errors(Vec<(String, f64)>);
+
+fn errors(s: &str) -> Result<Errors, String> {
+    parse_errors(s).map(Errors).map_err(|e| e.to_string())
+}
+
+/// `--effect`: each effect parameter (effect, parameter index) and its value.
+#[derive(Debug, Clone)]
+pub struct EffectValues(Vec<(Effect, usize, f64)>);
+
+fn effects(s: &str) -> Result<EffectValues, String> {
+    parse_errors(s)
+        .map_err(|e| e.to_string())?
         .into_iter()
         .map(|(key, value)| {
-            let (effect, j) =
-                Effect::parse_parameter(&key).map_err(|e| format!("--effect: {e}"))?;
+            let (effect, j) = Effect::parse_parameter(&key).map_err(|e| e.to_string())?;
             Ok((effect, j, value))
         })
-        .collect()
+        .collect::<Result<_, String>>()
+        .map(EffectValues)
 }
 
-/// `--mode` and `--branch` values, checked.
-pub fn mode_and_branch(args: &Args) -> Result<(String, String), String> {
-    let mode = args.value("mode").unwrap_or("physical").to_string();
-    if mode != "physical" && mode != "paper" {
-        return Err(format!("--mode `{mode}`: expected physical or paper"));
-    }
-    let branch = args.value("branch").unwrap_or("signed").to_string();
-    if branch != "signed" && branch != "positive" {
-        return Err(format!("--branch `{branch}`: expected signed or positive"));
-    }
-    Ok((mode, branch))
-}
-
-pub fn run(rest: &[String]) -> Result<(), String> {
-    if crate::wants_help(rest, HELP) {
-        return Ok(());
-    }
-    let args = Args::parse(
-        rest,
-        &[
-            "errors", "noise", "seed", "mode", "branch", "effect", "machine", "l0",
-        ],
-    )?;
-    let errors = args
-        .value("errors")
-        .ok_or("--errors is required, e.g. --errors EX0B=0.03,EA0B=3e-4")?;
-    let noise: f64 = match args.value("noise") {
-        Some(t) => t
-            .parse()
-            .map_err(|_| format!("--noise `{t}`: expected a number of mm, e.g. 0.0015"))?,
-        None => 0.0,
+pub fn run(a: Args) -> Result<(), String> {
+    let Some(Errors(errs)) = &a.errors else {
+        return Err("--errors is required, e.g. --errors EX0B=0.03,EA0B=3e-4".into());
     };
-    let seed: u64 = match args.value("seed") {
-        Some(t) => t
-            .parse()
-            .map_err(|_| format!("--seed `{t}`: expected a non-negative integer"))?,
-        None => 7,
-    };
-    let (mode, branch) = mode_and_branch(&args)?;
-    let linear = args.flag("linear");
-    let effects = args.value("effect").map(parse_effects).transpose()?;
-    let (machine, l0) = crate::identify::machine_and_l0(&args)?;
-    args.reject_unknown("simulate")?;
-    if !args.positional.is_empty() {
-        return Err(format!(
-            "`testpiece simulate` takes no file, found `{}`",
-            args.positional.join(" ")
-        ));
-    }
-    let errs = parse_errors(errors).map_err(|e| e.to_string())?;
-    if !(l0.is_finite() && l0 > 0.0) {
-        return Err(format!("--l0 {l0}: expected a positive length in mm"));
-    }
-    let full: Vec<String> = testpiece::sensitivity::error_set::full_list(&machine.chain(l0))
-        .iter()
-        .map(|(e, _)| e.name())
-        .collect();
-    for (name, _) in &errs {
-        if name != "dR" && !full.contains(name) {
-            return Err(format!(
-                "--errors: unknown error `{name}` on {}; known: {}, dR",
-                machine.describe(),
-                full.join(", ")
-            ));
-        }
-    }
-    // Paper 000 with its eight errors keeps the design-based path (its parts bit for bit).
-    let on_chain = machine != testpiece::settings::MachineChoice::Paper000
-        || errs
-            .iter()
-            .any(|(n, _)| n != "dR" && !ISO_LOCATION_ERRORS.contains(&n.as_str()));
-    let chain_opts = || -> Result<SensitivityOptions, String> {
-        let b = Branch::parse(&branch).ok_or("--branch: expected signed or positive")?;
-        let m = testpiece::sensitivity::Mode::parse(&mode).map_err(|e| e.to_string())?;
-        Ok(SensitivityOptions::default()
-            .with_chain(machine.chain(l0))
-            .with_branch(b)
-            .with_mode(m))
-    };
-    let tool_radius = errs.iter().any(|(n, _)| n == "dR");
-    let dev = if on_chain {
-        if linear {
-            return Err("--linear: only on paper000 with its eight errors".to_string());
-        }
-        testpiece::simulate::simulate_on(&chain_opts()?, &errs, noise, seed)
-    } else if linear {
-        let design = design_for(&mode, &branch, tool_radius)?;
-        simulate_deviation(&design, &errs, noise, seed)
-    } else {
-        simulate_exact(&mode, &branch, &errs, noise, seed)
-    }
-    .map_err(|e| e.to_string())?;
+    let l0 = positive_l0(a.l0)?;
+    check_known(errs, a.machine, l0)?;
+    let dev = machine_part(&a, errs, l0)?;
     let part = SShape::iso();
     let pts = builtin_points(&part);
-    let dev: Vec<f64> = match effects {
-        Some(values) => {
-            let opts = chain_opts()?;
-            let model = part_model_on(&part, &pts, &opts).map_err(|e| e.to_string())?;
+    let dev: Vec<f64> = match &a.effect {
+        Some(EffectValues(values)) => {
+            let model =
+                part_model_on(&part, &pts, &a.chain_options(l0)).map_err(|e| e.to_string())?;
             let e = model
-                .effect_deviation(&values)
+                .effect_deviation(values)
                 .map_err(|e| format!("--effect: {e}"))?;
             dev.iter().zip(e).map(|(d, e)| d + e).collect()
         }
-        None => dev.to_vec(),
+        None => dev,
     };
     if pts.len() != dev.len() {
         return Err(format!(
@@ -174,4 +128,53 @@ pub fn run(rest: &[String]) -> Result<(), String> {
     );
     print!("{out}");
     Ok(())
+}
+
+impl Args {
+    /// The chain's sensitivity options with --mode and --branch.
+    fn chain_options(&self, l0: f64) -> SensitivityOptions {
+        SensitivityOptions::default()
+            .with_chain(self.machine.chain(l0))
+            .with_branch(self.branch)
+            .with_mode(self.mode)
+    }
+}
+
+/// Every error must be one of the chain's ISO 230-1 location errors or dR.
+fn check_known(errs: &[(String, f64)], machine: MachineChoice, l0: f64) -> Result<(), String> {
+    let full: Vec<String> = full_list(&machine.chain(l0))
+        .iter()
+        .map(|(e, _)| e.name())
+        .collect();
+    match errs.iter().find(|(n, _)| n != "dR" && !full.contains(n)) {
+        Some((name, _)) => Err(format!(
+            "--errors: unknown error `{name}` on {}; known: {}, dR",
+            machine.describe(),
+            full.join(", ")
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The machine's part: paper 000 with its eight errors keeps the design-based path (its parts
+/// bit for bit, exact or --linear); any other machine or error, the exact defect on the chain.
+fn machine_part(a: &Args, errs: &[(String, f64)], l0: f64) -> Result<Vec<f64>, String> {
+    let on_chain = a.machine != MachineChoice::Paper000
+        || errs
+            .iter()
+            .any(|(n, _)| n != "dR" && !ISO_LOCATION_ERRORS.contains(&n.as_str()));
+    let (mode, branch) = (a.mode.name(), branch_name(a.branch));
+    if on_chain {
+        if a.linear {
+            return Err("--linear: only on paper000 with its eight errors".to_string());
+        }
+        simulate_on(&a.chain_options(l0), errs, a.noise, a.seed)
+    } else if a.linear {
+        let tool_radius = errs.iter().any(|(n, _)| n == "dR");
+        let design = builtin_design(mode, branch, tool_radius).map_err(|e| e.to_string())?;
+        simulate_deviation(&design, errs, a.noise, a.seed)
+    } else {
+        simulate_exact(mode, branch, errs, a.noise, a.seed)
+    }
+    .map_err(|e| e.to_string())
 }
