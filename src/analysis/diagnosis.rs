@@ -1,0 +1,176 @@
+//! The diagnosis of a part on the chosen machine: its part model, the outlier test and the
+//! sim-to-real gap diagnosis (with every point, then without the outliers).
+
+use serde::Serialize;
+
+use crate::effects::builtin::{part_model, part_model_on, PartModel};
+use crate::effects::{Effect, GapError, GapInput};
+use crate::gap::verdict::VerdictId;
+use crate::gap::{diagnose, DiagnosisReport};
+use crate::measurement::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
+use crate::part::{MeasurementPoint, SShape};
+use crate::settings::MachineChoice;
+
+use super::options::AnalysisOptions;
+use super::points::sensitivity_options;
+
+/// The gap diagnosis (effects.md) of deviations at `points`, on paper 000's machine.
+pub fn diagnose_points(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    deviations: &[f64],
+    noise_sigma: Option<f64>,
+) -> Result<DiagnosisReport, GapError> {
+    diagnose_model(&part_model(part, points)?, deviations, noise_sigma)
+}
+
+/// The gap diagnosis of an analysis, or why it could not be made (JSON: `status` = `made` or
+/// `not_made`).
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum Diagnosis {
+    Made {
+        /// The machine whose errors and axes the diagnosis used (the identification's).
+        machine: MachineChoice,
+        report: Box<DiagnosisReport>,
+    },
+    NotMade {
+        /// The diagnosis stage's message.
+        reason: String,
+    },
+}
+
+impl Diagnosis {
+    /// The report, when the diagnosis was made.
+    pub fn report(&self) -> Option<&DiagnosisReport> {
+        match self {
+            Diagnosis::Made { report, .. } => Some(report),
+            Diagnosis::NotMade { .. } => None,
+        }
+    }
+    /// The report, or the reason it could not be made.
+    pub fn into_report(self) -> Result<DiagnosisReport, String> {
+        match self {
+            Diagnosis::Made { report, .. } => Ok(*report),
+            Diagnosis::NotMade { reason } => Err(reason),
+        }
+    }
+}
+
+/// The gap diagnosis on the machine the analysis identifies: its own location errors as the
+/// baseline, its own candidates ([`Effect::on_chain`]) with their signatures derived from its
+/// chain, its own axes for backlash, scale and reversals.
+pub fn diagnose_on_machine(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    deviations: &[f64],
+    opts: &AnalysisOptions,
+) -> Diagnosis {
+    diagnose_modelled(part, points, deviations, opts).diagnosis
+}
+
+/// A diagnosis with the part model it used, for the final identification.
+pub(super) struct Modelled {
+    pub(super) diagnosis: Diagnosis,
+    /// The part model (points, candidates' signatures), when it could be built.
+    pub(super) model: Option<PartModel>,
+    /// Effects the machine does not have ([`Effect::left_out`]), and why.
+    pub(super) unavailable: Vec<(Effect, String)>,
+    /// The outlier test (when the model could be built) and the rows left out.
+    pub(super) outliers: Option<OutlierTest>,
+    pub(super) excluded: Vec<usize>,
+    /// The verdict on every point, when outliers were left out.
+    pub(super) verdict_all_points: Option<VerdictId>,
+}
+
+pub(super) fn diagnose_modelled(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    deviations: &[f64],
+    opts: &AnalysisOptions,
+) -> Modelled {
+    let mut outliers = None;
+    let mut excluded = Vec::new();
+    let mut verdict_all_points = None;
+    // The outliers of the part (named, and left out unless kept), then the diagnosis.
+    let mut run = |m: &PartModel| -> Result<DiagnosisReport, GapError> {
+        let input = input_of(m, deviations, opts.noise_sigma);
+        let test = find_outliers(&input);
+        let drop = if opts.keep_outliers {
+            Vec::new()
+        } else {
+            test.indices()
+        };
+        let sentence = outlier_sentence(&test, opts.keep_outliers);
+        outliers = Some(test);
+        let all = diagnose(&input)?;
+        let mut report = if drop.is_empty() {
+            all
+        } else {
+            verdict_all_points = Some(all.verdict.id());
+            diagnose(&without_rows(&input, &drop))?
+        };
+        if !sentence.is_empty() {
+            report.summary = format!("{}\nOutliers: {sentence}\n", report.summary.trim_end());
+        }
+        if let Some(v) = verdict_all_points {
+            report.summary = format!(
+                "{}With every point, outliers included, the verdict would be `{v}`.\n",
+                report.summary
+            );
+        }
+        excluded = drop;
+        Ok(report)
+    };
+    let made = part_model_on(part, points, &sensitivity_options(opts))
+        .and_then(|m| run(&m).map(|report| (report, m)));
+    let mut unavailable = Effect::left_out(&opts.machine.chain(opts.l0));
+    if let Ok(same) =
+        crate::effects::builtin::location_equivalents_of(part, &sensitivity_options(opts))
+    {
+        unavailable.extend(same);
+    }
+    match made {
+        Ok((report, model)) => Modelled {
+            diagnosis: Diagnosis::Made {
+                machine: opts.machine,
+                report: Box::new(report),
+            },
+            model: Some(model),
+            unavailable,
+            outliers,
+            excluded,
+            verdict_all_points,
+        },
+        Err(e) => Modelled {
+            diagnosis: Diagnosis::NotMade {
+                reason: e.to_string(),
+            },
+            model: None,
+            unavailable,
+            outliers,
+            excluded: Vec::new(),
+            verdict_all_points: None,
+        },
+    }
+}
+
+/// The diagnosis's input for a part model and deviations.
+pub(super) fn input_of(m: &PartModel, deviations: &[f64], noise_sigma: Option<f64>) -> GapInput {
+    GapInput {
+        deviations: deviations.to_vec(),
+        points: m.points.clone(),
+        baseline: m.baseline.clone(),
+        candidates: m.candidates.clone(),
+        noise_sigma,
+        reversals: m.reversals.clone(),
+    }
+}
+
+pub(super) fn diagnose_model(
+    m: &PartModel,
+    deviations: &[f64],
+    noise_sigma: Option<f64>,
+) -> Result<DiagnosisReport, GapError> {
+    diagnose(&input_of(m, deviations, noise_sigma))
+}

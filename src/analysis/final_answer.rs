@@ -1,0 +1,110 @@
+//! The final answer, refined with the exact model like the baseline.
+
+use crate::effects::builtin::PartModel;
+use crate::effects::Effect;
+use crate::final_fit::correct::{
+    correct, shifts, summary, Basis, Correction, CorrectionInput, Final,
+};
+use crate::identify::correlated::{whiten, whitened_limit, Whitened, Whitener};
+use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
+use crate::identify::{Design, Identification, IdentifyOptions, Observations};
+use crate::part::MeasurementPoint;
+use crate::simulate::ExactDefectModel;
+
+use super::error::AnalysisError;
+use super::options::AnalysisOptions;
+use super::points::sensitivity_options;
+
+/// The exact-model refinement of a fit of `design` (plain, or whitened by `whitener`).
+pub(super) fn refine_with(
+    design: &Design,
+    obs: &Observations,
+    linear: &Identification,
+    points: &[MeasurementPoint],
+    opts: &AnalysisOptions,
+    iopts: &IdentifyOptions,
+    whitener: Option<&Whitener>,
+) -> Result<RefineReport, AnalysisError> {
+    let model = ExactDefectModel::at_points(design, points.to_vec(), sensitivity_options(opts))?;
+    let r = match whitener {
+        None => refine(design, obs, linear, model, &RefineOptions::default(), iopts),
+        Some(w) => {
+            let (wd, wobs) = whiten(design, obs, w)?;
+            let model = Whitened { model, whitener: w };
+            let limit = whitened_limit(design, &wd, iopts);
+            refine(
+                &wd,
+                &wobs,
+                linear,
+                model,
+                &RefineOptions::default(),
+                &iopts
+                    .clone()
+                    .with_sigma(1.0)
+                    .with_condition_index_limit(limit),
+            )
+        }
+    };
+    r.map_err(|e| AnalysisError::Refine(e.to_string()))
+}
+
+/// What the final identification starts from.
+pub(super) struct FinalInput<'a> {
+    pub(super) design: &'a Design,
+    pub(super) observations: &'a Observations,
+    pub(super) baseline: &'a Identification,
+    pub(super) baseline_refinement: Option<&'a RefineReport>,
+    pub(super) points: &'a [MeasurementPoint],
+    pub(super) model: Option<&'a PartModel>,
+    pub(super) verdict: Option<&'a crate::gap::verdict::Verdict>,
+    pub(super) unavailable: &'a [(Effect, String)],
+}
+
+/// The final answer ([`crate::final_fit::correct`]), refined with the exact model like the baseline.
+pub(super) fn final_answer(
+    f: FinalInput,
+    opts: &AnalysisOptions,
+    iopts: &IdentifyOptions,
+) -> Result<(Design, Identification, Option<RefineReport>, Correction), AnalysisError> {
+    let no_candidates: Vec<crate::effects::Candidate> = Vec::new();
+    let no_points: Vec<crate::effects::PointMeta> = Vec::new();
+    let input = CorrectionInput {
+        design: f.design,
+        observations: f.observations,
+        baseline: f.baseline,
+        points: f.model.map_or(&no_points, |m| &m.points),
+        candidates: f.model.map_or(&no_candidates, |m| &m.candidates),
+        verdict: f.verdict,
+        unavailable: f.unavailable,
+        options: iopts,
+    };
+    let fin = correct(&input, &opts.effects).map_err(AnalysisError::Correction)?;
+    let Final {
+        design,
+        mut identification,
+        whitener,
+        mut correction,
+    } = fin;
+    let refinement = match correction.basis {
+        Basis::Baseline => f.baseline_refinement.cloned(),
+        _ if opts.refine => {
+            let r = refine_with(
+                &design,
+                f.observations,
+                &identification,
+                f.points,
+                opts,
+                iopts,
+                whitener.as_ref(),
+            )?;
+            apply_refinement(&mut identification, &r, "");
+            if r.performed && r.success {
+                correction.shift = shifts(f.baseline, &identification);
+                correction.summary = summary(&correction, f.baseline, &identification);
+            }
+            Some(r)
+        }
+        _ => None,
+    };
+    Ok((design, identification, refinement, correction))
+}

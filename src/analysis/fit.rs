@@ -1,0 +1,97 @@
+//! One part through the stages after its points are known: what the CLI, the page and
+//! `validate` all run.
+
+use crate::final_fit::correct::Correction;
+use crate::identify::refine::{apply_refinement, RefineReport};
+use crate::identify::{identify, Design, Identification, IdentifyOptions, Observations};
+use crate::part::{MeasurementPoint, SShape};
+
+use super::diagnosis::{diagnose_modelled, Diagnosis};
+use super::error::AnalysisError;
+use super::final_answer::{final_answer, refine_with, FinalInput};
+use super::options::AnalysisOptions;
+use super::outliers::outliers_of;
+use super::points::design_at;
+use super::report::{BaselineFit, Outliers};
+
+/// What one part's points and deviations give through the stages after the reading: the
+/// outliers, the diagnosis, the baseline and the final answer ([`fit_points`]).
+#[derive(Debug, Clone)]
+pub struct PointsFit {
+    pub diagnosis: Diagnosis,
+    pub outliers: Outliers,
+    /// The baseline identification (the location errors alone, refined when the options say).
+    pub baseline: BaselineFit,
+    /// The final answer's design, identification, refinement and how it was obtained.
+    pub design: Design,
+    pub identification: Identification,
+    pub refinement: Option<RefineReport>,
+    pub correction: Correction,
+    /// The observations of the final answer (outliers left out with weight 0).
+    pub observations: Observations,
+}
+
+/// One part through the stages after its points are known, as the CLI, the page and the
+/// benchmark of the diagnosis (`validate`) all run it: the design of the location errors at the
+/// points ([`design_at`]), the outlier test and the diagnosis ([`diagnose_on_machine`]), the
+/// baseline identification and its exact-model refinement, and the final answer fitted with
+/// what the diagnosis found. `deviations` (mm) and `ids` follow `points`; `opts.noise_sigma` is
+/// the σ to use (`None`: estimated), `opts.noise_mpe` is not read here.
+pub fn fit_points(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    deviations: &[f64],
+    ids: &[String],
+    opts: &AnalysisOptions,
+) -> Result<PointsFit, AnalysisError> {
+    let (design, columns) = design_at(part, points, opts)?;
+    let modelled = diagnose_modelled(part, points, deviations, opts);
+    let obs = Observations::new(
+        ids.to_vec(),
+        points.iter().map(|p| p.curve.name().to_string()).collect(),
+        deviations.to_vec(),
+    )
+    .excluding(&modelled.excluded);
+    let mut iopts = IdentifyOptions::default();
+    if let Some(s) = opts.noise_sigma {
+        iopts = iopts.with_sigma(s);
+    }
+    let mut identification = identify(&design, &obs, &iopts)?;
+    let refinement = if opts.refine {
+        let r = refine_with(&design, &obs, &identification, points, opts, &iopts, None)?;
+        apply_refinement(&mut identification, &r, "");
+        Some(r)
+    } else {
+        None
+    };
+    let outliers = outliers_of(&modelled, ids, opts.keep_outliers);
+    let diagnosis = modelled.diagnosis;
+    let (final_design, final_id, final_refinement, correction) = final_answer(
+        FinalInput {
+            design: &design,
+            observations: &obs,
+            baseline: &identification,
+            baseline_refinement: refinement.as_ref(),
+            points,
+            model: modelled.model.as_ref(),
+            verdict: diagnosis.report().map(|r| &r.verdict),
+            unavailable: &modelled.unavailable,
+        },
+        opts,
+        &iopts,
+    )?;
+    Ok(PointsFit {
+        diagnosis,
+        outliers,
+        baseline: BaselineFit {
+            design: columns,
+            identification,
+            refinement,
+        },
+        design: final_design,
+        identification: final_id,
+        refinement: final_refinement,
+        correction,
+        observations: obs,
+    })
+}

@@ -1,0 +1,110 @@
+//! The measured points as the part model sees them, and the design of the location errors at them.
+
+use nalgebra::DMatrix;
+
+use crate::cmm::MatchedPart;
+use crate::effects::GapError;
+use crate::final_fit::correct::EffectsChoice;
+use crate::identify::{Design, Parameter};
+use crate::part::{Curve, MeasurementPoint, SShape, Surface};
+use crate::sensitivity::{sensitivity_matrix, SensitivityOptions};
+
+use super::error::AnalysisError;
+use super::options::AnalysisOptions;
+use super::report::DesignColumns;
+
+/// The measurement curve (Z = 11 or 25 mm) nearer to height `z` on surface `s`.
+pub fn nearest_curve(s: Surface, z: f64) -> Curve {
+    let near = |c: &Curve| (c.z() - z).abs();
+    Curve::ALL
+        .into_iter()
+        .filter(|c| c.surface() == s)
+        .min_by(|a, b| near(a).total_cmp(&near(b)))
+        .unwrap_or(Curve::ALL[0])
+}
+
+/// The measurement points of a matched part, at each point's own `(surface, u, v)`.
+pub fn measurement_points(part: &SShape, matched: &MatchedPart) -> Vec<MeasurementPoint> {
+    matched
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let curve = nearest_curve(p.surface, p.foot[2]);
+            let mut m = MeasurementPoint::at(part, i + 1, curve, p.u, p.v);
+            m.surface = p.surface;
+            m
+        })
+        .collect()
+}
+
+/// The sensitivity settings of an analysis: mode, branch, the chosen chain with its L0.
+pub fn sensitivity_options(opts: &AnalysisOptions) -> SensitivityOptions {
+    SensitivityOptions::default()
+        .with_mode(opts.mode)
+        .with_branch(opts.branch)
+        .with_chain(opts.machine.chain(opts.l0))
+}
+
+/// The effects given to fit (`--effects ID[,ID]`) must exist on the chosen machine
+/// ([`Effect::absent_from`]): otherwise [`GapError::NotOnMachine`], naming the machine and why.
+pub fn effects_on_machine(opts: &AnalysisOptions) -> Result<(), GapError> {
+    let EffectsChoice::Given(effects) = &opts.effects else {
+        return Ok(());
+    };
+    let chain = opts.machine.chain(opts.l0);
+    let same = crate::effects::builtin::location_equivalents_of(
+        &SShape::iso(),
+        &sensitivity_options(opts),
+    )?;
+    for &effect in effects {
+        let located = same
+            .iter()
+            .find(|(e, _)| *e == effect)
+            .map(|(_, r)| r.clone());
+        if let Some(reason) = effect.absent_from(&chain).or(located) {
+            return Err(GapError::NotOnMachine {
+                effect,
+                machine: opts.machine.describe().to_string(),
+                reason,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The sensitivity design at `points` for `opts` (plus the `dR` column when asked).
+pub fn design_at(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &AnalysisOptions,
+) -> Result<(Design, DesignColumns), AnalysisError> {
+    if !(opts.l0.is_finite() && opts.l0 > 0.0) {
+        return Err(AnalysisError::BadL0(opts.l0));
+    }
+    effects_on_machine(opts).map_err(AnalysisError::Correction)?;
+    let m = sensitivity_matrix(part, points, &sensitivity_options(opts))?;
+    let n = points.len();
+    let mut params: Vec<Parameter> = m.params.iter().map(|p| Parameter::named(p)).collect();
+    let mut matrix = m.values;
+    if opts.tool_radius {
+        params.push(Parameter::named(crate::identify::TOOL_RADIUS));
+        matrix = matrix.insert_column(params.len() - 1, -1.0);
+    }
+    debug_assert_eq!(matrix.nrows(), n);
+    let design = Design::try_new(params, DMatrix::from(matrix))?;
+    let columns = columns_of(&design);
+    Ok((design, columns))
+}
+
+/// The named columns of a design, as the reports carry them.
+pub fn columns_of(design: &Design) -> DesignColumns {
+    let m = design.matrix();
+    DesignColumns {
+        params: design.names(),
+        units: design.parameters().iter().map(|p| p.unit.clone()).collect(),
+        columns: (0..m.ncols())
+            .map(|k| m.column(k).iter().copied().collect())
+            .collect(),
+    }
+}

@@ -1,0 +1,130 @@
+//! What one analysis reports: the serialisable [`Analysis`] and its parts.
+
+use serde::Serialize;
+
+use crate::cmm::MatchedPart;
+use crate::final_fit::correct::Correction;
+use crate::gap::verdict::VerdictId;
+use crate::identify::refine::RefineReport;
+use crate::identify::{Design, Identification, Observations};
+use crate::measurement::outliers::OutlierTest;
+use crate::measurement::repeat::{LackOfFit, PureError};
+use crate::part::MeasurementPoint;
+use crate::settings::NoiseKind;
+
+use super::diagnosis::Diagnosis;
+use super::options::AnalysisOptions;
+
+/// The design at the measured points: one row per point, one column per parameter.
+#[derive(Debug, Clone, Serialize)]
+pub struct DesignColumns {
+    /// Parameter names (`EC0Y` … `EC0B`, then `dR` when fitted).
+    pub params: Vec<String>,
+    /// `mm` or `rad` per parameter.
+    pub units: Vec<String>,
+    /// `columns[k][i]`: defect at point `i` per unit of parameter `k` (mm/rad or mm/mm).
+    pub columns: Vec<Vec<f64>>,
+}
+
+/// Everything one analysis reports.
+#[derive(Debug, Clone, Serialize)]
+pub struct Analysis {
+    pub version: &'static str,
+    pub settings: AnalysisOptions,
+    /// The file as read and matched: format, points, excluded rows, warnings.
+    pub file: MatchedPart,
+    /// The measurement points at the matched positions (same order as `file.points`).
+    pub points: Vec<MeasurementPoint>,
+    /// The design of the final answer: the location errors, then the effect columns fitted
+    /// with them (`<id>.<parameter>`), when any.
+    pub design: DesignColumns,
+    /// The final answer (what every report and export uses): the location errors fitted with
+    /// what the diagnosis found ([`crate::final_fit::correct`]).
+    pub identification: Identification,
+    /// What the exact-model refinement of the final answer did (absent when switched off).
+    pub refinement: Option<RefineReport>,
+    /// The sim-to-real gap diagnosis, or why it could not be made.
+    pub diagnosis: Diagnosis,
+    /// How the final answer was obtained: basis, effects included, shift from the baseline.
+    pub correction: Correction,
+    /// The baseline identification (the location errors alone), as before the diagnosis.
+    pub baseline: BaselineFit,
+    /// The single-point outliers found, and whether they were left out.
+    pub outliers: Outliers,
+    /// The σ of the CMM noise the analysis used, and where it came from.
+    pub noise: NoiseSource,
+    /// Repeat measurements of the part: the pure error and the lack of fit (absent with one
+    /// file).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub repeat: Option<RepeatReport>,
+}
+
+/// What repeat measurements of the part gave ([`crate::measurement::repeat`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct RepeatReport {
+    /// σ from the differences of the measurements (pure error).
+    pub pure_error: PureError,
+    /// The lack-of-fit test of the baseline (the location errors alone) against it.
+    pub lack_of_fit: LackOfFit,
+    /// One sentence for the reports.
+    pub summary: String,
+}
+
+/// The single-point outliers of an analysis ([`crate::measurement::outliers`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct Outliers {
+    /// Whether the test was made (it needs the diagnosis's part model).
+    pub tested: bool,
+    /// The test: `points` (`id` as in the file, `curve`, `size` in mm = the deleted residual,
+    /// `statistic` = |t|), `rule`, `alpha`, `threshold`, `sigma` (mm), `sigma_source`,
+    /// `structured` (points over the bound kept as structure).
+    #[serde(flatten)]
+    pub test: Option<OutlierTest>,
+    /// `true`: the outliers were left out of the identification and the diagnosis (default);
+    /// `false`: kept (`keep_outliers`).
+    pub excluded: bool,
+    /// The verdict of the diagnosis on every point, outliers included (when some were left
+    /// out; otherwise the verdict itself).
+    pub verdict_all_points: Option<VerdictId>,
+    /// One sentence for the reports (empty when there is none).
+    pub summary: String,
+}
+
+/// The σ of the CMM noise an analysis used.
+#[derive(Debug, Clone, Serialize)]
+pub struct NoiseSource {
+    /// `given` (σ), `mpe` (from the CMM's MPE), `repeat` (σ of the mean of repeat
+    /// measurements, from their differences) or `estimated` (from the residual).
+    pub source: NoiseKind,
+    /// The σ given or from the MPE (mm); `None` when estimated (the diagnosis's own estimate is
+    /// `diagnosis.report.verdict.sigma`).
+    pub sigma: Option<f64>,
+    /// Smallest and largest per-point σ from the MPE (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mpe_range: Option<(f64, f64)>,
+    /// One sentence for the reports.
+    pub summary: String,
+}
+
+/// The baseline identification of an analysis: the location errors alone (`--effects none`).
+#[derive(Debug, Clone, Serialize)]
+pub struct BaselineFit {
+    pub design: DesignColumns,
+    pub identification: Identification,
+    pub refinement: Option<RefineReport>,
+}
+
+/// What an analysis fitted, for further work on the same part (Monte Carlo): the design and
+/// the observations of the final identification.
+#[derive(Debug, Clone)]
+pub struct Fitted {
+    pub design: Design,
+    pub observations: Observations,
+}
+
+impl Analysis {
+    /// Distance of each point from the part origin (mm): the length `L` of a CMM's MPE_E.
+    pub fn lengths(&self) -> Vec<f64> {
+        self.points.iter().map(|p| p.point.norm()).collect()
+    }
+}
