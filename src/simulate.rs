@@ -45,27 +45,23 @@ pub enum SimulateError {
     /// The sensitivity stage failed.
     #[error(transparent)]
     Sensitivity(#[from] SensitivityError),
-    /// `--branch` is neither `signed` nor `positive`.
-    #[error("branch `{0}`: expected signed or positive")]
-    BadBranch(String),
 }
 
-/// Sensitivity options for a mode (`physical`, `paper`) and branch (`signed`, `positive`) on
-/// paper 000's machine.
-pub fn sensitivity_options(mode: &str, branch: &str) -> Result<SensitivityOptions, SimulateError> {
-    let m = Mode::parse(mode)?;
-    let b = Branch::parse(branch).ok_or_else(|| SimulateError::BadBranch(branch.to_string()))?;
-    Ok(SensitivityOptions::default().with_mode(m).with_branch(b))
+/// Sensitivity options for a mode and a B branch on paper 000's machine.
+pub fn sensitivity_options(mode: Mode, branch: Branch) -> SensitivityOptions {
+    SensitivityOptions::default()
+        .with_mode(mode)
+        .with_branch(branch)
 }
 
 /// The design of the 100 built-in points (s-shape.md) for a mode and branch: the Figure-19
 /// sensitivity matrix (paper 000 eq. 14), with the tool-radius column `dR` if asked.
 pub fn builtin_design(
-    mode: &str,
-    branch: &str,
+    mode: Mode,
+    branch: Branch,
     tool_radius: bool,
 ) -> Result<Design, SimulateError> {
-    let opts = sensitivity_options(mode, branch)?;
+    let opts = sensitivity_options(mode, branch);
     let part = SShape::iso();
     let m = sensitivity_matrix(&part, &builtin_points(&part), &opts)?;
     let d = Design::from_sensitivity(&m)?;
@@ -102,10 +98,10 @@ enum ExactColumn {
 impl ExactDefectModel {
     /// The model at the 100 built-in points for the columns of `design` (location-error names
     /// and `dR`).
-    pub fn new(design: &Design, mode: &str, branch: &str) -> Result<Self, SimulateError> {
+    pub fn new(design: &Design, mode: Mode, branch: Branch) -> Result<Self, SimulateError> {
         let part = SShape::iso();
         let points = builtin_points(&part);
-        Self::at_points(design, points, sensitivity_options(mode, branch)?)
+        Self::at_points(design, points, sensitivity_options(mode, branch))
     }
 
     /// The model at any measurement points (e.g. those of a CMM file, matched by projection).
@@ -240,8 +236,8 @@ pub fn simulate_deviation(
 /// errors (location errors and `dR`; others 0), plus the same seeded noise as
 /// [`simulate_deviation`]. Differs from the linear one by < 0.3 µm at |ξ| ≤ 3e-4 rad.
 pub fn simulate_exact(
-    mode: &str,
-    branch: &str,
+    mode: Mode,
+    branch: Branch,
     errors: &[(String, f64)],
     noise_sigma: f64,
     seed: u64,

@@ -3,6 +3,7 @@
 //! tangent to the top curve), its controller trace by inverse kinematics (eq. 10), and writers
 //! of the two file formats that [`super::cl`] and [`super::trace`] read.
 
+use crate::sensitivity::Mode;
 use std::fmt::Write;
 
 use super::trace::TraceMachine;
@@ -207,7 +208,7 @@ pub fn example_files() -> Result<Vec<(&'static str, String)>, super::BudgetError
         .iter()
         .map(|h| h.deviation)
         .collect();
-    let design = builtin_design("physical", "signed", true)?;
+    let design = builtin_design(Mode::Physical, Branch::Signed, true)?;
     let errors = vec![
         ("EX0B".to_string(), 0.01),
         ("EA0B".to_string(), 1.2e-4),

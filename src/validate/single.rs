@@ -39,6 +39,7 @@
 //! near-equivalent on this part ([`crate::gap::equivalence::EQUIVALENT_COS`]); exact hits are counted
 //! too. Cases are assigned in turn: each effect of the list, `none` twice, waviness, bump.
 
+use crate::machine::Branch;
 use std::collections::BTreeMap;
 
 use nalgebra::{DMatrix, DVector};
@@ -417,9 +418,9 @@ pub type MachinePart<'a> = dyn Fn(&DVector<f64>) -> Result<DVector<f64>, GapErro
 pub fn exact_machine_part(names: &[String]) -> Result<Box<MachinePart<'static>>, GapError> {
     use crate::identify::refine::ExactModel;
     let model_err = |e: String| GapError::Model(e);
-    let design = crate::simulate::builtin_design("physical", "signed", false)
+    let design = crate::simulate::builtin_design(Mode::Physical, Branch::Signed, false)
         .map_err(|e| model_err(e.to_string()))?;
-    let exact = crate::simulate::ExactDefectModel::new(&design, "physical", "signed")
+    let exact = crate::simulate::ExactDefectModel::new(&design, Mode::Physical, Branch::Signed)
         .map_err(|e| model_err(e.to_string()))?;
     let names = names.to_vec();
     Ok(Box::new(move |xi: &DVector<f64>| {

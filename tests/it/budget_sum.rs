@@ -16,6 +16,7 @@ use testpiece::budget::{
 };
 use testpiece::machine::{AxisName, Branch};
 use testpiece::part::{builtin_points, MeasurementPoint, SShape};
+use testpiece::sensitivity::Mode;
 use testpiece::simulate::{builtin_design, simulate_deviation};
 use testpiece::toolpath::TOOL_RADIUS;
 
@@ -65,7 +66,7 @@ fn the_budget_adds_up_to_the_simulated_measurement() {
         ("EC0Y".to_string(), -4e-5),
         ("dR".to_string(), 0.008),
     ];
-    let design = builtin_design("physical", "signed", true).unwrap();
+    let design = builtin_design(Mode::Physical, Branch::Signed, true).unwrap();
     let defect = simulate_deviation(&design, &errors, 0.0, 0).unwrap();
     let measured: Vec<f64> = d_trace.iter().zip(&defect).map(|(a, b)| a + b).collect();
     let cmm = cmm_file(&pts, &measured);
@@ -115,7 +116,7 @@ fn an_offset_path_shifts_the_budget_by_its_offset() {
     let delta = 0.01;
     let cl0 = flank_path(&part, 0.5, "cl0");
     let cl1 = flank_path_with_allowance(&part, 0.5, delta, "cl1");
-    let design = builtin_design("physical", "signed", false).unwrap();
+    let design = builtin_design(Mode::Physical, Branch::Signed, false).unwrap();
     let defect = simulate_deviation(&design, &[("EA0B".into(), 1e-4)], 0.0, 0).unwrap();
     let h0 = path_deviation(&cl0, &pts, TOOL_RADIUS).unwrap();
     let d0: Vec<f64> = h0.iter().map(|h| h.deviation).collect();

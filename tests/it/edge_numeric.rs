@@ -26,6 +26,7 @@ use testpiece::machine::direct::nominal;
 use testpiece::machine::inverse::{inverse, RotaryPair};
 use testpiece::machine::{Branch, Chain};
 use testpiece::part::{Curve, MeasurementPoint, SShape};
+use testpiece::sensitivity::Mode;
 use testpiece::sensitivity::{sensitivity_matrix, SensitivityOptions};
 use testpiece::simulate::{builtin_design, simulate_deviation, simulate_exact, ExactDefectModel};
 use testpiece::tolerance::KINEMATICS_MM;
@@ -72,7 +73,7 @@ fn fewer_points_than_parameters_is_refused_with_the_need() {
 /// cannot separate are named in groups.
 #[test]
 fn all_points_on_one_curve() {
-    let y = simulate_exact("physical", "signed", &typical(1.0), 0.0, 1).unwrap();
+    let y = simulate_exact(Mode::Physical, Branch::Signed, &typical(1.0), 0.0, 1).unwrap();
     let pts = builtin();
     let text = csv_of(&pts[..25], &y[..25]);
     // The baseline identification: noiseless data carry no effect for the diagnosis to name.
@@ -216,13 +217,13 @@ fn tool_axis_at_the_singularity() {
 /// modelled deviation (> 1 %) and the refinement report says so (measured: printed below).
 #[test]
 fn errors_too_large_for_the_linearisation_are_reported() {
-    let d = builtin_design("physical", "signed", false).unwrap();
+    let d = builtin_design(Mode::Physical, Branch::Signed, false).unwrap();
     let iopts = IdentifyOptions::default();
     for (k, warn) in [(1.0, false), (100.0, true)] {
-        let y = simulate_exact("physical", "signed", &typical(k), 0.0, 1).unwrap();
+        let y = simulate_exact(Mode::Physical, Branch::Signed, &typical(k), 0.0, 1).unwrap();
         let obs = Observations::plain(y);
         let lin = identify(&d, &obs, &iopts).unwrap();
-        let model = ExactDefectModel::new(&d, "physical", "signed").unwrap();
+        let model = ExactDefectModel::new(&d, Mode::Physical, Branch::Signed).unwrap();
         let r = refine(&d, &obs, &lin, model, &RefineOptions::default(), &iopts).unwrap();
         let ratio = r.linearisation_error_rms / r.modelled_rms;
         eprintln!(
@@ -255,7 +256,7 @@ fn analysis_notes_the_linearisation_warning() {
         .iter()
         .any(|n| n.starts_with("WARNING:")));
     assert!(a.refinement.as_ref().unwrap().warning.is_none());
-    let y = simulate_exact("physical", "signed", &typical(30.0), 0.0, 1).unwrap();
+    let y = simulate_exact(Mode::Physical, Branch::Signed, &typical(30.0), 0.0, 1).unwrap();
     let text = csv_of(&builtin(), &y);
     let a = analyse(text.as_bytes(), "large.csv", &AnalysisOptions::default()).unwrap();
     all_finite(&a);
@@ -298,7 +299,7 @@ fn zero_negative_and_non_finite_noise_are_refused() {
             format!("CMM uncertainty σ = {s} mm is not a positive finite number")
         );
     }
-    let d = builtin_design("physical", "signed", false).unwrap();
+    let d = builtin_design(Mode::Physical, Branch::Signed, false).unwrap();
     assert!(simulate_deviation(&d, &typical(1.0), -1e-3, 1)
         .unwrap_err()
         .to_string()
@@ -313,7 +314,7 @@ fn zero_negative_and_non_finite_noise_are_refused() {
 /// analysis is finite (no 0/0 in the std, t-values or the diagnosis), the values are recovered.
 #[test]
 fn noiseless_data_give_finite_results() {
-    let y = simulate_exact("physical", "signed", &typical(1.0), 0.0, 1).unwrap();
+    let y = simulate_exact(Mode::Physical, Branch::Signed, &typical(1.0), 0.0, 1).unwrap();
     let text = csv_of(&builtin(), &y);
     let a = analyse(
         text.as_bytes(),
@@ -403,7 +404,7 @@ fn non_finite_options_are_refused() {
             assert!(e.to_string().contains(&v.to_string()), "{e}");
         }
     }
-    let d = builtin_design("physical", "signed", false).unwrap();
+    let d = builtin_design(Mode::Physical, Branch::Signed, false).unwrap();
     let obs = Observations::plain(simulate_deviation(&d, &typical(1.0), 0.0, 1).unwrap());
     for opts in [
         IdentifyOptions::default().with_sigma(f64::NAN),

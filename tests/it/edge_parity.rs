@@ -16,6 +16,8 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use testpiece::machine::Branch;
+use testpiece::sensitivity::Mode;
 
 use crate::parity_common::*;
 use serde_json::Value;
@@ -153,14 +155,14 @@ fn deterministic_for_a_given_seed() {
     assert_eq!(a, b);
 
     let errors = vec![("EX0B".to_string(), 0.02), ("EA0B".to_string(), 1e-4)];
-    let d = builtin_design("physical", "signed", false).unwrap();
+    let d = builtin_design(Mode::Physical, Branch::Signed, false).unwrap();
     let y1 = simulate_deviation(&d, &errors, 0.0015, 42).unwrap();
     assert_eq!(y1, simulate_deviation(&d, &errors, 0.0015, 42).unwrap());
     assert_ne!(y1, simulate_deviation(&d, &errors, 0.0015, 43).unwrap());
-    let e1 = simulate_exact("physical", "signed", &errors, 0.0015, 42).unwrap();
+    let e1 = simulate_exact(Mode::Physical, Branch::Signed, &errors, 0.0015, 42).unwrap();
     assert_eq!(
         e1,
-        simulate_exact("physical", "signed", &errors, 0.0015, 42).unwrap()
+        simulate_exact(Mode::Physical, Branch::Signed, &errors, 0.0015, 42).unwrap()
     );
 
     let obs = Observations::plain(y1);

@@ -133,7 +133,8 @@ fn simulate_and_identify_back() {
 #[test]
 fn builtin_design_matches_reference_sensitivity() {
     for mode in ["physical", "paper"] {
-        let d = builtin_design(mode, "signed", false).unwrap();
+        let m = testpiece::sensitivity::Mode::parse(mode).unwrap();
+        let d = builtin_design(m, testpiece::machine::Branch::Signed, false).unwrap();
         let r = design(mode);
         assert_eq!(d.names(), r.names());
         for j in 0..8 {
@@ -155,8 +156,9 @@ fn builtin_design_matches_reference_sensitivity() {
 #[test]
 fn exact_model_matches_table4_and_design() {
     use testpiece::identify::refine::ExactModel;
-    let d = builtin_design("paper", "signed", true).unwrap();
-    let m = ExactDefectModel::new(&d, "paper", "signed").unwrap();
+    use testpiece::{machine::Branch, sensitivity::Mode};
+    let d = builtin_design(Mode::Paper, Branch::Signed, true).unwrap();
+    let m = ExactDefectModel::new(&d, Mode::Paper, Branch::Signed).unwrap();
     let x = d
         .vector_from(&parse_errors("EX0B=0.0294,EA0B=3.2419e-4,dR=-0.02").unwrap())
         .unwrap();

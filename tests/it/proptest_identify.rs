@@ -25,16 +25,16 @@ proptest! {
     #[test]
     fn noiseless_simulated_parts_are_recovered(x in xi_strategy()) {
       for paper in [false, true] {
-        let mode = if paper { "paper" } else { "physical" };
+        let mode = if paper { Mode::Paper } else { Mode::Physical };
         let errors: Vec<(String, f64)> =
             NAMES.iter().zip(&x).map(|(n, v)| (n.to_string(), *v)).collect();
-        let y = simulate_exact(mode, "signed", &errors, 0.0, 0).unwrap();
+        let y = simulate_exact(mode, testpiece::machine::Branch::Signed, &errors, 0.0, 0).unwrap();
         let text = csv_of(&builtin(), &y);
         // The baseline identification (`--effects none`): a noiseless part is no test of the
         // gap diagnosis (σ ≈ 0 makes the exact model's second-order terms "structure"), and
         // the property checked here is the least-squares recovery of the location errors.
         let opts = AnalysisOptions {
-            mode: if paper { Mode::Paper } else { Mode::Physical },
+            mode,
             effects: EffectsChoice::None,
             ..Default::default()
         };
@@ -64,7 +64,7 @@ proptest! {
             prop_assert_eq!(&p.name, NAMES[j]);
             if p.status != Status::NotSeparable {
                 let bias = (p.value - x[j]).abs() / typical(j);
-                prop_assert!(bias < k, "{} {}: {} vs {}", mode, p.name, p.value, x[j]);
+                prop_assert!(bias < k, "{} {}: {} vs {}", mode.name(), p.name, p.value, x[j]);
             }
         }
         if paper {
@@ -76,7 +76,7 @@ proptest! {
             for e in &g.estimable {
                 let want = e.combination.apply(&names, &x);
                 let got = e.combination.apply(&names, &values);
-                prop_assert!((got - want).abs() < 1e-3 * 0.03, "{}: {} vs {}", mode, got, want);
+                prop_assert!((got - want).abs() < 1e-3 * 0.03, "{}: {} vs {}", mode.name(), got, want);
             }
         }
       }

@@ -11,6 +11,8 @@ use crate::cli_common::testpiece_ok;
 use testpiece::analysis::{analyse, AnalysisOptions};
 use testpiece::compensation::compensation;
 use testpiece::machine::AxisName;
+use testpiece::machine::Branch;
+use testpiece::sensitivity::Mode;
 use testpiece::simulate::simulate_exact;
 use testpiece::tolerance::COMPENSATED_PART_MM as AFTER_MM;
 
@@ -58,8 +60,9 @@ fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
         })
         .collect();
     let true_errors: Vec<(String, f64)> = truth.iter().map(|(n, v)| (n.to_string(), *v)).collect();
-    let exact_true = simulate_exact("physical", "signed", &true_errors, 0.0, 0).unwrap();
-    let exact_comp = simulate_exact("physical", "signed", &residual_errors, 0.0, 0).unwrap();
+    let exact_true = simulate_exact(Mode::Physical, Branch::Signed, &true_errors, 0.0, 0).unwrap();
+    let exact_comp =
+        simulate_exact(Mode::Physical, Branch::Signed, &residual_errors, 0.0, 0).unwrap();
     let mut worst = 0.0f64;
     for (i, p) in c.part.points.iter().enumerate() {
         let rest = p.measured - exact_true[i]; // backlash + noise

@@ -14,7 +14,7 @@ use testpiece::simulate::{
     builtin_design, parse_errors, simulate_deviation, simulate_exact, simulate_on,
 };
 
-use crate::common::{branch, branch_name, machine, mm, mode, positive_l0, seed};
+use crate::common::{branch, machine, mm, mode, positive_l0, seed};
 
 /// a synthetic measured part for given errors: id,curve,x,y,z,nx,ny,nz,deviation
 ///
@@ -163,7 +163,7 @@ fn machine_part(a: &Args, errs: &[(String, f64)], l0: f64) -> Result<Vec<f64>, S
         || errs
             .iter()
             .any(|(n, _)| n != "dR" && !ISO_LOCATION_ERRORS.contains(&n.as_str()));
-    let (mode, branch) = (a.mode.name(), branch_name(a.branch));
+    let (mode, branch) = (a.mode, a.branch);
     if on_chain {
         if a.linear {
             return Err("--linear: only on paper000 with its eight errors".to_string());

@@ -2,7 +2,9 @@
 #![allow(dead_code)]
 
 use testpiece::cmm::write::{canonical_csv, Precision};
+use testpiece::machine::Branch;
 use testpiece::part::{builtin_points, SShape};
+use testpiece::sensitivity::Mode;
 use testpiece::simulate::simulate_exact;
 
 /// The machine of example_clean.key.json (`xi_true`, rad; EX0B mm).
@@ -22,7 +24,7 @@ pub const NOISE: f64 = 0.0015;
 /// A canonical CSV part (`id,curve,x,y,z,nx,ny,nz,deviation`, shortest round-trip numbers):
 /// exact eq. 12 for `errors` at the 100 built-in points plus N(0, NOISE²) noise with `seed`.
 pub fn part_csv(errors: &[(String, f64)], seed: u64) -> String {
-    let dev = simulate_exact("physical", "signed", errors, NOISE, seed).unwrap();
+    let dev = simulate_exact(Mode::Physical, Branch::Signed, errors, NOISE, seed).unwrap();
     let points = builtin_points(&SShape::iso());
     canonical_csv(points.iter().zip(dev), Precision::Shortest, None)
 }
