@@ -79,16 +79,14 @@ pub fn cmm_text_with(rows: usize, offset: usize) -> String {
 
 /// The Figure-19 design with the tool-radius column, its rows repeated to `rows`, and
 /// deviations from known errors plus a deterministic ±2 µm pattern.
-pub fn identify_input(rows: usize) -> Result<(Design, Observations), String> {
+pub fn identify_input(rows: usize) -> Result<(Design, Observations), BenchError> {
     let part = SShape::iso();
     let pts = builtin_points(&part);
-    let m = sensitivity_matrix(&part, &pts, &SensitivityOptions::default())
-        .map_err(|e| e.to_string())?;
+    let m = sensitivity_matrix(&part, &pts, &SensitivityOptions::default())?;
     let tiled = DMatrix::from_fn(rows, m.values.ncols(), |i, j| m.values[(i % pts.len(), j)]);
     let names: Vec<&str> = m.params.iter().map(String::as_str).collect();
     let design = Design::from_column_major(&names, rows, tiled.as_slice())
-        .and_then(Design::with_tool_radius)
-        .map_err(|e| e.to_string())?;
+        .and_then(Design::with_tool_radius)?;
     let truth: Vec<f64> = (0..design.cols())
         .map(|j| 1e-5 * (j as f64 - 3.5))
         .collect();
@@ -145,18 +143,40 @@ impl Kept {
 }
 
 /// The deviations of a CMM text and the points matched to them (as `analyse` finds them).
-fn matched(part: &SShape, text: &str) -> Result<(Vec<MeasurementPoint>, Vec<f64>), String> {
-    let m = crate::cmm::read_and_match(text.as_bytes(), "bench.csv", &Default::default())
-        .map_err(|x| x.to_string())?;
+fn matched(part: &SShape, text: &str) -> Result<(Vec<MeasurementPoint>, Vec<f64>), BenchError> {
+    let m = crate::cmm::read_and_match(text.as_bytes(), "bench.csv", &Default::default())?;
     Ok((
         crate::analysis::measurement_points(part, &m),
         m.deviations(),
     ))
 }
 
+/// Why a stage's input could not be built or its run failed: the stage's own error.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    #[error("unknown stage `{name}` (expected one of {STAGES:?})")]
+    UnknownStage { name: String },
+    #[error(transparent)]
+    Geometry(#[from] crate::geometry::GeometryError),
+    #[error(transparent)]
+    Toolpath(#[from] crate::toolpath::ToolpathError),
+    #[error(transparent)]
+    Machine(#[from] crate::machine::MachineError),
+    #[error(transparent)]
+    Sensitivity(#[from] crate::sensitivity::SensitivityError),
+    #[error(transparent)]
+    Cmm(#[from] crate::cmm::CmmError),
+    #[error(transparent)]
+    Identify(#[from] crate::identify::IdentifyError),
+    #[error(transparent)]
+    Gap(#[from] crate::effects::GapError),
+    #[error(transparent)]
+    Analysis(#[from] crate::analysis::AnalysisError),
+}
+
 impl Stage {
     /// Builds the input of stage `name` (one of [`STAGES`]).
-    pub fn prepare(name: &str) -> Result<Stage, String> {
+    pub fn prepare(name: &str) -> Result<Stage, BenchError> {
         let part = SShape::iso();
         let pts = builtin_points(&part);
         Ok(match name {
@@ -184,8 +204,7 @@ impl Stage {
             "analyse_100_further" => Stage::Analyse(cmm_text_with(100, 5), Kept::Paths),
             "analyse_100_again" => Stage::Analyse(cmm_text_with(100, 5), Kept::Everything),
             "diagnose_100" => {
-                let devs = crate::cmm::read_cmm(cmm_text(100).as_bytes(), "bench.csv")
-                    .map_err(|x| x.to_string())?
+                let devs = crate::cmm::read_cmm(cmm_text(100).as_bytes(), "bench.csv")?
                     .points
                     .iter()
                     .map(|p| p.deviation.unwrap_or(0.0))
@@ -201,16 +220,15 @@ impl Stage {
                 Stage::Diagnose(part, pts, devs, Kept::Everything)
             }
             _ => {
-                return Err(format!(
-                    "unknown stage `{name}` (expected one of {STAGES:?})"
-                ))
+                return Err(BenchError::UnknownStage {
+                    name: name.to_string(),
+                })
             }
         })
     }
 
     /// Runs the stage once; returns a number taken from the result.
-    pub fn run(&self) -> Result<f64, String> {
-        let e = |e: &dyn std::fmt::Display| e.to_string();
+    pub fn run(&self) -> Result<f64, BenchError> {
         Ok(match self {
             Stage::Eval(part) => {
                 let c = &part.a[0];
@@ -222,19 +240,15 @@ impl Stage {
                 let projector = crate::part::projection::Projector::new(part);
                 let mut s = 0.0;
                 for p in ps {
-                    s += projector.project(p).map_err(|x| e(&x))?.distance;
+                    s += projector.project(p)?.distance;
                 }
                 s
             }
             Stage::Envelope(part, pts) => {
-                crate::toolpath::envelope::points_deviation(part, pts, 0.0)
-                    .map_err(|x| e(&x))?
-                    .len() as f64
+                crate::toolpath::envelope::points_deviation(part, pts, 0.0)?.len() as f64
             }
             Stage::SurfaceMax(part) => {
-                crate::toolpath::envelope::surface_max_overcut(part, Surface::A)
-                    .map_err(|x| e(&x))?
-                    .max_overcut
+                crate::toolpath::envelope::surface_max_overcut(part, Surface::A)?.max_overcut
             }
             Stage::Path(part, pts) => {
                 let o = SensitivityOptions::default();
@@ -245,8 +259,7 @@ impl Stage {
                         .filter(|p| p.surface == surf)
                         .map(|p| p.u)
                         .collect();
-                    let path =
-                        solve_path(part, &o.chain, surf, o.branch, &us).map_err(|x| e(&x))?;
+                    let path = solve_path(part, &o.chain, surf, o.branch, &us)?;
                     s += path.len() as f64;
                 }
                 s
@@ -254,29 +267,20 @@ impl Stage {
             Stage::Matrix(part, pts) => {
                 // the kernel, not the points' kept axis values
                 crate::sensitivity::path::clear_kept();
-                sensitivity_matrix(part, pts, &SensitivityOptions::default())
-                    .map_err(|x| e(&x))?
-                    .values[(0, 0)]
+                sensitivity_matrix(part, pts, &SensitivityOptions::default())?.values[(0, 0)]
             }
-            Stage::Read(text) => crate::cmm::read_cmm(text.as_bytes(), "bench.csv")
-                .map_err(|x| e(&x))?
+            Stage::Read(text) => crate::cmm::read_cmm(text.as_bytes(), "bench.csv")?
                 .points
                 .len() as f64,
-            Stage::Identify(d, o) => {
-                identify(d, o, &IdentifyOptions::default())
-                    .map_err(|x| e(&x))?
-                    .rank as f64
-            }
+            Stage::Identify(d, o) => identify(d, o, &IdentifyOptions::default())?.rank as f64,
             Stage::Analyse(text, kept) => {
                 kept.apply();
-                analyse(text.as_bytes(), "bench.csv", &AnalysisOptions::default())
-                    .map_err(|x| e(&x))?;
+                analyse(text.as_bytes(), "bench.csv", &AnalysisOptions::default())?;
                 1.0
             }
             Stage::Diagnose(part, pts, devs, kept) => {
                 kept.apply();
-                crate::analysis::diagnose_points(part, pts, devs, None)
-                    .map_err(|x| e(&x))?
+                crate::analysis::diagnose_points(part, pts, devs, None)?
                     .baseline
                     .rms
             }

@@ -51,7 +51,9 @@ use crate::analysis::{
     design_at, measurement_points, sensitivity_options, AnalysisError, AnalysisOptions,
 };
 use crate::cmm::{read_and_match, ReadOptions};
-use crate::identify::refine::{apply_refinement, refine, ExactModel, RefineOptions, RefineReport};
+use crate::identify::refine::{
+    apply_refinement, refine, ExactModel, ModelError, RefineOptions, RefineReport,
+};
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
     TOOL_RADIUS,
@@ -185,7 +187,7 @@ impl PooledExactModel {
 }
 
 impl ExactModel for PooledExactModel {
-    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, ModelError> {
         let mut out = self.linear_part(x);
         for (m, row0) in &self.parts {
             for (i, v) in m.deviation(&x[..self.shared])?.into_iter().enumerate() {
@@ -195,7 +197,7 @@ impl ExactModel for PooledExactModel {
         Ok(out)
     }
 
-    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String> {
+    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, ModelError> {
         let mut j = self.stacked.clone();
         for (m, row0) in &self.parts {
             let jk = m.jacobian(&x[..self.shared])?;

@@ -14,6 +14,7 @@ use thiserror::Error;
 
 use nalgebra::DMatrix;
 
+use crate::identify::refine::ModelError;
 use crate::identify::{Design, IdentifyError, TOOL_RADIUS};
 use crate::machine::{Branch, ErrorParam, MachineErrors};
 use crate::part::{builtin_points, SShape};
@@ -81,7 +82,7 @@ pub fn builtin_design(
 pub struct ExactDefectModel {
     /// The points' poses on the flank path, solved once (or why they could not be: reported by
     /// every evaluation, as when they were solved at each one).
-    poses: Result<DefectPoses, String>,
+    poses: Result<DefectPoses, SensitivityError>,
     points: usize,
     params: Vec<ExactColumn>,
     steps: Vec<f64>,
@@ -126,7 +127,7 @@ impl ExactDefectModel {
             .iter()
             .map(|p| if p.unit == "rad" { 1e-7 } else { 1e-5 })
             .collect();
-        let poses = DefectPoses::new(&SShape::iso(), &points, &opts).map_err(|e| e.to_string());
+        let poses = DefectPoses::new(&SShape::iso(), &points, &opts);
         Ok(ExactDefectModel {
             poses,
             points: points.len(),
@@ -137,7 +138,7 @@ impl ExactDefectModel {
 }
 
 impl crate::identify::refine::ExactModel for ExactDefectModel {
-    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, ModelError> {
         let mut e = MachineErrors::none();
         let mut linear = vec![0.0; self.points];
         for (p, v) in self.params.iter().zip(x) {
@@ -150,16 +151,11 @@ impl crate::identify::refine::ExactModel for ExactDefectModel {
                 }
             }
         }
-        let d = self
-            .poses
-            .as_ref()
-            .map_err(Clone::clone)?
-            .defect(&e)
-            .map_err(|e| e.to_string())?;
+        let d = self.poses.as_ref().map_err(Clone::clone)?.defect(&e)?;
         Ok(d.into_iter().zip(linear).map(|(v, l)| v + l).collect())
     }
 
-    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String> {
+    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, ModelError> {
         let mut j = DMatrix::zeros(self.points, x.len());
         for c in 0..x.len() {
             if let ExactColumn::Linear(col) = &self.params[c] {

@@ -11,6 +11,7 @@ use crate::measurement::outliers::{find_outliers, outlier_sentence, without_rows
 use crate::part::{MeasurementPoint, SShape};
 use crate::settings::MachineChoice;
 
+use super::error::AnalysisError;
 use super::options::AnalysisOptions;
 use super::points::sensitivity_options;
 
@@ -49,10 +50,10 @@ impl Diagnosis {
         }
     }
     /// The report, or the reason it could not be made.
-    pub fn into_report(self) -> Result<DiagnosisReport, String> {
+    pub fn into_report(self) -> Result<DiagnosisReport, AnalysisError> {
         match self {
             Diagnosis::Made { report, .. } => Ok(*report),
-            Diagnosis::NotMade { reason } => Err(reason),
+            Diagnosis::NotMade { reason } => Err(AnalysisError::NotDiagnosed { reason }),
         }
     }
 }

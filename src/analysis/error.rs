@@ -39,4 +39,6 @@ pub enum AnalysisError {
         values: usize,
         points: usize,
     },
+    #[error("no diagnosis: {reason}")]
+    NotDiagnosed { reason: String },
 }

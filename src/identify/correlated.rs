@@ -20,7 +20,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::least_squares::restate_residuals;
-use super::refine::ExactModel;
+use super::refine::{ExactModel, ModelError};
 use super::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, ScaledSvd,
 };
@@ -297,18 +297,17 @@ pub struct Whitened<'a, M: ExactModel> {
 }
 
 impl<M: ExactModel> ExactModel for Whitened<'_, M> {
-    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, ModelError> {
         let f = DVector::from_vec(self.model.deviation(x)?);
         if f.len() != self.whitener.ncols() {
-            return Err(format!(
-                "{} deviations for a {}-point whitener",
-                f.len(),
-                self.whitener.ncols()
-            ));
+            return Err(ModelError::Whitener {
+                found: f.len(),
+                expected: self.whitener.ncols(),
+            });
         }
         Ok(self.whitener.apply_vec(&f).iter().copied().collect())
     }
-    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String> {
+    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, ModelError> {
         Ok(self.whitener.apply(&self.model.jacobian(x)?))
     }
 }

@@ -68,5 +68,5 @@ pub enum IdentifyError {
     UnknownParameter { name: String, known: String },
     /// The exact model given to the refinement failed or returned the wrong shape.
     #[error("exact model: {0}")]
-    Model(String),
+    Model(#[from] crate::identify::refine::ModelError),
 }

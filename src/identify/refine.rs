@@ -30,23 +30,59 @@ use super::{
 };
 
 /// Deviations of the exact model at every design row (mm) and its Jacobian (rows x p).
-pub type ModelOutput = Result<(Vec<f64>, DMatrix<f64>), String>;
+pub type ModelOutput = Result<(Vec<f64>, DMatrix<f64>), ModelError>;
+
+/// Why an exact model could not be evaluated, or gave what the refinement cannot use, with the
+/// values involved.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ModelError {
+    /// The machine's kinematics or the defect at the points failed.
+    #[error(transparent)]
+    Sensitivity(#[from] crate::sensitivity::SensitivityError),
+    /// The model returned a wrong number of deviations, or non-finite ones.
+    #[error(
+        "returned {found} deviations (finite values expected) for {points} points and {parameters} parameters"
+    )]
+    Shape {
+        found: usize,
+        points: usize,
+        parameters: usize,
+    },
+    /// An evaluation during the minimisation returned a wrong number of deviations, or
+    /// non-finite ones.
+    #[error("returned {found} deviations (finite values expected) for {points} points")]
+    Deviations { found: usize, points: usize },
+    /// The Jacobian has the wrong shape.
+    #[error("returned a {rows}x{cols} Jacobian for {points} points and {parameters} parameters")]
+    Jacobian {
+        rows: usize,
+        cols: usize,
+        points: usize,
+        parameters: usize,
+    },
+    /// A whitened model: the inner model's deviations do not match the whitener.
+    #[error("{found} deviations for a {expected}-point whitener")]
+    Whitener { found: usize, expected: usize },
+    /// The minimiser ended without an evaluation or a Jacobian at its solution.
+    #[error("no {0} at the solution")]
+    NotEvaluated(&'static str),
+}
 
 /// The exact model: deviations at every design row (mm) and the Jacobian (rows x p). Any
 /// closure `Fn(&[f64]) -> ModelOutput` is one; implement the trait directly when the
 /// deviations alone are much cheaper than the Jacobian (the linearisation check needs only them).
 pub trait ExactModel {
     /// Deviations (mm) at the design rows for the parameters `x`.
-    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String>;
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, ModelError>;
     /// `∂ deviation / ∂x` (rows x p).
-    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String>;
+    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, ModelError>;
 }
 
 impl<F: Fn(&[f64]) -> ModelOutput> ExactModel for F {
-    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, String> {
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, ModelError> {
         self(x).map(|(f, _)| f)
     }
-    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, String> {
+    fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, ModelError> {
         self(x).map(|(_, j)| j)
     }
 }
@@ -144,7 +180,7 @@ struct Problem<'a, F> {
     y: Vec<f64>,
     z: DVector<f64>,
     cache: Option<Vec<f64>>,
-    error: std::cell::RefCell<Option<String>>,
+    error: std::cell::RefCell<Option<ModelError>>,
 }
 
 impl<F: ExactModel> Problem<'_, F> {
@@ -152,7 +188,7 @@ impl<F: ExactModel> Problem<'_, F> {
         let dx = &self.basis * z;
         self.x0.iter().zip(dx.iter()).map(|(a, b)| a + b).collect()
     }
-    fn fail(&self, e: String) {
+    fn fail(&self, e: ModelError) {
         self.error.replace(Some(e));
     }
     fn evaluate(&mut self) {
@@ -160,11 +196,10 @@ impl<F: ExactModel> Problem<'_, F> {
         self.cache = match self.model.deviation(&x) {
             Ok(f) if f.len() == self.y.len() && f.iter().all(|v| v.is_finite()) => Some(f),
             Ok(f) => {
-                self.fail(format!(
-                    "returned {} deviations (finite values expected) for {} points",
-                    f.len(),
-                    self.y.len()
-                ));
+                self.fail(ModelError::Deviations {
+                    found: f.len(),
+                    points: self.y.len(),
+                });
                 None
             }
             Err(e) => {
@@ -202,13 +237,12 @@ impl<F: ExactModel> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, F> {
         let j = match self.model.jacobian(&x) {
             Ok(j) if j.nrows() == self.y.len() && j.ncols() == x.len() => j,
             Ok(j) => {
-                self.fail(format!(
-                    "returned a {}x{} Jacobian for {} points and {} parameters",
-                    j.nrows(),
-                    j.ncols(),
-                    self.y.len(),
-                    x.len()
-                ));
+                self.fail(ModelError::Jacobian {
+                    rows: j.nrows(),
+                    cols: j.ncols(),
+                    points: self.y.len(),
+                    parameters: x.len(),
+                });
                 return None;
             }
             Err(e) => {
@@ -250,10 +284,11 @@ where
     let n = design.rows();
     let check = |v: Vec<f64>| {
         if v.len() != n || v.iter().any(|x| !x.is_finite()) {
-            Err(IdentifyError::Model(format!(
-                "returned {} deviations (finite values expected) for {n} points and {p} parameters",
-                v.len()
-            )))
+            Err(IdentifyError::Model(ModelError::Shape {
+                found: v.len(),
+                points: n,
+                parameters: p,
+            }))
         } else {
             Ok(v)
         }
@@ -353,10 +388,10 @@ where
     let fv = problem
         .cache
         .clone()
-        .ok_or_else(|| IdentifyError::Model("no evaluation at the solution".into()))?;
+        .ok_or(IdentifyError::Model(ModelError::NotEvaluated("evaluation")))?;
     let jz = problem
         .jacobian()
-        .ok_or_else(|| IdentifyError::Model("no Jacobian at the solution".into()))?;
+        .ok_or(IdentifyError::Model(ModelError::NotEvaluated("Jacobian")))?;
     let nu = f.used.len();
     let residual_rms = (f
         .used

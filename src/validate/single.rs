@@ -428,7 +428,9 @@ pub fn exact_machine_part(names: &[String]) -> Result<Box<MachinePart<'static>>,
         let x = design
             .vector_from(&pairs)
             .map_err(|e| GapError::Model(e.to_string()))?;
-        let d = exact.deviation(&x).map_err(GapError::Model)?;
+        let d = exact
+            .deviation(&x)
+            .map_err(|e| GapError::Model(e.to_string()))?;
         Ok(DVector::from_vec(d))
     }))
 }
@@ -448,7 +450,9 @@ pub fn exact_machine_part_on(
     let exact = crate::simulate::ExactDefectModel::at_points(&design, points, opts)
         .map_err(|e| GapError::Model(e.to_string()))?;
     Ok(Box::new(move |xi: &DVector<f64>| {
-        let d = exact.deviation(xi.as_slice()).map_err(GapError::Model)?;
+        let d = exact
+            .deviation(xi.as_slice())
+            .map_err(|e| GapError::Model(e.to_string()))?;
         Ok(DVector::from_vec(d))
     }))
 }

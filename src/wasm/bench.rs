@@ -12,7 +12,7 @@ thread_local! {
 /// Prepares stage `name` for [`bench_run`] (keeps one prepared stage).
 #[wasm_bindgen(js_name = benchPrepare)]
 pub fn bench_prepare(name: &str) -> Result<(), JsError> {
-    let stage = Stage::prepare(name).map_err(|m| JsError::new(&m))?;
+    let stage = Stage::prepare(name).map_err(|m| JsError::new(&m.to_string()))?;
     PREPARED.with(|p| *p.borrow_mut() = Some((name.to_string(), stage)));
     Ok(())
 }
@@ -21,7 +21,7 @@ pub fn bench_prepare(name: &str) -> Result<(), JsError> {
 #[wasm_bindgen(js_name = benchRun)]
 pub fn bench_run(name: &str) -> Result<f64, JsError> {
     PREPARED.with(|p| match &*p.borrow() {
-        Some((n, stage)) if n == name => stage.run().map_err(|m| JsError::new(&m)),
+        Some((n, stage)) if n == name => stage.run().map_err(|m| JsError::new(&m.to_string())),
         _ => Err(JsError::new(&format!(
             "stage `{name}` is not prepared (call benchPrepare first)"
         ))),

@@ -140,12 +140,19 @@ fn model_errors_are_reported() {
         &d,
         &obs,
         &lin,
-        |_: &[f64]| Err("kinematics diverged".to_string()),
+        |_: &[f64]| {
+            Err(ModelError::Sensitivity(
+                testpiece::sensitivity::SensitivityError::BadPoint { id: 7, u: 1.5 },
+            ))
+        },
         &RefineOptions::default(),
         &opts,
     )
     .unwrap_err();
-    assert_eq!(e.to_string(), "exact model: kinematics diverged");
+    assert_eq!(
+        e.to_string(),
+        "exact model: point 7: u = 1.5 is outside [0, 1]"
+    );
     let short = |_: &[f64]| Ok((vec![0.0; 3], DMatrix::zeros(3, 8)));
     let e = refine(&d, &obs, &lin, short, &RefineOptions::default(), &opts).unwrap_err();
     assert!(e.to_string().contains("3 deviations"), "{e}");
