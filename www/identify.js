@@ -45,7 +45,7 @@ export function identifyView(root, a) {
   root.append(h('h2', {}, 'Identified parameters: the final answer'),
     h('p', { id: 'correction-summary', class: `correction correction-${c.basis}` }, c.summary),
     h('p', {}, `${id.points_used} points, rank ${id.rank} of ${params.length}, condition number ${fmtNum(id.condition)} (unit-scaled design), σ ${id.sigma ? (id.sigma * 1000).toFixed(2) + ' µm' : '—'} (${id.sigma_source}). Residual RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`));
-  root.append(parameterTable('parameters', `ISO 230-1 location errors (rad; EX0B, dR and lengths in mm), ${fittedWith(a)}${c.effect_parameters.length ? '; the effect\'s own parameters are named <effect>.<parameter>' : ''}. std: one standard deviation${c.std_includes_structure ? ' (includes the unexplained structure)' : ''}; t = |value|/std; shift = (final − baseline)/std.`, id, c.basis === 'baseline' ? null : c.shift, fittedWithId(a), c.effect_parameters));
+  root.append(parameterTable('parameters', `ISO 230-1 location errors (each in the unit of its row), ${fittedWith(a)}${c.effect_parameters.length ? '; the effect\'s own parameters are named <effect>.<parameter>' : ''}. std: one standard deviation${c.std_includes_structure ? ' (includes the unexplained structure)' : ''}; t = |value|/std; shift = (final − baseline)/std.`, id, c.basis === 'baseline' ? null : c.shift, fittedWithId(a), c.effect_parameters));
   if (c.alternatives && c.alternatives.length) {
     root.append(h('ul', { id: 'alternatives' }, c.alternatives.map((x) => h('li', {}, x.same_answer
       ? `With the equivalent ${x.effect} instead: the same location errors (largest difference ${x.difference_std.toFixed(2)} std, ${x.parameter}).`
@@ -54,7 +54,7 @@ export function identifyView(root, a) {
   const base = a.baseline.identification;
   root.append(h('details', { id: 'baseline-details' }, h('summary', {}, 'Baseline identification: the location errors alone, before the diagnosis'),
     h('p', {}, `Residual RMS ${(base.residual.rms * 1000).toFixed(2)} µm, σ ${base.sigma ? (base.sigma * 1000).toFixed(2) + ' µm' : '—'} (${base.sigma_source}).`),
-    parameterTable('baseline-parameters', 'Baseline location errors (rad; lengths in mm), without any unmodelled effect', base, null, 'none')));
+    parameterTable('baseline-parameters', 'Baseline location errors (each in the unit of its row), without any unmodelled effect', base, null, 'none')));
   root.append(outlierBlock(a));
   if (a.error_set) root.append(errorSetBlock(a.error_set));
   root.append(h('h2', {}, 'What this part cannot separate'));
@@ -76,7 +76,7 @@ function errorSetBlock(s) {
   const um = (v) => ({ text: (v * 1000).toFixed(3), num: true, value: v * 1000 });
   return h('details', { id: 'error-set' },
     h('summary', {}, `This machine's location errors: ${s.kept.join(', ')} (${s.kept.length} of the ${s.rows.length} ISO 230-1 location errors of ${s.code})`),
-    h('p', {}, `Derived from what the part sees, not listed: each error's defect at the ${s.points} built-in points is kept when at least ${(s.visible_fraction * 100).toFixed(1)} % of its RMS is left after the errors kept before it (condition index 30, where the identification calls parameters not separable).`),
+    h('p', {}, `Derived from what the part sees, not listed: each error's defect at the ${s.points} built-in points is kept when at least ${(s.visible_fraction * 100).toFixed(1)} % of its RMS is left after the errors kept before it (condition index ${Math.round(1 / s.visible_fraction)}, where the identification calls parameters not separable).`),
     table('error-set-rows', 'ISO 230-1 location errors of the chain (RMS in µm of deviation per 1e-4 rad or per 0.01 mm)',
       ['error', 'status', 'RMS (µm)', 'left beyond the ones before (µm)', 'looks like', 'why'],
       s.rows.map((r) => [r.name, word('error_status', r.status), um(r.rms), um(r.unabsorbed), r.looks_like ? r.looks_like.text : '—', r.reason])),

@@ -5,7 +5,7 @@
 // page's settings (left); points per curve and the CMM noise are the view's own inputs, and any
 // change recomputes the plan at once.
 import { download } from './export.js';
-import { h, table, fmtNum, word } from './ui.js';
+import { h, table, fmtNum, word, core } from './ui.js';
 
 const num = (v, unit) => ({ text: fmtNum(v, unit), num: true, value: v ?? '' });
 
@@ -35,7 +35,7 @@ export function setupPlan(root, ctx) {
     const sigmaUm = value('plan-sigma');
     const a = value('plan-mpe-a'), k = value('plan-mpe-k'), r0 = value('plan-mpe-r0');
     const s = ctx.st.settings;
-    const options = { per_curve: [n, n, n, n], machine: s.machine, mode: s.mode, branch: s.branch, l0: s.l0, tool_radius: s.tool_radius };
+    const options = { per_curve: core.curves.map(() => n), machine: s.machine, mode: s.mode, branch: s.branch, l0: s.l0, tool_radius: s.tool_radius };
     if (Number.isFinite(sigmaUm) && sigmaUm > 0) options.sigma = sigmaUm / 1000;
     else if (Number.isFinite(a) && Number.isFinite(k)) options.mpe = { a_um: a, k_mm: k, r0_um: Number.isFinite(r0) ? r0 : 0 };
     const mine = ++seq;
