@@ -3,7 +3,7 @@
 // M3_15 / M3_45 on its B-C tilting table) and paper 002's coefficients k, k_n, k_t, k_b along the
 // S-shape tool path. Every number, every parameter's unit and the typical size each is drawn at
 // come from the core (src/wasm/curves.rs: `curvesFor`, `coneCoefficients`).
-import { h, table, layout, chartBlock, machineName } from './ui.js';
+import { h, table, layout, chartBlock, machineName, core } from './ui.js';
 
 const size = (v) => (v < 1e-3 ? v.toExponential(0) : String(v));
 
@@ -59,8 +59,9 @@ const perSizeOf = (data) => perSize(data.coefficients.map((c) => ({ name: c.para
 function curvesView(root, st) {
   const c = st.curves;
   // ------------------------------------------------------------ cone frustum
+  const p = core.paths;
   const kind = h('select', { id: 'cone-kind', 'aria-label': 'cone frustum' },
-    h('option', { value: 'M3_15' }, 'M3_15 (θ = 15°, β = 10°)'), h('option', { value: 'M3_45' }, 'M3_45 (θ = 45°, β = 30°)'));
+    p.cones.map((k) => h('option', { value: k.kind }, `${k.kind} (θ = ${k.half_apex_deg}°, β = ${k.inclination_deg}°)`)));
   kind.value = c.cone.kind;
   const off = h('input', { type: 'checkbox', id: 'cone-offsets' });
   off.checked = c.cone.offsets;
@@ -69,7 +70,7 @@ function curvesView(root, st) {
   off.addEventListener('change', reload);
   root.append(h('h2', {}, 'The same for the cone frustum (paper 002 §4, B-C tilting table)'),
     h('p', {}, `Normal defect k_n (µm${c.cone.data ? ` ${perSizeOf(c.cone.data)}` : ''}) of each location error of the tilting table, along one turn of the flank path (up-cutting, counter-clockwise).`),
-    h('div', { class: 'bar' }, h('label', { for: 'cone-kind' }, 'Cone '), kind, h('label', {}, off, ' paper 002 offsets (d = 62.5 mm, p = 30 mm)')));
+    h('div', { class: 'bar' }, h('label', { for: 'cone-kind' }, 'Cone '), kind, h('label', {}, off, ` paper 002 offsets (d = ${p.cone_offsets[0]} mm, p = ${p.cone_offsets[1]} mm)`)));
   if (c.cone.error) root.append(h('pre', { class: 'error' }, c.cone.error));
   else if (!c.cone.data) root.append(h('p', { class: 'pending' }, 'Computing the cone curves…'));
   else {
@@ -78,7 +79,8 @@ function curvesView(root, st) {
       xNames: d.x.map((x) => `φ = ${x.toFixed(1)}°`), xLabel: d.x_label, yLabel: `k_n (µm ${perSizeOf(d)})`, yUnit: 'µm' }).el);
   }
   // ------------------------------------------------------------ coefficients along the S-shape path
-  const surf = h('select', { id: 'path-surface', 'aria-label': 'surface' }, h('option', { value: 'A' }, 'surface A (down-cutting)'), h('option', { value: 'B' }, 'surface B (up-cutting)'));
+  const surf = h('select', { id: 'path-surface', 'aria-label': 'surface' },
+    p.surfaces.map((x) => h('option', { value: x.surface }, `surface ${x.surface} (${x.cutting})`)));
   surf.value = c.path.surface;
   const comp = h('select', { id: 'path-component', 'aria-label': 'component' },
     ['k_n', 'k_t', 'k_b', 'k'].map((k) => h('option', { value: k }, { k_n: 'k_n (normal)', k_t: 'k_t (feed direction)', k_b: 'k_b (tool axis)', k: 'k (magnitude)' }[k])));

@@ -6,7 +6,7 @@ import { chart } from './plot.js';
 import { exportButtons, toCsv } from './export.js';
 
 /** What the core's `start()` answered (set once by app.js before the first view is drawn). */
-export const core = { machines: [], curves: [], words: {}, thresholds: {} };
+export const core = { machines: [], curves: [], words: {}, thresholds: {}, paths: { cones: [], cone_offsets: [], surfaces: [] } };
 
 /** The core's description of the machine `id`. */
 export const machineName = (id) => (core.machines.find((m) => m.id === id) || { name: id }).name;

@@ -21,6 +21,20 @@ use crate::sensitivity::cone_frustum::ConeFrustum;
 use crate::sensitivity::frenet::{coefficients, cone_frames, flank_frames, Coefficients, Cutting};
 use crate::sensitivity::{sensitivity_matrix, SensitivityMatrix};
 
+/// A cone frustum of paper 002 §4 by name.
+type NamedCone = (&'static str, fn() -> ConeFrustum);
+
+/// The cone frusta of paper 002 §4 the page offers, by the name `coneCoefficients` takes.
+pub(crate) const CONES: [NamedCone; 2] =
+    [("M3_15", ConeFrustum::m3_15), ("M3_45", ConeFrustum::m3_45)];
+
+/// The S-shape surfaces by the name `curvesFor` takes, with the way each is cut (A down-cutting,
+/// B up-cutting, so that `n` is the outward normal).
+pub(crate) const SURFACES: [(&str, Surface, Cutting); 2] = [
+    ("A", Surface::A, Cutting::Down),
+    ("B", Surface::B, Cutting::Up),
+];
+
 /// The unit of an error parameter and its typical size in that unit, from the kind of its
 /// component: a position error (X, Y, Z) is a length in mm, an orientation error (A, B, C) an
 /// angle in rad (an error motion's coefficient: per unit of `q^power`).
@@ -121,10 +135,14 @@ pub fn curves_for(options_js: JsValue, surface: &str, samples: usize) -> Result<
             opts.l0
         )));
     }
-    let (s, cutting) = match surface.trim() {
-        "A" | "a" => (Surface::A, Cutting::Down),
-        "B" | "b" => (Surface::B, Cutting::Up),
-        other => return Err(JsError::new(&format!("surface `{other}`: expected A or B"))),
+    let wanted = surface.trim();
+    let Some(&(_, s, cutting)) = SURFACES
+        .iter()
+        .find(|(name, _, _)| name.eq_ignore_ascii_case(wanted))
+    else {
+        return Err(JsError::new(&format!(
+            "surface `{wanted}`: expected A or B"
+        )));
     };
     let sopts = sensitivity_options(&opts);
     let params = sopts.params().map_err(|e| JsError::new(&e.to_string()))?;
@@ -153,15 +171,13 @@ pub fn curves_for(options_js: JsValue, surface: &str, samples: usize) -> Result<
 /// `k_n` is the normal defect per unit error (the cone's Figure-19 curve).
 #[wasm_bindgen(js_name = coneCoefficients)]
 pub fn cone_coefficients(kind: &str, offsets: bool, samples: usize) -> Result<JsValue, JsError> {
-    let mut cone = match kind.trim().to_ascii_uppercase().as_str() {
-        "M3_15" => ConeFrustum::m3_15(),
-        "M3_45" => ConeFrustum::m3_45(),
-        other => {
-            return Err(JsError::new(&format!(
-                "unknown cone frustum `{other}` (expected M3_15 or M3_45)"
-            )))
-        }
+    let wanted = kind.trim().to_ascii_uppercase();
+    let Some(&(_, make)) = CONES.iter().find(|(name, _)| *name == wanted) else {
+        return Err(JsError::new(&format!(
+            "unknown cone frustum `{wanted}` (expected M3_15 or M3_45)"
+        )));
     };
+    let mut cone = make();
     if offsets {
         cone = cone.with_offsets();
     }

@@ -20,7 +20,9 @@ use crate::gap::regions::{Lean, Region};
 use crate::identify::{GroupKind, Status};
 use crate::machine::AxisName;
 use crate::part::Curve;
+use crate::sensitivity::cone_frustum::ConeFrustum;
 use crate::sensitivity::error_set::ErrorStatus;
+use crate::sensitivity::frenet::Cutting;
 
 /// A built-in example part: its name, what it is and the file's text.
 #[derive(Serialize)]
@@ -61,6 +63,62 @@ struct Thresholds {
     suspect_false_alarm: f64,
 }
 
+/// A cone frustum of the Sensitivity view: its name and shape (degrees).
+#[derive(Serialize)]
+struct Cone {
+    kind: &'static str,
+    /// Half apex angle θ.
+    half_apex_deg: f64,
+    /// Inclination β of the cone axis.
+    inclination_deg: f64,
+}
+
+/// An S-shape surface of the path coefficients and the way its flank pass cuts.
+#[derive(Serialize)]
+struct PathSurface {
+    surface: &'static str,
+    /// `down-cutting` or `up-cutting`.
+    cutting: &'static str,
+}
+
+/// What the curves beside Figure 19 offer ([`super::curves`]).
+#[derive(Serialize)]
+struct Paths {
+    cones: Vec<Cone>,
+    /// Paper 002's offsets of the cone on the table (mm): centre `d`, height `p`.
+    cone_offsets: [f64; 2],
+    surfaces: Vec<PathSurface>,
+}
+
+fn paths() -> Paths {
+    let degrees = |rad: f64| (rad.to_degrees() * 1e9).round() / 1e9;
+    let offsets = ConeFrustum::m3_15().with_offsets();
+    Paths {
+        cones: super::curves::CONES
+            .iter()
+            .map(|&(kind, make)| {
+                let c = make();
+                Cone {
+                    kind,
+                    half_apex_deg: degrees(c.half_apex),
+                    inclination_deg: degrees(c.inclination),
+                }
+            })
+            .collect(),
+        cone_offsets: [offsets.centre_offset, offsets.height_offset],
+        surfaces: super::curves::SURFACES
+            .iter()
+            .map(|&(surface, _, cutting)| PathSurface {
+                surface,
+                cutting: match cutting {
+                    Cutting::Down => "down-cutting",
+                    Cutting::Up => "up-cutting",
+                },
+            })
+            .collect(),
+    }
+}
+
 #[derive(Serialize)]
 struct Start {
     version: &'static str,
@@ -70,6 +128,8 @@ struct Start {
     curves: Vec<&'static str>,
     words: Words,
     thresholds: Thresholds,
+    /// The cones and surfaces of the curves beside Figure 19.
+    paths: Paths,
 }
 
 /// The serde tag of `v`: the string it serialises to, or its `tag` field.
@@ -191,8 +251,10 @@ fn two_sided(z: f64) -> f64 {
 /// Everything the page needs when it opens: `{version, machines: [{id, name, uses_l0}],
 /// examples: [{name, description, text}], curves: [name], words: {groups, error_status,
 /// parameter_status, group_kind, effect_status, flags}, thresholds: {reversal_window_mm,
-/// different_z, suspect_z, different_false_alarm, suspect_false_alarm}}`; `machines[].id` is the
-/// value of the analysis setting `machine`, an example's `text` its CMM file.
+/// different_z, suspect_z, different_false_alarm, suspect_false_alarm}, paths: {cones: [{kind,
+/// half_apex_deg, inclination_deg}], cone_offsets: [d, p] (mm), surfaces: [{surface,
+/// cutting}]}}`; `machines[].id` is the value of the analysis setting `machine`, an example's
+/// `text` its CMM file.
 #[wasm_bindgen]
 pub fn start() -> Result<JsValue, JsError> {
     let examples = EXAMPLES
@@ -220,5 +282,6 @@ pub fn start() -> Result<JsValue, JsError> {
             different_false_alarm: two_sided(DIFFERENT_Z),
             suspect_false_alarm: two_sided(SUSPECT_Z),
         },
+        paths: paths(),
     })
 }

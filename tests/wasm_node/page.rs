@@ -1,6 +1,6 @@
 //! What the page receives from the core, run under Node: `start` gives the examples as their
-//! files, the curves in id order and a word for every tag the results carry; `curvesFor` gives
-//! every parameter its unit from its definition.
+//! files, the curves in id order, a word for every tag the results carry and the cones and
+//! surfaces of the path curves; `curvesFor` gives every parameter its unit from its definition.
 
 use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
@@ -52,6 +52,14 @@ fn start_gives_the_examples_curves_and_words() {
     // 0.27 % and 4.6 % of false alarms per parameter at |z| ≥ 3 and 2.
     assert!((t["different_false_alarm"].as_f64().unwrap() - 0.0027).abs() < 1e-5);
     assert!((t["suspect_false_alarm"].as_f64().unwrap() - 0.0455).abs() < 1e-4);
+    // The cones of paper 002 §4 and the two flank passes, as `coneCoefficients` and `curvesFor`
+    // take them.
+    let p = &v["paths"];
+    assert_eq!(p["cones"][0]["kind"], "M3_15");
+    assert_eq!(p["cones"][1]["half_apex_deg"], 45.0);
+    assert_eq!(p["cone_offsets"][0], 62.5);
+    assert_eq!(p["cone_offsets"][1], 30.0);
+    assert_eq!(p["surfaces"][1]["cutting"], "up-cutting");
 }
 
 #[wasm_bindgen_test]
