@@ -44,8 +44,18 @@ function foldGlue(code) {
 const read = (f) => fs.readFileSync(path.join(WWW, f), 'utf8');
 const wasm = fs.readFileSync(path.join(WWW, 'pkg', 'testpiece_bg.wasm'));
 const glue = foldGlue(read('pkg/testpiece.js'));
-// Dependency order: each module after the ones it imports.
-const modules = ['pkg/build', 'plot', 'export', 'core', 'views', 'parts', 'curves', 'budget', 'plan', 'program', 'compensation', 'app'].filter((m) => fs.existsSync(path.join(WWW, `${m}.js`)));
+// Dependency order, read from the imports: each module after the ones it imports, app.js last.
+function dependencyOrder(entry) {
+  const order = [];
+  const visit = (m) => {
+    if (order.includes(m)) return;
+    for (const [, from] of read(`${m}.js`).matchAll(/^import\s+\{[^}]*\}\s+from\s+'\.\/([\w/.-]+)\.js';?$/gm)) visit(from);
+    order.push(m);
+  };
+  visit(entry);
+  return order;
+}
+const modules = dependencyOrder('app');
 let app = modules.map((m) => fold(m, read(`${m}.js`))).join('\n');
 // The worker's source: the glue, then the message handler. `</script` cannot occur in it.
 // (The glue's default init resolves the wasm next to `import.meta.url`; only initSync is used

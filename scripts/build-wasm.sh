@@ -50,9 +50,8 @@ fi
 # runs offline under Node); skipped with a note when `npm install` has not been run. Always from
 # wasm-bindgen's output, never from an optimised wasm.
 opt=node_modules/.bin/wasm-opt
-# -Oz, not -O3: measured speed-neutral on the bench stages (diagnose_100 36.7 vs 35.8 ms,
-# inverse_kinematics_path 366 vs 368 µs, bspline_eval_1000 194 vs 231 µs) and 13 KB smaller
-# (--converge: the passes repeated until the size stops falling, 1 KB more);
+# -Oz, not -O3: speed-neutral on the bench stages and smaller (the figures: BENCHMARKS.md);
+# --converge: the passes repeated until the size stops falling;
 # rustc's own level for this crate is in Cargo.toml [profile.wasm-release].
 opt_flags=(-Oz --converge --strip-debug --strip-producers
   --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext
@@ -98,7 +97,7 @@ gz=$(gzip -9 -c "$out/testpiece_bg.wasm" | wc -c)
 echo "[build-wasm] $out/testpiece_bg.wasm: $size bytes, $gz gzipped ($profile)"
 # The cap of the release wasm (issue 21): 1.5 MB raw. Speed matters more than bytes to an
 # offline lab tool, so this crate is compiled for speed (opt-level 2, Cargo.toml) and wasm-opt -Oz
-# (1,435,573 bytes, 24 Nov 2026); a build over the cap fails here, not in a browser.
+# (the sizes measured: BENCHMARKS.md); a build over the cap fails here, not in a browser.
 cap=1500000
 if [ "$profile" = wasm-release ] && [ "$size" -gt "$cap" ]; then
   echo "[build-wasm] $size bytes is over the cap of $cap bytes" >&2

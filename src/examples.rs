@@ -1,7 +1,7 @@
 //! The example parts built into the page (so a newcomer sees a result at once, and the
 //! single-file build needs no fetch): the three synthetic measured parts of
 //! `tests/data/reference/examples/` (canonical CSV; their answer keys stay in the tests). Plain
-//! Rust, so the native tests check them; `wasm::examples` exports them to the page.
+//! Rust, so the native tests check them; `wasm::page::start` gives them to the page.
 //!
 //! The three files share their first eight columns: the 100 built-in points (ids, curves,
 //! positions to 6 decimals, normals to 9, mm); only the deviation differs. To keep the wasm

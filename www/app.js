@@ -1,11 +1,16 @@
 // The page: settings and files in, the core's results out. All computation is in the core
-// (WebAssembly, in a Web Worker when served; on the main thread in the single-file build).
-import { startCore, call, cancel } from './core.js';
-import { partsView } from './parts.js';
-import { curvesView } from './curves.js';
+// (WebAssembly, in a Web Worker: a module worker when served, a Blob-URL one in the single-file
+// build), one call per user action (src/wasm/mod.rs lists them); each view draws in its own file.
+import { startCore, call, cancel, Cancelled } from './core.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
-import { h, dataView, fig19View, identifyView, gapView, reportView, diagnosisOf, machines, machineName, fittedWith } from './views.js';
+import { h, core, machineName, fittedWith } from './ui.js';
+import { dataView } from './data.js';
+import { sensitivityView } from './fig19.js';
+import { identifyView } from './identify.js';
+import { gapView } from './gap.js';
+import { partsView } from './parts.js';
+import { reportView } from './report.js';
 import { setupBudget } from './budget.js';
 import { setupPlan } from './plan.js';
 import { setupProgram } from './program.js';
@@ -26,7 +31,8 @@ const st = {
   fig19Visible: null,
   pool: { names: new Set(), result: null, error: null },
   curves: { cone: { kind: 'M3_15', offsets: false, data: null, error: null }, path: { surface: 'A', comp: 'k_n', data: null, error: null } },
-  loadCurves: () => loadCurves(),
+  loadCurves: () => loadCurves().then(() => renderFig19($('view-fig19'))),
+  loadCone: () => loadCone(),
   renderCurves: () => renderFig19($('view-fig19')),
   comparison: { a: null, b: null, result: null, error: null },
   select(i) { st.current = i; render(); },
@@ -76,20 +82,23 @@ async function withProgress(text, fn) {
 }
 
 // ---------------------------------------------------------------- computing
+const CANCELLED = 'The computation was cancelled: change a setting or choose the file again to compute it.';
+
+/** One file (or the mean of its repeats) through the core: the analysis with the machine's
+ * location errors and the verdict line, in one call. */
 async function analyseFile(f) {
   f.error = null;
+  f.badRows = null;
   try {
     f.analysis = f.repeats
       // the mean of repeat measurements: σ comes from their differences, not from the settings
       ? await withProgress(`Analysing ${f.name}…`, () => call('analyseRepeats', f.repeats,
         { ...st.settings, noise_sigma: null, noise_mpe: undefined }))
       : await withProgress(`Analysing ${f.name}…`, () => call('analyse', f.bytes, f.name, st.settings));
-    // the machine's location errors and why (settings only: derived once per machine in the core)
-    f.analysis.error_set = await call('errorSet', st.settings);
-    f.analysis.error_set.effects = await call('machineEffects', st.settings);
   } catch (e) {
     f.analysis = null;
-    f.error = e.message === 'cancelled' ? 'The computation was cancelled: change a setting or choose the file again to compute it.' : e.message;
+    f.error = e instanceof Cancelled ? CANCELLED : e.message;
+    f.badRows = e.badRows ?? null;
   }
   if (!f.sha256) f.sha256 = await sha256Hex(f.bytes);
 }
@@ -97,7 +106,7 @@ async function analyseFile(f) {
 async function analyseList(list) {
   const g = generation;
   for (const f of list) {
-    if (g !== generation) { f.analysis = null; f.error = 'The computation was cancelled: change a setting or choose the file again to compute it.'; continue; }
+    if (g !== generation) { f.analysis = null; f.error = CANCELLED; continue; }
     await analyseFile(f);
   }
   await severalParts();
@@ -157,20 +166,26 @@ async function severalParts() {
   await runCompare(a, b);
 }
 
-async function loadSensitivity() {
+/** The curves of the settings: Figure 19 and the path coefficients of the chosen surface. */
+async function loadCurves() {
+  const path = st.curves.path;
   try {
-    st.sensitivity = await withProgress('Computing the sensitivity curves…', () => call('sensitivityFor', st.settings));
+    const r = await withProgress('Computing the sensitivity curves…', () => call('curvesFor', st.settings, path.surface, 200));
+    st.sensitivity = r.sensitivity;
+    path.data = r.path;
+    path.error = null;
   } catch (e) {
     st.sensitivity = { error: e.message };
+    path.data = null;
+    path.error = e.message;
   }
 }
 
-/** The cone and path-coefficient curves (after the first plot and the example: not urgent). */
-async function loadCurves() {
-  const c = st.curves;
+/** The cone curves (after the first plot and the example: not urgent). */
+async function loadCone() {
+  const c = st.curves.cone;
   renderFig19($('view-fig19'));
-  try { if (!c.cone.data) c.cone.data = await withProgress('Computing the cone curves…', () => call('coneCoefficients', c.cone.kind, c.cone.offsets, 360)); c.cone.error = null; } catch (e) { c.cone.error = e.message; }
-  try { if (!c.path.data) c.path.data = await withProgress('Computing the path coefficients…', () => call('pathCoefficients', st.settings, c.path.surface, 200)); c.path.error = null; } catch (e) { c.path.error = e.message; }
+  try { c.data = await withProgress('Computing the cone curves…', () => call('coneCoefficients', c.kind, c.offsets, 360)); c.error = null; } catch (e) { c.error = e.message; }
   renderFig19($('view-fig19'));
 }
 
@@ -190,8 +205,8 @@ async function addFiles(list) {
 }
 
 async function loadExample(name) {
-  const bytes = await call('exampleBytes', name);
-  st.files = [{ name, bytes: new Uint8Array(bytes), example: true }];
+  const e = core.examples.find((x) => x.name === name);
+  st.files = [{ name, bytes: new TextEncoder().encode(e.text), example: true }];
   st.current = 0;
   await analyseList(st.files);
   render();
@@ -213,9 +228,8 @@ function summaryText() {
   const weak = id.groups.map((g) => g.parameters.join('/')).join('; ');
   const strong = Object.entries(id.parameters).filter(([, p]) => p.nonzero)
     .map(([n, p]) => `${n} = ${p.unit === 'rad' ? p.value.toExponential(2) : p.value.toFixed(4)} ${p.unit}`);
-  const d = diagnosisOf(a);
   box.append(
-    h('div', { class: 'verdict', id: 'verdict-line' }, d ? d.summary.split('\n')[0] : `Verdict: not available (${a.diagnosis.reason})`),
+    h('div', { class: 'verdict', id: 'verdict-line' }, a.verdict_line),
     h('div', {}, `${f.name}: identification of ${Object.keys(id.parameters).length} parameters from ${id.points_used} points, ${fittedWith(a)}.`),
     h('div', {}, `Clearly non-zero (|value| ≥ 3 std): ${strong.length ? strong.join(', ') : 'none'}.`),
     h('div', {}, `Residual after the fit: RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`),
@@ -236,11 +250,7 @@ const VIEWS = [
 ];
 const current = () => st.files[st.current] && st.files[st.current].analysis;
 
-function renderFig19(root) {
-  if (st.sensitivity && !st.sensitivity.error) fig19View(root, st.sensitivity, st);
-  else root.textContent = st.sensitivity ? st.sensitivity.error : 'Computing the sensitivity curves…';
-  curvesView(root, st);
-}
+function renderFig19(root) { sensitivityView(root, st); }
 
 function render() {
   summaryText();
@@ -283,12 +293,13 @@ function setupInputs() {
     $(id).addEventListener('change', async () => {
       readSettings();
       if (id === 'setupPerPart') { await runPool(); render(); return; }
-      if (id === 'mode' || id === 'branch' || id === 'machine' || id === 'l0') {
-        st.curves.path.data = null;
-        await loadSensitivity(); renderFig19($('view-fig19'));
-      }
-      await analyseAll();
-      if (!st.curves.path.data) await loadCurves();
+      // One progress span for the whole computation (the curves, then each file), so that an
+      // action over 200 ms shows the indication even when each of its calls is shorter.
+      await withProgress('Applying the settings…', async () => {
+        if (id === 'mode' || id === 'branch' || id === 'machine' || id === 'l0') await loadCurves();
+        await analyseList(st.files);
+      });
+      render();
     });
   }
   $('cancel').addEventListener('click', () => {
@@ -309,19 +320,20 @@ async function main() {
   const runner = await coreStarted;
   $('runner').textContent = runner;
   // Queue the first calls together: the worker answers them in order as soon as the wasm is up.
-  const [version, examples, offered] = await Promise.all([call('version'), call('exampleList'), call('machines'), loadSensitivity()]);
+  const [started] = await Promise.all([call('start'), loadCurves()]);
   mark('tp-core-ready');
-  $('version').textContent = version;
-  // The machine names are the core's (src/analysis.rs MachineChoice::describe).
-  machines.list = offered;
+  // What the views write beside the results: the machines, curves, words and thresholds
+  // (src/wasm/page.rs).
+  Object.assign(core, started);
+  $('version').textContent = started.version;
   for (const o of $('machine').options) o.textContent = machineName(o.value);
-  for (const e of examples) $('example').append(h('option', { value: e.name }, `${e.name}: ${e.description}`));
+  for (const e of started.examples) $('example').append(h('option', { value: e.name }, `${e.name}: ${e.description}`));
   // The first plot (Figure 19) before the example's identification and diagnosis finish.
   renderFig19($('view-fig19'));
   mark('tp-first-plot');
-  await loadExample(examples[0].name);
+  await loadExample(started.examples[0].name);
   mark('tp-example-analysed');
-  await loadCurves();
+  await loadCone();
   if ('serviceWorker' in navigator && location.protocol.startsWith('http')) {
     navigator.serviceWorker.register(`sw.js?build=${BUILD}`).catch(() => {});
   }

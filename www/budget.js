@@ -5,7 +5,7 @@
 // (src/budget/); this file only draws.
 import { chart } from './plot.js';
 import { exportButtons, toCsv } from './export.js';
-import { h, table, CURVES } from './views.js';
+import { h, table, layout } from './ui.js';
 
 const SOURCES = ['design', 'cam', 'nc', 'machine', 'tool', 'residual'];
 const LABEL = { design: 'design (overcut)', cam: 'CAM path', nc: 'NC trace', machine: 'machine', tool: 'tool', residual: 'residual', cmm: 'CMM band (±)', measured: 'measured' };
@@ -27,32 +27,37 @@ export function setupBudget(root, ctx) {
     });
     return h('label', { for: id }, label, ' ', input);
   };
-  const run = async () => {
-    const f = bst.cmm || ctx.st.files[ctx.st.current];
-    if (!f) { bst.error = 'Load a measured part first (left).'; show(); return; }
-    if (!bst.cl) { bst.error = 'Load a CAM cutter-location file first.'; show(); return; }
+  const options = () => {
     const s = ctx.st.settings;
-    const options = { analysis: { mode: s.mode, branch: s.branch, l0: s.l0, tool_radius: s.tool_radius, exclude_bad_rows: s.exclude_bad_rows, noise_sigma: s.noise_sigma } };
+    return { analysis: { mode: s.mode, branch: s.branch, l0: s.l0, tool_radius: s.tool_radius, exclude_bad_rows: s.exclude_bad_rows, noise_sigma: s.noise_sigma } };
+  };
+  /** One core call (`fn`) for the budget, with the progress indication. */
+  const compute = async (fn) => {
     try {
       bst.error = null;
-      bst.result = await ctx.withProgress('Computing the error budget…', () => ctx.call('budget', f.bytes, f.name,
-        bst.cl.bytes, bst.cl.name, bst.trace ? bst.trace.bytes : undefined, bst.trace ? bst.trace.name : undefined, options, undefined));
+      bst.result = await ctx.withProgress('Computing the error budget…', fn);
     } catch (e) {
       bst.result = null;
       bst.error = e.message;
     }
     show();
   };
-  const example = async () => {
-    const list = await ctx.call('budgetExampleList');
-    for (const e of list) {
-      const bytes = new Uint8Array(await ctx.call('budgetExampleBytes', e.name));
-      bst[e.role] = { name: e.name, bytes };
-    }
-    await run();
+  const run = async () => {
+    const f = bst.cmm || ctx.st.files[ctx.st.current];
+    if (!f) { bst.error = 'Load a measured part first (left).'; show(); return; }
+    if (!bst.cl) { bst.error = 'Load a CAM cutter-location file first.'; show(); return; }
+    await compute(() => ctx.call('budget', f.bytes, f.name,
+      bst.cl.bytes, bst.cl.name, bst.trace ? bst.trace.bytes : undefined, bst.trace ? bst.trace.name : undefined, options(), undefined));
   };
+  // The example files (measured part, CL, trace) and their budget in one call.
+  const example = () => compute(async () => {
+    const r = await ctx.call('budgetExample', options());
+    const utf8 = new TextEncoder();
+    for (const e of r.files) bst[e.role] = { name: e.name, bytes: utf8.encode(e.text) };
+    return r.budget;
+  });
   root.append(h('h2', {}, 'Error budget of the machining process (paper 000 §3-§6)'),
-    h('p', {}, 'Per point: design = overcut of the exact envelope of the ideal flank path (eq. 2-5); CAM = CAM path minus design (discrete tool positions, §4.1 Fig. 13); NC = trace minus CAM path (§5.1); machine = location errors identified after the path\'s deviation is subtracted (eq. 14); tool = −dR when the tool-radius term is fitted (§3.2); residual = what is left. The sources add up to the measured deviation. CMM band = ±(3 + L/75) µm (§6).'),
+    h('p', {}, 'Per point: design = overcut of the exact envelope of the ideal flank path (eq. 2-5); CAM = CAM path minus design (discrete tool positions, §4.1 Fig. 13); NC = trace minus CAM path (§5.1); machine = location errors identified after the path\'s deviation is subtracted (eq. 14); tool = −dR when the tool-radius term is fitted (§3.2); residual = what is left. The sources add up to the measured deviation. CMM band = ± the CMM\'s MPE (§6), stated with the result.'),
     h('div', { class: 'bar' }, fileInput('budget-cl', 'CAM path (CL)', 'cl'), fileInput('budget-trace', 'NC trace (optional)', 'trace'),
       h('button', { type: 'button', id: 'budget-run', onclick: run }, 'Compute the budget'),
       h('button', { type: 'button', id: 'budget-example', onclick: example }, 'Example: part + CL + trace')),
@@ -72,17 +77,7 @@ export function setupBudget(root, ctx) {
 function render(out, b) {
   const pts = b.points;
   // x layout: curve by curve, as the other views
-  const x = [], groups = [];
-  let pos = 0;
-  for (const c of CURVES) {
-    const idx = pts.map((p, i) => (p.curve === c ? i : -1)).filter((i) => i >= 0);
-    if (!idx.length) continue;
-    const from = pos + 1;
-    for (const i of idx) x[i] = ++pos;
-    groups.push({ label: c, from, to: pos });
-    pos += 2;
-  }
-  const xNames = pts.map((p) => `point ${p.id} (${p.curve})`);
+  const { x, xNames, groups } = layout(pts.map((p) => p.curve), pts.map((p) => p.id));
   // stacked: cumulative sums design, +cam, +nc, +machine, +tool, +residual (= measured)
   const acc = pts.map(() => 0);
   const stacked = SOURCES.map((s) => ({ name: `+ ${LABEL[s]}`, y: pts.map((p, i) => um((acc[i] += p[s]))) }));
@@ -95,6 +90,8 @@ function render(out, b) {
     series: SOURCES.map((s) => ({ name: LABEL[s], y: pts.map((p) => um(p[s])), dashed: s === 'residual' })),
     xLabel: 'measurement point (grouped by curve)', yLabel: 'deviation (µm)', yUnit: 'µm' }));
   const names = [...SOURCES, 'cmm', 'measured'];
+  const mpe = b.settings;
+  out.append(h('p', { id: 'budget-band' }, `CMM band = ±(${mpe.mpe_constant_um} + L/${mpe.mpe_length_mm_per_um}) µm (§6).`));
   out.append(table('budget-summary', `Min / max per source over ${pts.length} points (µm; + = material left, − = overcut). Sum check: ${b.sum_check.toExponential(1)} mm.`,
     ['source', 'min (µm)', 'max (µm)'], names.map((s) => [LABEL[s], cell(b.summary[s].min), cell(b.summary[s].max)])));
   out.append(table('budget-per-curve', 'Min / max per source and curve (µm)', ['curve', ...names.flatMap((s) => [`${s} min`, `${s} max`])],

@@ -6,7 +6,7 @@
 // and the page's settings, recomputed when the view is shown and they have changed.
 import { chart } from './plot.js';
 import { exportButtons, toCsv } from './export.js';
-import { h, table, CURVES } from './views.js';
+import { h, table, layout, word } from './ui.js';
 
 const f6 = (v) => ({ text: v.toFixed(6), num: true, value: v });
 const um = (v) => ({ text: (v * 1000).toFixed(2), num: true, value: v * 1000 });
@@ -54,19 +54,10 @@ function render(out, c, name) {
     ['from', 'to', 'before x', 'before y', 'before z', 'after x', 'after y', 'after z'],
     c.before.offsets.map((o, i) => [o.from, o.to, ...o.vector.map(f6), ...c.after.offsets[i].vector.map(f6)])));
   out.append(table('compensation-entered', 'Location errors entered (the final answer)', ['error', 'value', 'unit', 'std', 'status'],
-    c.entered.map((e) => [e.name, { text: e.value.toExponential(4), num: true, value: e.value }, e.unit, { text: e.std === null ? '—' : e.std.toExponential(2), num: true, value: e.std ?? '' }, e.status.replace('_', ' ')])));
+    c.entered.map((e) => [e.name, { text: e.value.toExponential(4), num: true, value: e.value }, e.unit, { text: e.std === null ? '—' : e.std.toExponential(2), num: true, value: e.std ?? '' }, word('parameter_status', e.status)])));
   const pts = c.part.points;
-  const x = [], groups = [];
-  let pos = 0;
-  for (const cv of [...CURVES, ...new Set(pts.map((p) => p.curve).filter((k) => !CURVES.includes(k)))]) {
-    const idx = pts.map((p, i) => (p.curve === cv ? i : -1)).filter((i) => i >= 0);
-    if (!idx.length) continue;
-    const from = pos + 1;
-    for (const i of idx) x[i] = ++pos;
-    groups.push({ label: cv, from, to: pos });
-    pos += 2;
-  }
-  const spec = { title: 'Measured, and predicted after compensation', x, xNames: pts.map((p) => `point ${p.id} (${p.curve})`), groups,
+  const { x, xNames, groups } = layout(pts.map((p) => p.curve), pts.map((p) => p.id));
+  const spec = { title: 'Measured, and predicted after compensation', x, xNames, groups,
     series: [{ name: 'measured', y: pts.map((p) => p.measured * 1000), points: true }, { name: 'after compensation', y: pts.map((p) => p.after * 1000) }, { name: 'location errors (removed)', y: pts.map((p) => p.machine * 1000), dashed: true }],
     xLabel: 'measurement point (grouped by curve)', yLabel: 'normal deviation (µm)', yUnit: 'µm' };
   const holder = h('div', {});

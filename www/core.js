@@ -5,15 +5,27 @@
 //   classic worker made from a Blob URL of the inlined glue + worker-inline.js
 //   (scripts/build-single.mjs), to which the page posts the inlined wasm bytes; the worker
 //   starts the core with initSync.
-// Every call returns a promise. Cancel terminates the worker and starts a fresh one.
+// Every call returns a promise. Cancel terminates the worker and starts a fresh one; the calls it
+// stops reject with a `Cancelled`, the core's own errors with a `CoreError`.
+
+/** The outcome of a call stopped by Cancel: not an error of the core. */
+export class Cancelled extends Error {
+  constructor() { super('The computation was cancelled.'); this.name = 'Cancelled'; }
+}
+
+/** An error the core threw (its message), with `badRows` when a file was refused for rows that
+ * the setting "Exclude rows the reader rejects" would leave out (their number; else null). */
+export class CoreError extends Error {
+  constructor(message, badRows) { super(message); this.name = 'CoreError'; this.badRows = badRows ?? null; }
+}
 
 let worker = null;
 let inlineCore = null; // {workerSource, wasm: Uint8Array} in the single-file build
 let seq = 0;
 const pending = new Map();
 
-function rejectAll(message) {
-  for (const p of pending.values()) p.reject(new Error(message));
+function rejectAll(error) {
+  for (const p of pending.values()) p.reject(error);
   pending.clear();
 }
 
@@ -31,15 +43,15 @@ export async function startCore(inline) {
     worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
   }
   worker.onmessage = (ev) => {
-    const { id, ok, result, error } = ev.data;
+    const { id, ok, result, error, badRows } = ev.data;
     const p = pending.get(id);
     if (!p) return;
     pending.delete(id);
-    ok ? p.resolve(result) : p.reject(new Error(error));
+    ok ? p.resolve(result) : p.reject(new CoreError(error, badRows));
   };
   worker.onerror = (ev) => {
     ev.preventDefault?.();
-    rejectAll(ev.message || 'the worker stopped');
+    rejectAll(new CoreError(ev.message || 'the worker stopped'));
   };
   return inline ? 'web worker (single file, Blob URL)' : 'web worker';
 }
@@ -57,7 +69,7 @@ export function call(op, ...args) {
 export function cancel() {
   if (!worker) return false;
   worker.terminate();
-  rejectAll('cancelled');
+  rejectAll(new Cancelled());
   startCore(inlineCore);
   return true;
 }

@@ -1,13 +1,9 @@
 // The "Several parts" view: one machine identified from the pooled points of several parts, and
 // two parts compared side by side. Every number comes from the core (src/pool.rs, src/compare.rs).
-import { h, fmtNum, table } from './views.js';
+import { h, fmtNum, table, word, core } from './ui.js';
 
-const FLAG_TEXT = {
-  different: 'different (|z| ≥ 3)',
-  suspect: 'suspect (2 ≤ |z| < 3)',
-  consistent: 'consistent (|z| < 2)',
-  undetermined: 'no std to compare',
-};
+/** A false-alarm rate as the paragraph writes it (0.27 %, 4.6 %). */
+const percent = (p) => `${Number((p * 100).toPrecision(2))} %`;
 
 /** `st.files` (analysed), `st.pool` = {names: Set, result, error}, `st.comparison` = {a, b, result, error}. */
 export function partsView(root, st) {
@@ -54,7 +50,7 @@ export function partsView(root, st) {
         const s1 = single(n);
         const r = q.std && Number.isFinite(s1) ? q.std / s1 : null;
         return [n, { text: fmtNum(q.value, q.unit), num: true, value: q.value }, q.unit,
-          { text: fmtNum(q.std, q.unit), num: true, value: q.std ?? '' }, q.status.replace('_', ' '),
+          { text: fmtNum(q.std, q.unit), num: true, value: q.std ?? '' }, word('parameter_status', q.status),
           { text: r === null ? '—' : r.toFixed(3), num: true, value: r ?? '' }];
       })));
     root.append(table('pooled-parts', 'Residual of the pooled fit on each part\'s points (a part far above the others does not fit the shared machine)',
@@ -76,9 +72,10 @@ export function partsView(root, st) {
   root.append(h('div', { class: 'bar' },
     h('label', { for: 'compare-a' }, 'A (e.g. before) '), sel('compare-a', c.a || ok[0].f.name),
     h('label', { for: 'compare-b' }, ' B (e.g. after) '), sel('compare-b', c.b || ok[1].f.name)));
+  const t = core.thresholds;
   root.append(h('p', {}, 'd = B − A; σ_d = √(σA² + σB²) (independent parts); z = d / σ_d. ',
-    h('strong', {}, 'Different'), ' at |z| ≥ 3 (0.27 % false alarms per parameter); ',
-    h('strong', {}, 'suspect'), ' at 2 ≤ |z| < 3 (4.6 % per parameter by chance alone: worth a look, not evidence). ',
+    h('strong', {}, 'Different'), ` at |z| ≥ ${t.different_z} (${percent(t.different_false_alarm)} false alarms per parameter); `,
+    h('strong', {}, 'suspect'), ` at ${t.suspect_z} ≤ |z| < ${t.different_z} (${percent(t.suspect_false_alarm)} per parameter by chance alone: worth a look, not evidence). `,
     'Pooling the same file twice or comparing a file with itself is not independent.'));
   if (c.error) root.append(h('pre', { class: 'error' }, c.error));
   if (c.result) {
@@ -89,6 +86,6 @@ export function partsView(root, st) {
       ['parameter', 'unit', 'A', 'σA', 'B', 'σB', 'd = B − A', 'σ_d', 'z', 'flag'],
       r.differences.map((d) => [d.name, d.unit, cell(d.a, d.unit), cell(d.a_std, d.unit), cell(d.b, d.unit), cell(d.b_std, d.unit),
         cell(d.diff, d.unit), cell(d.std, d.unit), { text: d.z === null ? '—' : d.z.toFixed(2), num: true, value: d.z ?? '' },
-        { text: FLAG_TEXT[d.flag], class: `flag-${d.flag}` }])));
+        { text: word('flags', d.flag), class: `flag-${d.flag}` }])));
   }
 }

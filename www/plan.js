@@ -5,7 +5,7 @@
 // page's settings (left); points per curve and the CMM noise are the view's own inputs, and any
 // change recomputes the plan at once.
 import { download } from './export.js';
-import { h, table, fmtNum } from './views.js';
+import { h, table, fmtNum, word, core } from './ui.js';
 
 const num = (v, unit) => ({ text: fmtNum(v, unit), num: true, value: v ?? '' });
 
@@ -26,7 +26,7 @@ export function setupPlan(root, ctx) {
     h('button', { type: 'button', id: 'plan-csv', onclick: () => last && download('testpiece-plan.csv', last.csv, 'text/csv') }, 'Download nominal table (CSV)'));
   const out = h('div', { id: 'plan-out' });
   root.append(h('h2', {}, 'Measurement plan: where to probe the part, and what it will tell'),
-    h('p', {}, 'The points per curve lie at equal arc length from 5 % to 95 % of each measurement curve. The predicted std is what the identification (location errors alone, this σ given) will report on a part measured at these points; the detection limit of an effect is the size at which the part of it that the location errors cannot absorb reaches the diagnosis\'s 2.5 σ rule.'),
+    h('p', {}, 'The points per curve lie at equal arc length from 5 % to 95 % of each measurement curve. The predicted std is what the identification (location errors alone, this σ given) will report on a part measured at these points; the detection limit of an effect is the size at which the part of it that the location errors cannot absorb reaches the diagnosis\'s detection rule (k σ, with the k of the table below).'),
     controls, downloads, out);
   const value = (id) => parseFloat(root.querySelector(`#${id}`).value);
 
@@ -35,7 +35,7 @@ export function setupPlan(root, ctx) {
     const sigmaUm = value('plan-sigma');
     const a = value('plan-mpe-a'), k = value('plan-mpe-k'), r0 = value('plan-mpe-r0');
     const s = ctx.st.settings;
-    const options = { per_curve: [n, n, n, n], machine: s.machine, mode: s.mode, branch: s.branch, l0: s.l0, tool_radius: s.tool_radius };
+    const options = { per_curve: core.curves.map(() => n), machine: s.machine, mode: s.mode, branch: s.branch, l0: s.l0, tool_radius: s.tool_radius };
     if (Number.isFinite(sigmaUm) && sigmaUm > 0) options.sigma = sigmaUm / 1000;
     else if (Number.isFinite(a) && Number.isFinite(k)) options.mpe = { a_um: a, k_mm: k, r0_um: Number.isFinite(r0) ? r0 : 0 };
     const mine = ++seq;
@@ -66,7 +66,7 @@ function render(out, p) {
   out.append(h('p', { id: 'plan-summary' }, `${p.points.length} points. ${p.noise.summary} Rank ${p.rank}, condition number ${fmtNum(p.condition)}.`));
   out.append(table('plan-parameters', 'Predicted std of each location error on a part measured with this plan (same names and units as the identification)',
     ['parameter', 'predicted std', 'unit', 'status'],
-    Object.entries(p.parameters).map(([name, q]) => [name, num(q.std, q.unit), q.unit, { text: q.status.replace('_', ' '), class: `status-${q.status}` }])));
+    Object.entries(p.parameters).map(([name, q]) => [name, num(q.std, q.unit), q.unit, { text: word('parameter_status', q.status), class: `status-${q.status}` }])));
   if (p.groups.length) out.append(h('ul', { id: 'plan-groups' }, p.groups.map((g) => h('li', {}, g.explanation))));
   out.append(table('plan-limits', `Detection limit of each effect (smallest visible size: its unabsorbed part reaches ${p.detect_factor} σ RMS over the points)`,
     ['effect', 'meaning', 'parameter', 'smallest visible size', 'unit', 'absorbed by the location errors'],

@@ -4,7 +4,7 @@
 // only reads the view's inputs, draws and offers the downloads. Machine, L0 and B branch are the
 // page's settings (left).
 import { download } from './export.js';
-import { h, table } from './views.js';
+import { h, table } from './ui.js';
 
 const um = (v) => ({ text: (v * 1000).toFixed(3), num: true, value: v * 1000 });
 

@@ -5,8 +5,9 @@
 const BUILD = new URL(self.location.href).searchParams.get('build') || 'dev';
 const CACHE = `testpiece-${BUILD}`;
 const ASSETS = [
-  './', 'index.html', 'style.css', 'app.js', 'core.js', 'worker.js', 'plot.js', 'views.js', 'budget.js', 'plan.js', 'program.js', 'compensation.js',
-  'export.js', 'parts.js', 'curves.js', 'pkg/testpiece.js', 'pkg/testpiece_bg.wasm', 'pkg/build.js',
+  './', 'index.html', 'style.css', 'app.js', 'core.js', 'worker.js', 'plot.js', 'export.js', 'ui.js', 'where.js',
+  'data.js', 'fig19.js', 'identify.js', 'gap.js', 'parts.js', 'plan.js', 'program.js', 'budget.js', 'compensation.js', 'report.js',
+  'pkg/testpiece.js', 'pkg/testpiece_bg.wasm', 'pkg/build.js',
 ];
 
 self.addEventListener('install', (ev) => {

@@ -16,6 +16,6 @@ self.onmessage = (ev) => {
     if (typeof fn !== 'function') throw new Error(`the core has no operation "${op}"`);
     self.postMessage({ id, ok: true, result: fn(...(args || [])) });
   } catch (e) {
-    self.postMessage({ id, ok: false, error: e && e.message ? e.message : String(e) });
+    self.postMessage({ id, ok: false, error: e && e.message ? e.message : String(e), badRows: e && e.bad_rows });
   }
 };

@@ -64,14 +64,21 @@ fn um(x: f64) -> String {
     format!("{:.1} µm", x * 1e3)
 }
 
+/// The verdict in one line, `Verdict: <plain name> (`<id>`)` (and the pair's second effect):
+/// the first line of [`summary`], and the page's headline.
+pub fn verdict_line(v: &Verdict) -> String {
+    let mut s = format!("Verdict: {} (`{}`)", v.plain_name(), v.id());
+    if let Some(w) = v.finding.with() {
+        s += &format!(" together with {} (`{}`)", w.effect.plain_name(), w.effect);
+    }
+    s
+}
+
 /// The plain-language summary of a report (first line: the verdict).
 pub fn summary(r: &DiagnosisReport) -> String {
     let v = &r.verdict;
     let f = &v.finding;
-    let mut s = format!("Verdict: {} (`{}`)", v.plain_name(), v.id());
-    if let Some(w) = f.with() {
-        s += &format!(" together with {} (`{}`)", w.effect.plain_name(), w.effect);
-    }
+    let mut s = verdict_line(v);
     s += "\n";
     s += &format!("Why: {}.\n", v.reason);
     if !v.parameters.is_empty() {

@@ -1,43 +1,102 @@
-//! The page's main call: one measured part through the whole pipeline.
+//! The page's main call: one measured part through the whole pipeline, with everything the
+//! page shows of it in one answer (the analysis, the verdict line, the machine's location errors
+//! and effect catalogue).
 
+use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
-use crate::analysis::{analyse as run, analyse_repeats, AnalysisOptions};
+use crate::analysis::{
+    analyse as run, analyse_repeats, sensitivity_options, Analysis, AnalysisError, AnalysisOptions,
+    Diagnosis,
+};
+use crate::effects::catalogue::{machine_effects, EffectStatus};
+use crate::sensitivity::error_set::{error_set, ErrorSet};
 
-/// Reads, matches and identifies one CMM file. `options` is `{mode, branch, l0, tool_radius,
-/// exclude_bad_rows, noise_sigma, noise_mpe: {a_um, k_mm, r0_um}, keep_outliers, ...}` (any may
-/// be absent: defaults of `AnalysisOptions`; `noise_sigma` and `noise_mpe` not both).
-/// Returns the [`crate::analysis::Analysis`] as a plain object; a bad file throws the reader's
-/// message (line, column, text found, what was expected).
-#[wasm_bindgen]
-pub fn analyse(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, JsError> {
-    let opts: AnalysisOptions = if options.is_undefined() || options.is_null() {
-        AnalysisOptions::default()
-    } else {
-        super::from_js(options).map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))?
+/// The machine's location errors ([`crate::sensitivity::error_set`]) with its own effect
+/// catalogue ([`crate::effects::catalogue`]): what the identification and the diagnosis of
+/// the analysis could use.
+#[derive(Serialize)]
+struct MachineSet<'a> {
+    #[serde(flatten)]
+    set: &'a ErrorSet,
+    effects: Vec<EffectStatus>,
+}
+
+/// An [`Analysis`] as the page receives it: its fields, plus
+/// - `verdict_line`: the diagnosis's verdict in one line ([`crate::gap::report::verdict_line`]),
+///   or why there is none;
+/// - `error_set`: `{code, kept, rows: [{name, unit, status, rms, unabsorbed, looks_like?,
+///   reason}], points, visible_fraction, conventions, effects: [{effect, status, reason}]}`
+///   for the machine of the settings (rms in mm of deviation per 1e-4 rad or 0.01 mm).
+#[derive(Serialize)]
+struct PageAnalysis<'a> {
+    #[serde(flatten)]
+    analysis: &'a Analysis,
+    verdict_line: String,
+    error_set: MachineSet<'a>,
+}
+
+fn page_analysis(a: &Analysis, opts: &AnalysisOptions) -> Result<JsValue, JsError> {
+    let set = error_set(&opts.machine.chain(opts.l0), opts.branch)
+        .map_err(|e| JsError::new(&e.to_string()))?;
+    let effects =
+        machine_effects(&sensitivity_options(opts)).map_err(|e| JsError::new(&e.to_string()))?;
+    let verdict_line = match &a.diagnosis {
+        Diagnosis::Made { report, .. } => crate::gap::report::verdict_line(&report.verdict),
+        Diagnosis::NotMade { reason } => format!("Verdict: not available ({reason})"),
     };
-    let a = run(bytes, name, &opts).map_err(|e| JsError::new(&e.to_string()))?;
-    super::to_js(&a)
+    super::to_js(&PageAnalysis {
+        analysis: a,
+        verdict_line,
+        error_set: MachineSet { set: &set, effects },
+    })
+}
+
+/// A failed analysis as a JS `Error` whose message is the core's; when the file was refused
+/// for bad rows that the setting `exclude_bad_rows` would leave out, the error also carries
+/// `bad_rows` (their number), so that the page can offer to exclude them.
+fn analysis_error(e: AnalysisError) -> JsValue {
+    let error = js_sys::Error::new(&e.to_string());
+    if let AnalysisError::File(f) = &e {
+        let rows = f.row_problems().len();
+        if rows > 0 {
+            // Setting a property on a fresh Error cannot fail.
+            let _ = js_sys::Reflect::set(
+                &error,
+                &JsValue::from_str("bad_rows"),
+                &JsValue::from(rows as u32),
+            );
+        }
+    }
+    error.into()
+}
+
+/// Reads, matches and identifies one CMM file. `options` is `{machine, mode, branch, l0,
+/// tool_radius, exclude_bad_rows, noise_sigma, noise_mpe: {a_um, k_mm, r0_um}, keep_outliers,
+/// effects}` (any may be absent: defaults of `AnalysisOptions`; `noise_sigma` and `noise_mpe`
+/// not both). Returns the [`Analysis`] as a plain object with `verdict_line` and `error_set`
+/// (see `PageAnalysis`); a bad file throws the reader's message (line, column, text found,
+/// what was expected) and, for rejected rows, `bad_rows`.
+#[wasm_bindgen]
+pub fn analyse(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, JsValue> {
+    let opts: AnalysisOptions = super::settings_from_js(options, "bad analysis settings")?;
+    let a = run(bytes, name, &opts).map_err(analysis_error)?;
+    Ok(page_analysis(&a, &opts)?)
 }
 
 /// Repeat measurements of one part: `files` = `[{name, bytes: Uint8Array}]`, the first file then
 /// its repeats (the same point ids measured again, at least 2 files); `options` as for
-/// `analyse`, without `noise_sigma` or `noise_mpe` (σ comes from the repeats). Returns the
-/// [`crate::analysis::Analysis`] of their mean, with `repeat` = {pure_error {sigma, dof,
-/// sigma_mean, largest}, lack_of_fit {f, dof_fit, dof_pure, p_value}, summary}.
+/// `analyse`, without `noise_sigma` or `noise_mpe` (σ comes from the repeats). Returns what
+/// `analyse` returns for their mean, with `repeat` = {pure_error {sigma, dof, sigma_mean,
+/// largest}, lack_of_fit {f, dof_fit, dof_pure, p_value}, summary}.
 #[wasm_bindgen(js_name = analyseRepeats)]
-pub fn analyse_repeats_js(files: JsValue, options: JsValue) -> Result<JsValue, JsError> {
-    let files = super::pool::files_from_js(&files)
-        .map_err(|e| JsError::new(&format!("repeat files: expected [{{name, bytes}}]: {e}")))?;
-    let opts: AnalysisOptions = if options.is_undefined() || options.is_null() {
-        AnalysisOptions::default()
-    } else {
-        super::from_js(options).map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))?
-    };
+pub fn analyse_repeats_js(files: JsValue, options: JsValue) -> Result<JsValue, JsValue> {
+    let files = super::pool::files_from_js(&files, "repeat files: expected [{name, bytes}]")?;
+    let opts: AnalysisOptions = super::settings_from_js(options, "bad analysis settings")?;
     let list: Vec<(&[u8], &str)> = files
         .iter()
         .map(|(name, bytes)| (bytes.as_slice(), name.as_str()))
         .collect();
-    let a = analyse_repeats(&list, &opts).map_err(|e| JsError::new(&e.to_string()))?;
-    super::to_js(&a)
+    let a = analyse_repeats(&list, &opts).map_err(analysis_error)?;
+    Ok(page_analysis(&a, &opts)?)
 }

@@ -44,57 +44,99 @@ pub fn budget(
     options: JsValue,
     machine: Option<String>,
 ) -> Result<JsValue, JsError> {
-    let opts: BudgetOptions = if options.is_undefined() || options.is_null() {
-        BudgetOptions::default()
-    } else {
-        super::from_js(options).map_err(|e| JsError::new(&format!("bad budget settings: {e}")))?
-    };
+    let opts: BudgetOptions = super::settings_from_js(options, "bad budget settings")?;
+    let trace = trace.map(|bytes| {
+        let name = trace_name.unwrap_or_else(|| "trace.csv".to_string());
+        (bytes, name)
+    });
+    let b = run(
+        cmm,
+        cmm_name,
+        cl,
+        cl_name,
+        trace.as_ref().map(|(b, n)| (b.as_slice(), n.as_str())),
+        &opts,
+        machine.as_deref(),
+    )?;
+    super::to_js(&b)
+}
+
+/// The budget of the files, the trace (bytes, name) read on `machine` (a JSON description) or
+/// paper 000's machine.
+fn run(
+    cmm: &[u8],
+    cmm_name: &str,
+    cl: &[u8],
+    cl_name: &str,
+    trace: Option<(&[u8], &str)>,
+    opts: &BudgetOptions,
+    machine: Option<&str>,
+) -> Result<crate::budget::Budget, JsError> {
     let err = |e: crate::budget::BudgetError| JsError::new(&e.to_string());
     let m = match machine {
         Some(text) => {
             let d =
-                MachineDescription::from_json(&text).map_err(|e| JsError::new(&e.to_string()))?;
+                MachineDescription::from_json(text).map_err(|e| JsError::new(&e.to_string()))?;
             TraceMachine::from_description(&d).map_err(err)?
         }
         None => TraceMachine::paper000(opts.analysis.l0),
     };
     let path = read_cl(cl, cl_name).map_err(err)?;
     let tr = match trace {
-        Some(bytes) => {
-            let name = trace_name.unwrap_or_else(|| "trace.csv".to_string());
-            Some(read_trace(&bytes, &name, &m).map_err(err)?)
-        }
+        Some((bytes, name)) => Some(read_trace(bytes, name, &m).map_err(err)?),
         None => None,
     };
-    let b = error_budget(cmm, cmm_name, &path, tr.as_ref(), &opts).map_err(err)?;
-    super::to_js(&b)
+    error_budget(cmm, cmm_name, &path, tr.as_ref(), opts).map_err(err)
 }
 
-/// The budget example files: `[{name, role, description}]` (role `cmm`, `cl` or `trace`).
-#[wasm_bindgen(js_name = budgetExampleList)]
-pub fn budget_example_list() -> Result<JsValue, JsError> {
-    let list: Vec<serde_json::Value> = BUDGET_EXAMPLES
-        .iter()
-        .map(|(n, r, d)| serde_json::json!({ "name": n, "role": r, "description": d }))
-        .collect();
-    super::to_js(&list)
+/// A budget example file: `role` `cmm`, `cl` or `trace`, and its text.
+#[derive(serde::Serialize)]
+struct ExampleFile {
+    name: &'static str,
+    role: &'static str,
+    description: &'static str,
+    text: String,
 }
 
-/// The bytes of a budget example file, by name (generated once, then kept).
-#[wasm_bindgen(js_name = budgetExampleBytes)]
-pub fn budget_example_bytes(name: &str) -> Result<Vec<u8>, JsError> {
-    static FILES: std::sync::OnceLock<Vec<(&'static str, String)>> = std::sync::OnceLock::new();
-    let files = match FILES.get() {
-        Some(f) => f,
-        None => {
-            let made = crate::budget::synthetic::example_files()
-                .map_err(|e| JsError::new(&e.to_string()))?;
-            FILES.get_or_init(|| made)
-        }
+/// The budget example of the page's "Example" button, in one call: the files, generated
+/// ([`crate::budget::synthetic::example_files`]), and their budget with `options` (as for
+/// [`budget`], paper 000's machine). Returns `{files: [{name, role, description, text}],
+/// budget}`.
+#[wasm_bindgen(js_name = budgetExample)]
+pub fn budget_example(options: JsValue) -> Result<JsValue, JsError> {
+    let opts: BudgetOptions = super::settings_from_js(options, "bad budget settings")?;
+    let files = example_files()?;
+    let text = |role: &str| {
+        files
+            .iter()
+            .find(|f| f.role == role)
+            .map(|f| (f.text.as_bytes(), f.name))
     };
-    files
+    let (Some((cmm, cmm_name)), Some((cl, cl_name))) = (text("cmm"), text("cl")) else {
+        return Err(JsError::new(
+            "the budget example has no measured part or CL file",
+        ));
+    };
+    let b = run(cmm, cmm_name, cl, cl_name, text("trace"), &opts, None)?;
+    super::to_js(&serde_json::json!({ "files": files, "budget": b }))
+}
+
+/// The budget example files of [`BUDGET_EXAMPLES`], generated.
+fn example_files() -> Result<Vec<ExampleFile>, JsError> {
+    let made =
+        crate::budget::synthetic::example_files().map_err(|e| JsError::new(&e.to_string()))?;
+    BUDGET_EXAMPLES
         .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, text)| text.as_bytes().to_vec())
-        .ok_or_else(|| JsError::new(&format!("no budget example named {name:?}")))
+        .map(|&(name, role, description)| {
+            made.iter()
+                .find(|(n, _)| *n == name)
+                .map(|(_, text)| ExampleFile {
+                    name,
+                    role,
+                    description,
+                    text: text.clone(),
+                })
+                .ok_or_else(|| JsError::new(&format!("no budget example named {name:?}")))
+        })
+        .collect()
 }

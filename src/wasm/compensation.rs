@@ -13,11 +13,7 @@ use crate::compensation::compensation;
 /// before, after, machine, left_in}, notes}`, mm, rad).
 #[wasm_bindgen]
 pub fn compensate(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, JsError> {
-    let opts: AnalysisOptions = if options.is_undefined() || options.is_null() {
-        AnalysisOptions::default()
-    } else {
-        super::from_js(options).map_err(|e| JsError::new(&format!("bad analysis settings: {e}")))?
-    };
+    let opts: AnalysisOptions = super::settings_from_js(options, "bad analysis settings")?;
     let a = analyse(bytes, name, &opts).map_err(|e| JsError::new(&e.to_string()))?;
     super::to_js(&compensation(&a))
 }

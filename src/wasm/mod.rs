@@ -1,6 +1,17 @@
 //! The only module that knows about JavaScript: thin, stateless converters from the core's
-//! functions to `#[wasm_bindgen]` exports. One call per user action; results cross as plain
-//! objects (serde) or `Float64Array` columns; errors as `JsError` with the core's message.
+//! functions to `#[wasm_bindgen]` exports, one export per user action of the page (`www/`):
+//!
+//! | user action | export |
+//! |---|---|
+//! | the page opens | [`page::start`] (version, machines, examples, curves, words) |
+//! | a file or example is analysed | [`analysis::analyse`] / [`analysis::analyse_repeats`] |
+//! | the machine settings change, a path surface is chosen | [`curves::curves_for`] |
+//! | a cone is chosen | [`curves::cone_coefficients`] |
+//! | several parts are pooled / compared | [`pool::analyse_pooled`] / [`pool::compare_parameters`] |
+//! | the plan, the program, the correction, the budget | [`plan`], [`program`], [`compensation`], [`budget`] |
+//!
+//! Results cross as plain objects (serde) or `Float64Array` columns; errors as `JsError` with
+//! the core's message (a file's rejected rows also as a field, [`analysis`]).
 
 use wasm_bindgen::prelude::*;
 
@@ -8,18 +19,12 @@ pub mod analysis;
 #[cfg(feature = "bench")]
 pub mod bench;
 pub mod budget;
-pub mod cmm;
 pub mod compensation;
 pub mod curves;
-pub mod examples;
-pub mod gap;
-pub mod geometry;
-pub mod identify;
-pub mod machine;
+pub mod page;
 pub mod plan;
 pub mod pool;
 pub mod program;
-pub mod settings;
 
 /// Converts a core result to a plain JS object (maps as objects, not `Map`): serialised to JSON
 /// text by serde_json and parsed by the browser's `JSON.parse` (one serialiser for the native
@@ -31,27 +36,35 @@ pub(crate) fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> 
         .map_err(|_| JsError::new("could not convert the result for the page: JSON.parse failed"))
 }
 
+/// Reads the settings object `value` of a call into a core type through `JSON.stringify`;
+/// `undefined` and `null` give the type's defaults. A bad object throws `{context}: {why}`
+/// (`bad analysis settings: …`).
+pub(crate) fn settings_from_js<T: serde::de::DeserializeOwned + Default>(
+    value: JsValue,
+    context: &str,
+) -> Result<T, JsError> {
+    if value.is_undefined() || value.is_null() {
+        return Ok(T::default());
+    }
+    from_js(value, context)
+}
+
 /// Reads a plain JS object (settings, lists) into a core type through `JSON.stringify`;
-/// `undefined` and `null` read as JSON `null`.
-pub(crate) fn from_js<T: serde::de::DeserializeOwned>(value: JsValue) -> Result<T, String> {
+/// `undefined` and `null` read as JSON `null`. A bad object throws `{context}: {why}`.
+pub(crate) fn from_js<T: serde::de::DeserializeOwned>(
+    value: JsValue,
+    context: &str,
+) -> Result<T, JsError> {
     let text: String = if value.is_undefined() || value.is_null() {
         "null".into()
     } else {
         js_sys::JSON::stringify(&value)
-            .map_err(|_| "not a plain object (JSON.stringify failed)".to_string())?
+            .map_err(|_| {
+                JsError::new(&format!(
+                    "{context}: not a plain object (JSON.stringify failed)"
+                ))
+            })?
             .into()
     };
-    serde_json::from_str(&text).map_err(|e| e.to_string())
-}
-
-/// The crate version (same as `testpiece --version`).
-#[wasm_bindgen]
-pub fn version() -> String {
-    crate::VERSION.to_string()
-}
-
-/// Summary of the built-in example part: `{version, curves: [{curve, z, length}]}` (mm).
-#[wasm_bindgen(js_name = partSummary)]
-pub fn part_summary() -> Result<JsValue, JsError> {
-    to_js(&crate::summary::part_summary())
+    serde_json::from_str(&text).map_err(|e| JsError::new(&format!("{context}: {e}")))
 }

@@ -12,11 +12,7 @@ use crate::plan::{nominal_csv, plan, PlanOptions};
 /// --json`), the DMIS program and the nominal table of `testpiece plan --dmis / --csv`.
 #[wasm_bindgen(js_name = measurementPlan)]
 pub fn measurement_plan(options: JsValue) -> Result<JsValue, JsError> {
-    let opts: PlanOptions = if options.is_undefined() || options.is_null() {
-        PlanOptions::default()
-    } else {
-        super::from_js(options).map_err(|e| JsError::new(&format!("bad plan settings: {e}")))?
-    };
+    let opts: PlanOptions = super::settings_from_js(options, "bad plan settings")?;
     let p = plan(&opts).map_err(|e| JsError::new(&e.to_string()))?;
     let dmis = p.dmis();
     let csv = nominal_csv(&p.points);

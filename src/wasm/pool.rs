@@ -7,10 +7,14 @@ use crate::compare::{compare, ParameterValue};
 use crate::pool::{identify_pooled, PoolOptions};
 
 /// `[{name, bytes: Uint8Array | number[]}]` → (name, bytes), read field by field (the bytes are
-/// not passed through JSON).
-pub(super) fn files_from_js(files: &JsValue) -> Result<Vec<(String, Vec<u8>)>, String> {
+/// not passed through JSON). A bad list throws `{context}: {why}`.
+pub(super) fn files_from_js(
+    files: &JsValue,
+    context: &str,
+) -> Result<Vec<(String, Vec<u8>)>, JsError> {
+    let bad = |why: String| JsError::new(&format!("{context}: {why}"));
     if !js_sys::Array::is_array(files) {
-        return Err("not an array".into());
+        return Err(bad("not an array".into()));
     }
     js_sys::Array::from(files)
         .iter()
@@ -19,11 +23,11 @@ pub(super) fn files_from_js(files: &JsValue) -> Result<Vec<(String, Vec<u8>)>, S
             let get = |k: &str| js_sys::Reflect::get(&f, &JsValue::from_str(k)).ok();
             let name = get("name")
                 .and_then(|n| n.as_string())
-                .ok_or_else(|| format!("file {}: no `name` string", i + 1))?;
+                .ok_or_else(|| bad(format!("file {}: no `name` string", i + 1)))?;
             let bytes = get("bytes")
                 .filter(|b| b.is_object())
                 .map(|b| js_sys::Uint8Array::new(&b).to_vec())
-                .ok_or_else(|| format!("file {} ({name}): no `bytes` array", i + 1))?;
+                .ok_or_else(|| bad(format!("file {} ({name}): no `bytes` array", i + 1)))?;
             Ok((name, bytes))
         })
         .collect()
@@ -35,13 +39,8 @@ pub(super) fn files_from_js(files: &JsValue) -> Result<Vec<(String, Vec<u8>)>, S
 /// excluded_rows, residual_rms, residual_mean}], shared, per_part, identification}` (mm, rad).
 #[wasm_bindgen(js_name = analysePooled)]
 pub fn analyse_pooled(files: JsValue, options: JsValue) -> Result<JsValue, JsError> {
-    let files = files_from_js(&files)
-        .map_err(|e| JsError::new(&format!("pooled files: expected [{{name, bytes}}]: {e}")))?;
-    let opts: PoolOptions = if options.is_undefined() || options.is_null() {
-        PoolOptions::default()
-    } else {
-        super::from_js(options).map_err(|e| JsError::new(&format!("bad pooling settings: {e}")))?
-    };
+    let files = files_from_js(&files, "pooled files: expected [{name, bytes}]")?;
+    let opts: PoolOptions = super::settings_from_js(options, "bad pooling settings")?;
     let list: Vec<(&[u8], &str)> = files
         .iter()
         .map(|(name, bytes)| (bytes.as_slice(), name.as_str()))
@@ -63,11 +62,10 @@ pub fn compare_parameters(
     b: JsValue,
 ) -> Result<JsValue, JsError> {
     let parse = |v: JsValue, side: &str| -> Result<Vec<ParameterValue>, JsError> {
-        super::from_js(v).map_err(|e| {
-            JsError::new(&format!(
-                "parameters of {side}: expected [{{name, value, std, unit}}]: {e}"
-            ))
-        })
+        super::from_js(
+            v,
+            &format!("parameters of {side}: expected [{{name, value, std, unit}}]"),
+        )
     };
     let c = compare(a_name, &parse(a, a_name)?, b_name, &parse(b, b_name)?)
         .map_err(|e| JsError::new(&e.to_string()))?;

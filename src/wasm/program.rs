@@ -12,11 +12,7 @@ use crate::program::{program, ProgramOptions};
 /// --format cl|gcode`.
 #[wasm_bindgen(js_name = partProgram)]
 pub fn part_program(options: JsValue) -> Result<JsValue, JsError> {
-    let opts: ProgramOptions = if options.is_undefined() || options.is_null() {
-        ProgramOptions::default()
-    } else {
-        super::from_js(options).map_err(|e| JsError::new(&format!("bad program settings: {e}")))?
-    };
+    let opts: ProgramOptions = super::settings_from_js(options, "bad program settings")?;
     let p = program(&opts).map_err(|e| JsError::new(&e.to_string()))?;
     let gcode = p.gcode().map_err(|e| JsError::new(&e.to_string()))?;
     super::to_js(&serde_json::json!({

@@ -217,7 +217,7 @@ test('the single-file build works from file:// with no server, its core in a Blo
   assert.equal(await page.evaluate(() => navigator.serviceWorker?.controller ?? null), null, 'no service worker');
   // No freeze: the longest gap between 10 ms ticks of the page's own event loop while the core
   // computes (a pivot length never analysed: the sensitivity curves, the path model and the
-  // analysis computed anew, ~100 ms), and the page takes typed input meanwhile. Busy is
+  // analysis computed anew), and the page takes typed input meanwhile. Busy is
   // recorded by an observer: the core may finish before a poll would see it.
   await page.evaluate(() => {
     window.__gaps = { max: 0, busyTicks: 0 };

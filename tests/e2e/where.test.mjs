@@ -69,7 +69,7 @@ test('the where report is drawn at the points the core reports, chosen by keyboa
     assert.equal(e.concentrated, e.concentration > 1.5, `${e.name}: concentrated`);
     assert.equal(e.marked, e.of_verdict || e.concentrated, `${e.name}: marked`);
   }
-  // The page marks the core's marked reversals and the chosen one (views.js whereOf).
+  // The page marks the core's marked reversals and the chosen one (where.js whereOf).
   const marked = (chosen) => [...new Set(sorted(reversals.filter((e) => e === chosen || e.marked).map((e) => e.nearest)))];
   console.log(`verdict ${d.verdict.effect}: marked reversals at points ${marked(null).join(' ')}`);
   assert.ok(marked(null).length > 0);

@@ -1,24 +1,26 @@
 //! The budget of issue 10 compiled to wasm and run under Node: the exported `budget` call on the
-//! embedded example files adds up point by point (sum check) and gives the core's numbers, and a
-//! bad CL file throws the reader's line/column message.
+//! generated example files adds up point by point (sum check) and gives the core's numbers, the
+//! page's `budgetExample` gives the same budget, and a bad CL file throws the reader's
+//! line/column message.
 
 use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
 
 use testpiece::budget::{error_budget, read_cl, read_trace, BudgetOptions, TraceMachine};
-use testpiece::wasm::budget::{budget, budget_example_bytes};
+use testpiece::wasm::budget::{budget, budget_example};
+
+/// The text of a generated budget example file.
+fn example(name: &str) -> Vec<u8> {
+    let files = testpiece::budget::synthetic::example_files().expect("examples");
+    let (_, text) = files.into_iter().find(|(n, _)| *n == name).expect(name);
+    text.into_bytes()
+}
 
 #[wasm_bindgen_test]
 fn the_exported_budget_adds_up_and_equals_the_core() {
-    let cmm = budget_example_bytes("example_measured.csv")
-        .ok()
-        .expect("example");
-    let cl = budget_example_bytes("example_cl.apt")
-        .ok()
-        .expect("example");
-    let tr = budget_example_bytes("example_trace.csv")
-        .ok()
-        .expect("example");
+    let cmm = example("example_measured.csv");
+    let cl = example("example_cl.apt");
+    let tr = example("example_trace.csv");
     let js = budget(
         &cmm,
         "example_measured.csv",
@@ -48,6 +50,19 @@ fn the_exported_budget_adds_up_and_equals_the_core() {
         assert!((sum - f("measured")).abs() < 1e-12);
         assert!((f("nc") - c.nc).abs() < 1e-12 && (f("machine") - c.machine).abs() < 1e-12);
     }
+    // The page's example button: the same files and the same budget in one call.
+    let js = budget_example(JsValue::UNDEFINED)
+        .ok()
+        .expect("budget example");
+    let e: serde_json::Value = serde_wasm_bindgen::from_value(js).unwrap();
+    assert_eq!(e["budget"]["points"], v["points"]);
+    let roles: Vec<&str> = e["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["role"].as_str().unwrap())
+        .collect();
+    assert_eq!(roles, ["cmm", "cl", "trace"]);
 }
 
 #[wasm_bindgen_test]
@@ -76,7 +91,9 @@ fn the_generated_examples_are_the_committed_files() {
             include_str!("../data/budget/example_trace.csv"),
         ),
     ] {
-        let made = budget_example_bytes(name).ok().expect("example");
-        assert!(made == disk.as_bytes(), "{name} differs under wasm");
+        assert!(
+            example(name) == disk.as_bytes(),
+            "{name} differs under wasm"
+        );
     }
 }

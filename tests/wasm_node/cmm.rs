@@ -1,9 +1,6 @@
-//! wasm exports of the `cmm` stage, run under Node.
-//!
-//! The `#[wasm_bindgen]` functions of `src/wasm/cmm.rs` sit in a private module, so these tests
-//! run the core they wrap (`read_cmm_with`, `read_and_match`) compiled to wasm and check it
-//! gives the native numbers: the reference example read exactly and matched, and a broken
-//! file rejected with the same message.
+//! The `cmm` stage compiled to wasm and run under Node (the page reaches it through `analyse`):
+//! the core (`read_cmm`, `read_and_match`) gives the native numbers: the reference example read
+//! exactly and matched, and a broken file rejected with the same message.
 
 use testpiece::cmm::{read_and_match, read_cmm, ReadOptions};
 use wasm_bindgen_test::*;

@@ -1,7 +1,8 @@
-//! Every file of the reader's broken corpus (tests/data/cmm/broken) through the wasm export
-//! `matchCmm` under Node: each must be an `Err` (never a panic across the boundary) whose
-//! message is the native one, as recorded by the native test `it/edge_parity.rs` in
-//! tests/data/parity/broken_messages.json (which also checks this list names every file).
+//! Every file of the reader's broken corpus (tests/data/cmm/broken) through the page's wasm
+//! export `analyse` under Node: each must be an `Err` (never a panic across the boundary) whose
+//! message is the native reader's, as recorded by the native test `it/edge_parity.rs` in
+//! tests/data/parity/broken_messages.json (which also checks this list names every file), and
+//! which carries `bad_rows` exactly when the reader refused rows that could be excluded.
 
 use wasm_bindgen::JsCast;
 use wasm_bindgen::JsValue;
@@ -69,20 +70,23 @@ fn every_broken_file_is_an_error_with_the_native_message() {
         "files in the corpus vs messages"
     );
     for (name, bytes) in BROKEN {
-        let err = match testpiece::wasm::cmm::match_cmm(bytes, name, JsValue::UNDEFINED) {
+        let v = match testpiece::wasm::analysis::analyse(bytes, name, JsValue::UNDEFINED) {
             Ok(_) => panic!("{name}: read without error under wasm"),
             Err(e) => e,
         };
-        let v: JsValue = err.into();
+        let bad_rows = js_sys::Reflect::get(&v, &JsValue::from_str("bad_rows"))
+            .ok()
+            .and_then(|r| r.as_f64());
         let msg = v
             .dyn_into::<js_sys::Error>()
             .map(|e| String::from(e.message()))
             .unwrap_or_else(|_| "not an Error".into());
         assert_eq!(Some(&msg), native.get(name), "{name}");
         // The core under wasm gives the same text as the export.
-        let core = testpiece::cmm::read_and_match(bytes, name, &Default::default())
-            .expect_err(name)
-            .to_string();
-        assert_eq!(core, msg, "{name}");
+        let core =
+            testpiece::cmm::read_and_match(bytes, name, &Default::default()).expect_err(name);
+        assert_eq!(core.to_string(), msg, "{name}");
+        let rows = core.row_problems().len();
+        assert_eq!(bad_rows, (rows > 0).then_some(rows as f64), "{name}");
     }
 }

@@ -1,1 +1,0 @@
-//! wasm exports of the `geometry` stage, run under Node.

@@ -1,1 +1,0 @@
-//! wasm exports of the `identify` stage, run under Node.

@@ -1,0 +1,85 @@
+// What every view shares: the DOM helper, tables and charts with their export buttons, the
+// per-point layout, and what the core sent when the page opened (`start()` of src/wasm/page.rs:
+// the machines, the measurement curves, the words for the tags the results carry, the
+// thresholds). No result is computed here.
+import { chart } from './plot.js';
+import { exportButtons, toCsv } from './export.js';
+
+/** What the core's `start()` answered (set once by app.js before the first view is drawn). */
+export const core = { machines: [], curves: [], words: {}, thresholds: {}, paths: { cones: [], cone_offsets: [], surfaces: [] } };
+
+/** The core's description of the machine `id`. */
+export const machineName = (id) => (core.machines.find((m) => m.id === id) || { name: id }).name;
+/** Whether the machine `id` uses the pivot length L0 (the core's `uses_l0`). */
+export const machineUsesL0 = (id) => (core.machines.find((m) => m.id === id) || { uses_l0: true }).uses_l0;
+/** The core's word for the tag `tag` of the kind `kind` (`groups`, `parameter_status`, …). */
+export const word = (kind, tag) => (core.words[kind] && core.words[kind][tag]) || tag;
+
+/** The gap diagnosis of an analysis when it was made (`diagnosis.status` of the core). */
+export const diagnosisOf = (a) => (a && a.diagnosis && a.diagnosis.status === 'made' ? a.diagnosis.report : null);
+/** What the final answer was fitted with, in the core's words (analysis.correction). */
+export const fittedWith = (a) => (a.correction ? a.correction.fitted_with_words : '');
+/** The export's `fitted_with` column, as the core writes it (identify::export). */
+export const fittedWithId = (a) => a.correction.fitted_with;
+
+export function h(tag, attrs = {}, ...children) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (v === undefined || v === null || v === false) continue;
+    if (k === 'class') e.className = v;
+    else if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
+    else if (k === 'dataset') Object.assign(e.dataset, v);
+    else e.setAttribute(k, v === true ? '' : v);
+  }
+  for (const c of children.flat()) if (c !== null && c !== undefined && c !== false) e.append(c instanceof Node ? c : String(c));
+  return e;
+}
+
+/** A number with a sensible precision for its unit. */
+export function fmtNum(v, unit) {
+  if (v === null || v === undefined || !Number.isFinite(v)) return '—';
+  if (unit === 'rad') return v.toExponential(3);
+  if (unit === 'µm') return v.toFixed(2);
+  if (unit === 'mm') return Math.abs(v) >= 0.1 ? v.toFixed(4) : v.toFixed(5);
+  return String(Number(v.toPrecision(4)));
+}
+
+/** A table with a caption, header and rows of [text, {num, value}] cells, plus a CSV button. */
+export function table(name, caption, header, rows) {
+  const t = h('table', { 'data-table': name },
+    h('caption', {}, caption),
+    h('thead', {}, h('tr', {}, header.map((c) => h('th', { scope: 'col' }, c)))),
+    h('tbody', {}, rows.map((r) => h('tr', {}, r.map((c) => (typeof c === 'object' && c !== null && !(c instanceof Node)
+      ? h('td', { class: c.num ? 'num' : c.class, 'data-value': c.value ?? undefined }, c.text)
+      : h('td', {}, c)))))));
+  const bar = h('div', { class: 'bar' });
+  exportButtons(bar, { name, table: () => t });
+  return h('div', {}, bar, h('div', { class: 'scroll' }, t));
+}
+
+/** x positions and groups for points laid out curve by curve (the core's curve order, then any
+ * other curve in order of appearance). */
+export function layout(curves, ids) {
+  const x = [];
+  const groups = [];
+  let pos = 0;
+  for (const c of [...core.curves, ...new Set(curves.filter((k) => !core.curves.includes(k)))]) {
+    const idx = curves.map((k, i) => (k === c ? i : -1)).filter((i) => i >= 0);
+    if (!idx.length) continue;
+    const from = pos + 1;
+    for (const i of idx) x[i] = ++pos;
+    groups.push({ label: c, from, to: pos });
+    pos += 2;
+  }
+  return { x, groups, xNames: ids.map((id, i) => `point ${id} (${curves[i]})`) };
+}
+
+/** A chart with its export buttons (SVG, PNG, CSV of the series) and `extra` controls. */
+export function chartBlock(name, spec, extra) {
+  const holder = h('div', {});
+  const c = chart(holder, spec);
+  const bar = h('div', { class: 'bar' }, extra || '', h('span', { class: 'spacer' }));
+  exportButtons(bar, { name, svg: () => c.svg, csv: () => toCsv(['x', 'label', ...spec.series.map((s) => s.name)],
+    spec.x.map((x, i) => [x, spec.xNames ? spec.xNames[i] : '', ...spec.series.map((s) => s.y[i])])) });
+  return { el: h('div', { class: 'chart-block', 'data-chart': name }, bar, holder), chart: c };
+}

@@ -1,0 +1,228 @@
+// The gap diagnosis drawn on the per-point plots and the plan view, shared by the Identification
+// and Sim-to-real gap views: a chosen where-group as shaded bands and ringed points, the axis
+// reversals the core marks at their nearest point, and the control that chooses the group.
+import { h, layout, chartBlock, diagnosisOf, word, core } from './ui.js';
+import { exportButtons } from './export.js';
+
+// The diagnosis (src/gap/location.rs) reports typed groups: `group` is curve, region, lean or
+// reversal (a reversal with its `axis`, path position `s` in mm and `nearest` point id), each
+// with the points of the group (`ids`), its residual RMS and its concentration (share of the
+// residual sum of squares over share of points). The core decides what is notable: `concentrated`,
+// `structure.concentrated_entry` (the default highlight) and, for reversals, `of_verdict` and
+// `marked`. These helpers only draw: the chosen group as shaded bands on the per-point plots
+// and ringed points on the plan view, the marked reversals at their nearest point. The choice
+// is shared by the views; changing it redraws every figure that shows it.
+const where = { choice: 'auto', figures: new Set() };
+
+const entryKey = (e) => `${e.group}:${e.name}`;
+
+/** The where report of an analysis: entries, reversals, and the entry to highlight for `choice`. */
+function whereOf(a) {
+  const d = diagnosisOf(a);
+  if (!d) return null;
+  const entries = d.where;
+  const reversals = entries.filter((e) => e.group === 'reversal');
+  const auto = () => (d.structure.concentrated_entry === null ? null : entries[d.structure.concentrated_entry]);
+  // The tool path reverses some axis dozens of times: the core marks those of a named
+  // backlash's axis and those where the residual is concentrated; the chosen one is marked too.
+  const verdictAxes = d.structure.verdict_axes;
+  const isChosen = (e) => where.choice === entryKey(e);
+  const marked = reversals.filter((e) => isChosen(e) || e.marked);
+  const chosen = where.choice === 'auto' ? auto() : where.choice === 'none' ? null : entries.find((e) => entryKey(e) === where.choice) || null;
+  // One mark per point: reversals of several axes can share the nearest point.
+  const marks = [];
+  for (const e of marked) {
+    const m = marks.find((k) => String(k.id) === String(e.nearest));
+    if (m) m.entries.push(e); else marks.push({ id: e.nearest, entries: [e] });
+  }
+  for (const m of marks) {
+    m.short = [...new Set(m.entries.map((e) => e.axis))].join(',');
+    m.label = m.entries.map(describeReversal).join('; ');
+  }
+  return { d, entries, reversals, marked, marks, verdictAxes, chosen, auto: auto() };
+}
+
+const um1 = (x) => `${(x * 1000).toFixed(1)} µm`;
+function describeEntry(e) {
+  return `${word('groups', e.group)} ${e.name}: ${e.n} points, baseline residual RMS ${um1(e.rms)}, ` +
+    `max |r| ${um1(e.max_abs)}, ${Number(e.concentration.toFixed(2))}× its share of the residual`;
+}
+function describeReversal(e) {
+  return `${e.axis}-axis reversal at ${e.s.toFixed(1)} mm of tool path (point ${e.nearest}); ±${core.thresholds.reversal_window_mm} mm window: ${e.n} points, RMS ${um1(e.rms)}, ${Number(e.concentration.toFixed(2))}× its share`;
+}
+
+/** Why the marked reversals are marked, in words (from the core's flags). */
+function markedWhy(w) {
+  const axes = w.verdictAxes.length ? `those of the named backlash's ${w.verdictAxes.join(', ')} axis and ` : '';
+  return `${axes}those where the residual is concentrated near the reversal, and the one chosen above`;
+}
+
+/** The marked reversals as a compact table inside a collapsible block. */
+function reversalList(w) {
+  if (!w.marked.length) return h('span', {}, `None of the ${w.reversals.length} axis reversals of the tool path is marked (none of a named backlash's axis nor with the residual concentrated near it; each can be chosen above).`);
+  const rows = w.marked.map((e) => h('tr', {}, h('td', {}, e.axis), h('td', { class: 'num' }, e.s.toFixed(1)), h('td', { class: 'num' }, String(e.nearest)),
+    h('td', { class: 'num' }, String(e.n)), h('td', { class: 'num' }, (e.rms * 1000).toFixed(1)), h('td', { class: 'num' }, e.concentration.toFixed(2)),
+    h('td', {}, e.of_verdict ? 'named backlash axis' : e.concentrated ? 'residual concentrated' : 'chosen')));
+  return h('details', { class: 'reversal-list' },
+    h('summary', {}, `${w.marked.length} of ${w.reversals.length} axis reversals marked (${[...new Set(w.marked.map((e) => e.axis))].join(', ')}): ${markedWhy(w)}`),
+    h('table', {}, h('thead', {}, h('tr', {}, ...['axis', 'at (mm of tool path)', 'nearest point', `points in ±${core.thresholds.reversal_window_mm} mm`, 'RMS (µm)', 'share ×', 'why marked'].map((t) => h('th', { scope: 'col' }, t)))),
+      h('tbody', {}, ...rows)));
+}
+
+/** The legend of the highlight in words and units (also drawn inside the exported figures):
+ * two lines, what is shaded and what the marks are. */
+function whereNote(w) {
+  if (!w) return '';
+  const s = w.d.structure;
+  const what = s.structured ? `structure (RMS ${um1(s.structure_rms)} above noise σ ${um1(s.noise.used)})` : `noise (σ ${um1(s.noise.used)}; no structure above the detection limit ${um1(w.d.verdict.detection_limit)})`;
+  const shade = w.chosen ? `Shaded: ${word('groups', w.chosen.group)} ${w.chosen.name} (RMS ${um1(w.chosen.rms)}, ${Number(w.chosen.concentration.toFixed(2))}× its share).` : 'Nothing shaded.';
+  const axes = [...new Set(w.marked.map((e) => e.axis))].join(', ');
+  const rev = w.marked.length ? `▼ ${w.marked.length} of ${w.reversals.length} axis reversals (${axes}) at the nearest point; ` : `▼ none of ${w.reversals.length} axis reversals marked; `;
+  return `${shade}\nBaseline residual of the diagnosis: ${what}.\n${rev}units µm, tool path in mm.`;
+}
+
+/** Runs of consecutive x positions of the points `ids` (for shaded bands). */
+function runsOf(ids, idToX) {
+  const xs = ids.map((id) => idToX.get(String(id))).filter((x) => x !== undefined).sort((p, q) => p - q);
+  const runs = [];
+  for (const x of xs) {
+    const last = runs[runs.length - 1];
+    if (last && x === last.to + 1) { last.to = x; last.xs.push(x); } else runs.push({ from: x, to: x, xs: [x] });
+  }
+  return runs;
+}
+
+/** highlight / markers / note for a per-point chart laid out by `layout`. */
+function whereChartPatch(a, ids, x) {
+  const w = whereOf(a);
+  if (!w) return { highlight: [], markers: [], note: undefined };
+  const idToX = new Map(ids.map((id, i) => [String(id), x[i]]));
+  const xToId = new Map(ids.map((id, i) => [x[i], String(id)]));
+  const highlight = w.chosen ? runsOf(w.chosen.ids, idToX).map((r) => ({ from: r.from, to: r.to, ids: r.xs.map((v) => xToId.get(v)),
+    label: `${describeEntry(w.chosen)}; points ${r.xs.map((v) => xToId.get(v)).join(', ')}` })) : [];
+  const markers = w.marks.filter((k) => idToX.has(String(k.id))).map((k) => ({ x: idToX.get(String(k.id)), id: k.id, short: k.short, label: k.label }));
+  return { highlight, markers, note: whereNote(w) };
+}
+
+/** The control that chooses what is highlighted, and the legend in words (HTML). */
+export function whereControl(a, idSuffix) {
+  const w = whereOf(a);
+  if (!w) return h('p', { class: 'where-legend' }, 'No gap diagnosis: nothing to highlight.');
+  const sel = h('select', { id: `where-choice-${idSuffix}`, class: 'where-choice', 'aria-describedby': `where-legend-${idSuffix}` },
+    h('option', { value: 'auto' }, w.auto ? `where the residual is concentrated (${w.auto.name})` : 'where the residual is concentrated (nowhere markedly: nothing)'),
+    h('option', { value: 'none' }, 'nothing'),
+    ...w.entries.map((e) => h('option', { value: entryKey(e) }, `${word('groups', e.group)} ${e.name} (${Number(e.concentration.toFixed(2))}×, RMS ${um1(e.rms)})`)));
+  sel.value = where.choice;
+  if (sel.value !== where.choice) sel.value = 'auto';
+  const legend = h('p', { class: 'where-legend', id: `where-legend-${idSuffix}` });
+  const fill = () => {
+    const x = whereOf(a);
+    legend.textContent = '';
+    legend.append(h('span', { class: 'swatch', 'aria-hidden': 'true' }), ' ',
+      x.chosen ? `Shaded / ringed: ${describeEntry(x.chosen)}.` : 'Nothing shaded.', ' ',
+      whereNote(x).split('\n')[1], ' ',
+      h('span', { class: 'rev-swatch', 'aria-hidden': 'true' }, '▼'), ' ', reversalList(x));
+  };
+  fill();
+  sel.addEventListener('change', () => {
+    where.choice = sel.value;
+    for (const f of [...where.figures]) { if (!f.isConnected()) where.figures.delete(f); else f.redraw(); }
+    for (const o of document.querySelectorAll('select.where-choice')) if (o !== sel) o.value = sel.value;
+  });
+  where.figures.add({ isConnected: () => legend.isConnected, redraw: fill });
+  return h('div', { class: 'where-control' }, h('label', { for: `where-choice-${idSuffix}` }, 'Highlight on the plots and the plan view: '), sel, legend);
+}
+
+/** The measured / simulated / residual chart with the where highlight. */
+export function residualChart(a, name, id = a.identification) {
+  const curves = id.points.map((p) => p.curve);
+  const ids = id.points.map((p) => p.id);
+  const L = layout(curves, ids);
+  const spec = { title: 'Measured, simulated (identified model) and residual', x: L.x, xNames: L.xNames, groups: L.groups,
+    series: [
+      { name: 'measured', y: id.points.map((p) => p.measured * 1000), points: true },
+      { name: 'simulated', y: id.points.map((p) => p.fitted * 1000) },
+      { name: 'residual', y: id.points.map((p) => p.residual * 1000), dashed: true },
+    ], xLabel: 'measurement point (grouped by curve)', yLabel: 'normal deviation (µm)', yUnit: 'µm', ...whereChartPatch(a, ids, L.x) };
+  const block = chartBlock(name, spec);
+  where.figures.add({ isConnected: () => block.el.isConnected, redraw: () => block.chart.update(whereChartPatch(a, ids, L.x)) });
+  return block.el;
+}
+
+
+/** Plan view of the part (x–y) with the residual drawn as coloured arrows along the normal, the
+ * points of the highlighted where-group ringed and the axis reversals marked. */
+export function planView(a, name, id = a.identification) {
+  const pts = a.file.points;
+  const res = id.points.map((p) => p.residual);
+  const maxr = Math.max(1e-9, ...res.map(Math.abs));
+  const W = 640, H = 570, pad = 30;
+  const xs = pts.map((p) => p.foot[0]), ys = pts.map((p) => p.foot[1]);
+  const x0 = Math.min(...xs) - 15, x1 = Math.max(...xs) + 15, y0 = Math.min(...ys) - 15, y1 = Math.max(...ys) + 15;
+  const k = Math.min((W - 2 * pad) / (x1 - x0), (H - 2 * pad - 44) / (y1 - y0));
+  const X = (x) => pad + (x - x0) * k, Y = (y) => H - pad - 44 - (y - y0) * k;
+  const arrowMm = 12; // the largest residual is drawn 12 mm long
+  const NS = 'http://www.w3.org/2000/svg';
+  const svg = document.createElementNS(NS, 'svg');
+  svg.setAttribute('viewBox', `0 0 ${W} ${H}`); svg.setAttribute('class', 'chart'); svg.setAttribute('role', 'img');
+  svg.setAttribute('aria-label', 'plan view with residual arrows'); svg.setAttribute('xmlns', NS);
+  svg.setAttribute('font-family', 'system-ui, sans-serif'); svg.setAttribute('font-size', '11');
+  const add = (tag, attrs, parent = svg) => { const e = document.createElementNS(NS, tag); for (const [kk, v] of Object.entries(attrs)) e.setAttribute(kk, v); parent.appendChild(e); return e; };
+  add('rect', { x: 0, y: 0, width: W, height: H, fill: '#fff' });
+  add('text', { x: pad, y: 18, 'font-weight': 600, 'font-size': 13 }).textContent = `Plan view: residual along the outward normal (largest ${(maxr * 1000).toFixed(1)} µm = ${arrowMm} mm arrow)`;
+  for (const c of core.curves) {
+    const idx = a.points.map((p, i) => (p.curve === c ? i : -1)).filter((i) => i >= 0);
+    add('polyline', { points: idx.map((i) => `${X(xs[i]).toFixed(1)},${Y(ys[i]).toFixed(1)}`).join(' '), fill: 'none', stroke: '#bbb' });
+  }
+  const layer = add('g', { class: 'where-layer' });
+  pts.forEach((p, i) => {
+    const r = res[i], len = (r / maxr) * arrowMm;
+    const color = r >= 0 ? '#1f77b4' : '#d62728';
+    const xa = X(p.foot[0]), ya = Y(p.foot[1]);
+    const xb = X(p.foot[0] + p.normal[0] * len), yb = Y(p.foot[1] + p.normal[1] * len);
+    add('line', { x1: xa, y1: ya, x2: xb, y2: yb, stroke: color, 'stroke-width': 2 });
+    add('circle', { cx: xb, cy: yb, r: 2, fill: color }).appendChild(document.createElementNS(NS, 'title')).textContent = `point ${p.file.id}: residual ${(r * 1000).toFixed(2)} µm`;
+  });
+  for (const o of (a.outliers && a.outliers.points) || []) {
+    const i = o.row;
+    if (i === undefined || !pts[i]) continue;
+    const ring = add('circle', { cx: X(xs[i]), cy: Y(ys[i]), r: 9, fill: 'none', stroke: '#d62728', 'stroke-width': 2.5, 'stroke-dasharray': '3 2',
+      class: 'outlier-ring', 'data-id': o.id, role: 'img', 'aria-label': `outlier: point ${o.id}, ${(o.size * 1000).toFixed(1)} µm` });
+    add('title', {}, ring).textContent = `outlier: point ${o.id}, ${(o.size * 1000).toFixed(1)} µm from the fit without it (|t| = ${o.statistic.toFixed(1)}); ${a.outliers.excluded ? 'left out' : 'kept'}`;
+  }
+  add('text', { x: W - pad, y: H - 8, 'text-anchor': 'end', fill: '#555' }).textContent = 'blue: material left (+), red: overcut (−); dashed red ring: outlier; x, y in mm';
+  const note = add('text', { x: pad, y: H - 52, fill: '#7a4b00', class: 'note' });
+  const byId = new Map(pts.map((p, i) => [String(p.file.id), i]));
+  function drawWhere() {
+    layer.textContent = '';
+    const w = whereOf(a);
+    note.textContent = '';
+    whereNote(w).split('\n').forEach((line, j) => { const t = add('tspan', { x: pad, dy: j ? 14 : 0 }, note); t.textContent = line; });
+    if (!w) return;
+    if (w.chosen) {
+      for (const id of w.chosen.ids) {
+        const i = byId.get(String(id));
+        if (i === undefined) continue;
+        const ring = add('circle', { cx: X(xs[i]), cy: Y(ys[i]), r: 7, fill: '#ffd54f', 'fill-opacity': 0.5, stroke: '#b8860b', 'stroke-width': 1.5,
+          class: 'highlight', 'data-id': id, tabindex: 0, role: 'img', 'aria-label': `point ${id}, in ${word('groups', w.chosen.group)} ${w.chosen.name}: residual ${(res[i] * 1000).toFixed(2)} µm` }, layer);
+        add('title', {}, ring).textContent = `point ${id}: ${describeEntry(w.chosen)}`;
+      }
+    }
+    for (const k of w.marks) {
+      const i = byId.get(String(k.id));
+      if (i === undefined) continue;
+      const cx = X(xs[i]), cy = Y(ys[i]);
+      const g = add('g', { class: 'marker', 'data-id': k.id, tabindex: 0, role: 'img', 'aria-label': k.label }, layer);
+      add('path', { d: `M${cx - 6},${cy - 15} L${cx + 6},${cy - 15} L${cx},${cy - 5} Z`, fill: '#6a3d9a' }, g);
+      add('text', { x: cx + 7, y: cy - 8, fill: '#6a3d9a', 'font-weight': 600, 'font-size': 10 }, g).textContent = k.short;
+      add('title', {}, g).textContent = k.label;
+    }
+  }
+  drawWhere();
+  const holder = h('div', { 'data-chart': name });
+  where.figures.add({ isConnected: () => holder.isConnected, redraw: drawWhere });
+  const bar = h('div', { class: 'bar' }, h('span', { class: 'spacer' }));
+  exportButtons(bar, { name, svg: () => svg });
+  holder.append(bar, svg);
+  return holder;
+}
