@@ -2,29 +2,53 @@
 //! every number comes from the library. Each command is a module with its options (a clap
 //! `Args` struct whose doc comments are its `--help`) and a `run` made of named steps; what
 //! several commands share is in [`common`].
+//!
+//! The command line is native only: compiled for `wasm32` (as `wasm-pack test` builds every
+//! target of the package) it is an empty program, and clap, a native-only dependency, is not
+//! needed there.
 
+#[cfg(not(target_arch = "wasm32"))]
 mod budget;
+#[cfg(not(target_arch = "wasm32"))]
 mod common;
+#[cfg(not(target_arch = "wasm32"))]
 mod compare;
+#[cfg(not(target_arch = "wasm32"))]
 mod diagnose;
+#[cfg(not(target_arch = "wasm32"))]
 mod envelope;
+#[cfg(not(target_arch = "wasm32"))]
 mod forward;
+#[cfg(not(target_arch = "wasm32"))]
 mod identify;
+#[cfg(not(target_arch = "wasm32"))]
 mod info;
+#[cfg(not(target_arch = "wasm32"))]
 mod machine;
+#[cfg(not(target_arch = "wasm32"))]
 mod plan;
+#[cfg(not(target_arch = "wasm32"))]
 mod points;
+#[cfg(not(target_arch = "wasm32"))]
 mod program;
+#[cfg(not(target_arch = "wasm32"))]
 mod sensitivity;
+#[cfg(not(target_arch = "wasm32"))]
 mod simulate;
+#[cfg(not(target_arch = "wasm32"))]
 mod validate;
 
+#[cfg(not(target_arch = "wasm32"))]
 use std::error::Error as _;
+#[cfg(not(target_arch = "wasm32"))]
 use std::process::ExitCode;
 
+#[cfg(not(target_arch = "wasm32"))]
 use clap::error::{ContextKind, ContextValue, ErrorKind};
+#[cfg(not(target_arch = "wasm32"))]
 use clap::{Parser, Subcommand};
 
+#[cfg(not(target_arch = "wasm32"))]
 const AFTER_HELP: &str = "\
 The whole test, in order: plan (where to probe, what it will tell; DMIS for the CMM) -> program
 (the finishing pass) -> machine and measure -> identify / diagnose / budget -> identify
@@ -33,6 +57,7 @@ The whole test, in order: plan (where to probe, what it will tell; DMIS for the 
 Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.";
 
 /// five-axis machine geometric errors from a measured ISO 10791-7 S-shape test piece
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Parser)]
 #[command(
     name = "testpiece",
@@ -41,11 +66,13 @@ Every command accepts --help. Units are mm and rad. Errors go to stderr with a n
     args_override_self = true,
     after_help = AFTER_HELP
 )]
+#[cfg(not(target_arch = "wasm32"))]
 struct Cli {
     #[command(subcommand)]
     command: Command,
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Subcommand)]
 enum Command {
     Info(info::Args),
@@ -64,6 +91,7 @@ enum Command {
     Program(program::Args),
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -96,6 +124,7 @@ fn main() -> ExitCode {
 
 /// What clap stops at: help and version (stdout, success), usage errors (stderr, exit 2). A value
 /// a parser of [`common`] refused is reported as ``error: --option `value`: what was expected``.
+#[cfg(not(target_arch = "wasm32"))]
 fn refused(e: clap::Error) -> ExitCode {
     if e.kind() == ErrorKind::ValueValidation {
         if let (Some(ContextValue::String(arg)), Some(ContextValue::String(value)), Some(why)) = (
@@ -111,7 +140,7 @@ fn refused(e: clap::Error) -> ExitCode {
     e.exit()
 }
 
-#[cfg(test)]
+#[cfg(all(test, not(target_arch = "wasm32")))]
 mod tests {
     use clap::CommandFactory;
 
@@ -121,3 +150,7 @@ mod tests {
         super::Cli::command().debug_assert();
     }
 }
+
+/// The command line is native only (see the crate doc).
+#[cfg(target_arch = "wasm32")]
+fn main() {}
