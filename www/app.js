@@ -231,7 +231,7 @@ function summaryText() {
   box.append(
     h('div', { class: 'verdict', id: 'verdict-line' }, a.verdict_line),
     h('div', {}, `${f.name}: identification of ${Object.keys(id.parameters).length} parameters from ${id.points_used} points, ${fittedWith(a)}.`),
-    h('div', {}, `Clearly non-zero (|value| ≥ 3 std): ${strong.length ? strong.join(', ') : 'none'}.`),
+    h('div', {}, `Clearly non-zero (|value| ≥ ${core.thresholds.nonzero_t} std): ${strong.length ? strong.join(', ') : 'none'}.`),
     h('div', {}, `Residual after the fit: RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`),
     h('div', {}, weak ? `Not separable or weakly determined by this part: ${weak}.` : 'Every parameter is separately determined by this part.'),
   );

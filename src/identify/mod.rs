@@ -42,7 +42,7 @@ pub use least_squares::{identify, Factored, IdentifyOptions};
 pub use observations::Observations;
 pub use report::{
     ColumnCorrelation, CurveStats, ExcludedPoint, Identification, ParameterEstimate, ParameterMap,
-    PointFit, Status,
+    PointFit, Status, NONZERO_T,
 };
 pub use scaled_svd::{condition_of, ScaledSvd};
 pub use stats::ResidualStats;

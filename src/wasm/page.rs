@@ -61,6 +61,8 @@ struct Thresholds {
     different_false_alarm: f64,
     /// `P(|z| ≥ suspect_z)`.
     suspect_false_alarm: f64,
+    /// An identified parameter is clearly non-zero at `|value| ≥ nonzero_t` std.
+    nonzero_t: f64,
 }
 
 /// A cone frustum of the Sensitivity view: its name and shape (degrees).
@@ -281,6 +283,7 @@ pub fn start() -> Result<JsValue, JsError> {
             suspect_z: SUSPECT_Z,
             different_false_alarm: two_sided(DIFFERENT_Z),
             suspect_false_alarm: two_sided(SUSPECT_Z),
+            nonzero_t: crate::identify::NONZERO_T,
         },
         paths: paths(),
     })

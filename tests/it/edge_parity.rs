@@ -2,7 +2,7 @@
 //!
 //! - `tests/data/parity/broken_messages.json`: the reader's message for every file of
 //!   tests/data/cmm/broken (read_and_match, default options); tests/wasm_node/cmm_broken.rs
-//!   feeds each file through the wasm export `matchCmm` and expects the same message.
+//!   feeds each file through the wasm export `analyse` and expects the same message.
 //! - `tests/data/parity/analysis_examples.json`: `analysis::analyse` of the three examples (the
 //!   page's default settings), every double at full precision; tests/wasm_node/parity.rs
 //!   recomputes them in wasm and compares to 1e-12 relative.

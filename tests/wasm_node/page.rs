@@ -49,6 +49,8 @@ fn start_gives_the_examples_curves_and_words() {
     assert_eq!(w["flags"]["different"], "different (|z| ≥ 3)");
     let t = &v["thresholds"];
     assert_eq!(t["reversal_window_mm"], 10.0);
+    // identify::report's t for "clearly non-zero" (exact).
+    assert_eq!(t["nonzero_t"], 3.0);
     // 0.27 % and 4.6 % of false alarms per parameter at |z| ≥ 3 and 2.
     assert!((t["different_false_alarm"].as_f64().unwrap() - 0.0027).abs() < 1e-5);
     assert!((t["suspect_false_alarm"].as_f64().unwrap() - 0.0455).abs() < 1e-4);
