@@ -21,10 +21,11 @@ use crate::common::{machine, seed, whole};
 /// σ = 1.5 µm; diagnoses each with the effect withheld from the baseline; prints per-effect accuracy,
 /// the confusion matrix, detection limits and the shrink achieved versus achievable.
 ///
-/// Each part is also identified as `identify` would answer, on the linear design (no exact-model
-/// refinement): the baseline (the machine's location errors alone) and the final answer (fitted
-/// with the effect the verdict names; by generalised least squares with the structure's covariance
-/// when `unexplained`; the baseline when `none`). Both are compared with the simulated location
+/// Each part goes through the analysis `identify` and `diagnose` run on a file (outlier test,
+/// diagnosis, fits refined on the exact model where the linearisation matters), which gives the
+/// baseline (the machine's location errors alone) and the final answer (fitted with the effect
+/// the verdict names; by generalised least squares with the structure's covariance when
+/// `unexplained`; the baseline when `none`). Both are compared with the simulated location
 /// errors, baseline / final side by side, per group of expected verdict (detectable effects,
 /// unexplained, none) and per effect (its detectable parts):
 ///   largest error  median over the parts of max |value - true| over the machine's location
