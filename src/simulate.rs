@@ -122,10 +122,14 @@ impl ExactDefectModel {
                 ));
             }
         }
-        let steps = design
-            .parameters()
+        // Finite-difference steps: 1e-7 for an angle, 1e-5 mm otherwise (a linear column needs
+        // none: its Jacobian is the column).
+        let steps = params
             .iter()
-            .map(|p| if p.unit == "rad" { 1e-7 } else { 1e-5 })
+            .map(|c| match c {
+                ExactColumn::Location(e) if e.is_angular() => 1e-7,
+                _ => 1e-5,
+            })
             .collect();
         let poses = DefectPoses::new(&SShape::iso(), &points, &opts);
         Ok(ExactDefectModel {

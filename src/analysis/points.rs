@@ -85,10 +85,10 @@ pub fn design_at(
     effects_on_machine(opts).map_err(AnalysisError::Correction)?;
     let m = sensitivity_matrix(part, points, &sensitivity_options(opts))?;
     let n = points.len();
-    let mut params: Vec<Parameter> = m.params.iter().map(|p| Parameter::named(p)).collect();
+    let mut params: Vec<Parameter> = m.errors.iter().map(Parameter::of_error).collect();
     let mut matrix = m.values;
     if opts.tool_radius {
-        params.push(Parameter::named(crate::identify::TOOL_RADIUS));
+        params.push(Parameter::tool_radius());
         matrix = matrix.insert_column(params.len() - 1, -1.0);
     }
     debug_assert_eq!(matrix.nrows(), n);

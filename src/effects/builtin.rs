@@ -176,7 +176,13 @@ pub fn location_equivalents_of(
     let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
     crate::effects::location_equivalent::kept_for(&opts.chain, opts.branch, || {
         let m = compute_model(part, &crate::part::builtin_points(part), opts, false)?;
-        Ok((m.baseline, m.candidates))
+        let typical = opts
+            .params()
+            .map_err(|e| GapError::Model(e.to_string()))?
+            .iter()
+            .map(crate::machine::ErrorParam::typical)
+            .collect();
+        Ok((m.baseline, typical, m.candidates))
     })
     .map(|kept| kept.to_vec())
 }

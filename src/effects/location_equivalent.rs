@@ -27,9 +27,11 @@ use crate::numerics::memo::Memo;
 use crate::sensitivity::error_set::VISIBLE_FRACTION;
 
 /// The candidates of a part model that are location errors of the machine, each with why
-/// (computed on the built-in design's baseline and candidates).
+/// (computed on the built-in design's baseline and candidates; `typical`: the typical size of
+/// each baseline parameter, in its unit, for the words).
 pub fn location_equivalents(
     baseline: &NamedColumns,
+    typical: &[f64],
     candidates: &[Candidate],
 ) -> Vec<(Effect, String)> {
     let a = &baseline.matrix;
@@ -58,7 +60,7 @@ pub fn location_equivalents(
             worst = worst.max(left);
         }
         if worst < VISIBLE_FRACTION {
-            let like = coef.map_or(String::new(), |x| like_text(&baseline.names, &x));
+            let like = coef.map_or(String::new(), |x| like_text(&baseline.names, typical, &x));
             out.push((
                 c.effect,
                 format!(
@@ -75,9 +77,8 @@ pub fn location_equivalents(
 }
 
 /// `0.98 EC0B - 0.25 EZ0B`: the terms carrying 99 % of the fit's energy in typical sizes.
-fn like_text(names: &[String], x: &DVector<f64>) -> String {
-    let typical = |n: &str| crate::identify::Parameter::named(n).typical;
-    let scaled: Vec<f64> = x.iter().zip(names).map(|(v, n)| v / typical(n)).collect();
+fn like_text(names: &[String], typical: &[f64], x: &DVector<f64>) -> String {
+    let scaled: Vec<f64> = x.iter().zip(typical).map(|(v, t)| v / t).collect();
     let mut text = String::new();
     for (k, j) in crate::numerics::terms::dominant(&scaled, 0.99)
         .into_iter()
@@ -100,7 +101,7 @@ fn like_text(names: &[String], x: &DVector<f64>) -> String {
 pub fn kept_for(
     chain: &Chain,
     branch: Branch,
-    compute: impl FnOnce() -> Result<(NamedColumns, Vec<Candidate>), GapError>,
+    compute: impl FnOnce() -> Result<(NamedColumns, Vec<f64>, Vec<Candidate>), GapError>,
 ) -> Result<Rc<Vec<(Effect, String)>>, GapError> {
     type Kept = Memo<(Chain, Branch), Vec<(Effect, String)>>;
     thread_local! {
@@ -109,8 +110,8 @@ pub fn kept_for(
     if let Some(v) = KEPT.with_borrow_mut(|m| m.find(|(c, b)| c == chain && *b == branch)) {
         return Ok(v);
     }
-    let (baseline, candidates) = compute()?;
-    let v = Rc::new(location_equivalents(&baseline, &candidates));
+    let (baseline, typical, candidates) = compute()?;
+    let v = Rc::new(location_equivalents(&baseline, &typical, &candidates));
     KEPT.with_borrow_mut(|m| m.insert((chain.clone(), branch), Rc::clone(&v)));
     Ok(v)
 }

@@ -19,7 +19,8 @@ pub const ISO_LOCATION_ERRORS: [&str; 8] = [
 /// Name of the tool-radius term (cli.md): mm, + = a larger tool, column = -1 (s-shape.md).
 pub const TOOL_RADIUS: &str = "dR";
 
-use crate::machine::location_errors::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
+use crate::machine::location_errors::TYPICAL_LENGTH_MM;
+use crate::machine::ErrorParam;
 
 /// One unknown: its name, unit, and a typical magnitude used to judge whether the part shows it
 /// above the measurement noise (see [`crate::identify`] "weak directions").
@@ -43,16 +44,35 @@ impl Parameter {
         }
     }
 
-    /// The convention for a known name: `EX0B`, `EY..`, `EZ..` (linear, `E?0?` with X/Y/Z
-    /// second letter) and `dR` are in mm with typical 0.01 mm; every other `E...` is an angle
-    /// in rad with typical 1e-4 rad; anything else is taken as mm.
-    pub fn named(name: &str) -> Self {
-        let b = name.as_bytes();
-        let angular = b.len() == 4 && b[0] == b'E' && matches!(b[1], b'A' | b'B' | b'C');
-        if angular {
-            Parameter::new(name, "rad", TYPICAL_ANGLE_RAD)
-        } else {
-            Parameter::new(name, "mm", TYPICAL_LENGTH_MM)
+    /// A machine error parameter: its unit and typical size are those of its kind
+    /// ([`ErrorParam::unit`], [`ErrorParam::typical`]: a location error's component, X/Y/Z in
+    /// mm, A/B/C in rad), set where the parameter is defined.
+    pub fn of_error(e: &ErrorParam) -> Self {
+        Parameter {
+            name: e.name(),
+            unit: e.unit(),
+            typical: e.typical(),
+        }
+    }
+
+    /// The tool-radius term `dR` (mm, + = a larger tool).
+    pub fn tool_radius() -> Self {
+        Parameter::new(TOOL_RADIUS, "mm", TYPICAL_LENGTH_MM)
+    }
+
+    /// A parameter named in text that comes in (a file's or a caller's column names): `dR`, a
+    /// machine error parameter ([`ErrorParam::parse`]: `EX0B`, `EA0C`, `EXX1`), or a column of
+    /// the lab's own, taken as a length in mm (typical 0.01 mm).
+    pub fn parse(name: &str) -> Self {
+        if name == TOOL_RADIUS {
+            return Parameter::tool_radius();
+        }
+        match ErrorParam::parse(name) {
+            Ok(e) => Parameter {
+                name: name.to_string(),
+                ..Parameter::of_error(&e)
+            },
+            Err(_) => Parameter::new(name, "mm", TYPICAL_LENGTH_MM),
         }
     }
 }
@@ -113,7 +133,7 @@ impl Design {
     }
 
     /// From column-major data (`data[j*n + i]` = row i, column j), parameter names following
-    /// [`Parameter::named`].
+    /// [`Parameter::parse`].
     pub fn from_column_major(
         names: &[&str],
         n: usize,
@@ -127,16 +147,16 @@ impl Design {
                 found: data.len(),
             });
         }
-        let params = names.iter().map(|s| Parameter::named(s)).collect();
+        let params = names.iter().map(|s| Parameter::parse(s)).collect();
         Design::try_new(params, DMatrix::from_column_slice(n, p, data))
     }
 
     /// The design of a sensitivity matrix (paper 000 eq. 14 per unit error, Figure 19 columns);
-    /// units and typical magnitudes follow [`Parameter::named`].
+    /// units and typical magnitudes follow [`Parameter::parse`].
     pub fn from_sensitivity(
         m: &crate::sensitivity::SensitivityMatrix,
     ) -> Result<Self, IdentifyError> {
-        let params = m.params.iter().map(|n| Parameter::named(n)).collect();
+        let params = m.errors.iter().map(Parameter::of_error).collect();
         Design::try_new(params, m.values.clone())
     }
 
@@ -144,10 +164,7 @@ impl Design {
     /// column is -1 at every point (s-shape.md "A tool-radius error dR changes the deviation by -dR").
     pub fn with_tool_radius(self) -> Result<Self, IdentifyError> {
         let minus_one = vec![-1.0; self.rows()];
-        self.with_column(
-            Parameter::new(TOOL_RADIUS, "mm", TYPICAL_LENGTH_MM),
-            &minus_one,
-        )
+        self.with_column(Parameter::tool_radius(), &minus_one)
     }
 
     /// Adds one column (e.g. an effect signature).

@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use super::chain::{AxisKind, AxisName, AxisValues, Chain, ChainAxis};
 use super::error_motion::{motion_name, parse_motion_name, ErrorMotion, MotionComponent};
-use super::location_errors::LocationError;
+use super::location_errors::{kind_typical, kind_unit, LocationError};
 use super::transform::{
     affine_inverse, location_matrix, location_matrix_derivative, motion_matrix,
     motion_matrix_derivative, translation, Rigid,
@@ -99,6 +99,43 @@ impl ErrorParam {
             ErrorParam::Location(l) => l.axis,
             ErrorParam::Motion { axis, .. } => *axis,
         }
+    }
+    /// The unit of its value: a location error's (`mm` or `rad`); an error motion's coefficient
+    /// of `q^k`: its component's unit per the axis's unit to the `k` (`mm/mm`, `rad/mm^2`, ...).
+    pub fn unit(&self) -> String {
+        match self {
+            ErrorParam::Location(l) => l.unit().to_string(),
+            ErrorParam::Motion {
+                component,
+                axis,
+                power,
+            } => {
+                let c = kind_unit(component.kind());
+                let q = kind_unit(axis.kind());
+                match power {
+                    0 => c.to_string(),
+                    1 => format!("{c}/{q}"),
+                    k => format!("{c}/{q}^{k}"),
+                }
+            }
+        }
+    }
+    /// Whether its value is an angle (a rotary component, `rad`, or a coefficient of one).
+    pub fn is_angular(&self) -> bool {
+        let component = match self {
+            ErrorParam::Location(l) => l.component,
+            ErrorParam::Motion { component, .. } => *component,
+        };
+        component.kind() == AxisKind::Rotary
+    }
+    /// Its typical size on a real machine, in its unit: that of its component's kind
+    /// ([`kind_typical`]).
+    pub fn typical(&self) -> f64 {
+        kind_typical(if self.is_angular() {
+            AxisKind::Rotary
+        } else {
+            AxisKind::Linear
+        })
     }
 }
 

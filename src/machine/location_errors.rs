@@ -30,6 +30,22 @@ pub const TYPICAL_ANGLE_RAD: f64 = 1e-4;
 /// Typical magnitude of a linear location error or tool-radius error (mm): Figure 19's unit for `EX0B`.
 pub const TYPICAL_LENGTH_MM: f64 = 0.01;
 
+/// The unit of a displacement of an axis of this kind: `mm` (linear) or `rad` (rotary).
+pub fn kind_unit(kind: AxisKind) -> &'static str {
+    match kind {
+        AxisKind::Linear => "mm",
+        AxisKind::Rotary => "rad",
+    }
+}
+
+/// The typical size of a location error of this kind of component, in [`kind_unit`].
+pub fn kind_typical(kind: AxisKind) -> f64 {
+    match kind {
+        AxisKind::Linear => TYPICAL_LENGTH_MM,
+        AxisKind::Rotary => TYPICAL_ANGLE_RAD,
+    }
+}
+
 /// One location error: component (X, Y, Z position or A, B, C orientation) of one axis's line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct LocationError {
@@ -59,6 +75,16 @@ impl LocationError {
         let component = AxisName::from_letter(t[1]).ok_or_else(bad)?;
         let axis = AxisName::from_letter(t[3]).ok_or_else(bad)?;
         Ok(Self { component, axis })
+    }
+    /// The unit of its value: `mm` for a position component (X, Y, Z), `rad` for an orientation
+    /// (A, B, C).
+    pub fn unit(&self) -> &'static str {
+        kind_unit(self.component.kind())
+    }
+    /// Its typical size on a real machine, in its unit ([`TYPICAL_LENGTH_MM`],
+    /// [`TYPICAL_ANGLE_RAD`]: paper 000 Figure 19's units).
+    pub fn typical(&self) -> f64 {
+        kind_typical(self.component.kind())
     }
     /// Index 0..6 of the component in `D_i`'s parameter vector (X, Y, Z, A, B, C).
     pub fn component_index(&self) -> usize {

@@ -150,7 +150,9 @@ fn point_poses(
 pub struct SensitivityMatrix {
     pub ids: Vec<usize>,
     pub curves: Vec<String>,
+    /// The parameters' names (`EC0Y`, ...) and the parameters themselves, in column order.
     pub params: Vec<String>,
+    pub errors: Vec<ErrorParam>,
     /// `points × params`
     pub values: DMatrix<f64>,
 }
@@ -167,6 +169,7 @@ pub fn sensitivity_matrix(
         ids: points.iter().map(|p| p.id).collect(),
         curves: points.iter().map(|p| p.curve.name().to_string()).collect(),
         params: params.iter().map(ErrorParam::name).collect(),
+        errors: params,
         values,
     })
 }

@@ -5,7 +5,7 @@
 //! For an answer `x̂` with std `s` and the truth `ξ` over the location errors `j` (the baseline's
 //! columns; effect parameters of a final answer are not counted):
 //! - **largest error** `max_j |x̂_j − ξ_j| / t_j`, in typical units `t_j` of
-//!   [`crate::identify::Parameter::named`] (1e-4 rad for angles, 0.01 mm for `EX0B`): issue 17
+//!   [`crate::machine::location_errors::LocationError::typical`] (1e-4 rad for angles, 0.01 mm for `EX0B`): issue 17
 //!   measures "how wrong the answer is" by it;
 //! - **covered**: the number of `j` with `|x̂_j − ξ_j| ≤ 2 s_j` ([`COVER_STD`]); a parameter without
 //!   std (not separable) is not covered. With an honest std about 95 % are.
@@ -162,7 +162,7 @@ mod tests {
     /// given residual, so values and std are known in closed form.
     fn fit(y: &[f64]) -> (Vec<Parameter>, Identification) {
         let a = DMatrix::from_fn(5, 2, |i, j| if j == 0 { 1.0 } else { i as f64 - 2.0 });
-        let ps = vec![Parameter::named("EA0B"), Parameter::named("EX0B")];
+        let ps = vec![Parameter::parse("EA0B"), Parameter::parse("EX0B")];
         let d = Design::try_new(ps.clone(), a).unwrap();
         let id = identify(
             &d,

@@ -129,14 +129,14 @@ impl ValidationModel {
         }
     }
 
-    /// The location errors' design (the baseline's columns, named with their units).
+    /// The location errors' design: the baseline's columns with the machine's location errors
+    /// (their units and typical sizes from their kinds, [`Parameter::of_error`]).
     pub fn location_design(&self) -> Result<Design, GapError> {
+        let errors = sensitivity_options(&self.settings)
+            .params()
+            .map_err(|e| GapError::Model(e.to_string()))?;
         Ok(Design::try_new(
-            self.baseline
-                .names
-                .iter()
-                .map(|name| Parameter::named(name))
-                .collect(),
+            errors.iter().map(Parameter::of_error).collect(),
             self.baseline.matrix.clone(),
         )?)
     }

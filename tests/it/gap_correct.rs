@@ -117,7 +117,7 @@ fn unexplained_structure_widens_every_std() {
         report.summary
     );
     let design = Design::try_new(
-        base.names.iter().map(|n| Parameter::named(n)).collect(),
+        base.names.iter().map(|n| Parameter::parse(n)).collect(),
         base.matrix.clone(),
     )
     .unwrap();

@@ -146,7 +146,7 @@ fn collinear_and_zero_columns() {
 #[test]
 fn degenerate_designs() {
     let d = Design::try_new(
-        vec![Parameter::named("EX0B"), Parameter::named("EA0B")],
+        vec![Parameter::parse("EX0B"), Parameter::parse("EA0B")],
         DMatrix::zeros(4, 2),
     )
     .unwrap();
