@@ -177,8 +177,7 @@ pub fn location_equivalents_of(
     crate::effects::location_equivalent::kept_for(&opts.chain, opts.branch, || {
         let m = compute_model(part, &crate::part::builtin_points(part), opts, false)?;
         let typical = opts
-            .params()
-            .map_err(|e| GapError::Model(e.to_string()))?
+            .params()?
             .iter()
             .map(crate::machine::ErrorParam::typical)
             .collect();
@@ -209,14 +208,12 @@ fn compute_model(
     use crate::effects::machine::{
         backlash_columns, c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
-    let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)
-        .map_err(|e| GapError::Model(e.to_string()))?;
+    let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)?;
     let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
     let path = crate::effects::cache::path_model(part, opts)?;
     let eps = effect_points_on(part, points, path.lengths());
     let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
-    let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)
-        .map_err(|e| GapError::Model(e.to_string()))?
+    let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)?
         .iter()
         .map(|d| d.deviation)
         .collect();

@@ -62,10 +62,16 @@ pub enum GapError {
         "`{0}` has no signature in this part model (its axis is not modelled on this machine)"
     )]
     NotModelled(crate::effects::Effect),
-    #[error("{0}")]
-    Invalid(String),
+    #[error("the structure's covariance cannot be estimated (σ = {sigma} mm, {points} points)")]
+    StructureNotEstimated { sigma: f64, points: usize },
     #[error("final identification: {0}")]
     Identify(#[from] crate::identify::IdentifyError),
     #[error("model of the part or machine: {0}")]
-    Model(String),
+    Sensitivity(#[from] crate::sensitivity::SensitivityError),
+    #[error("model of the part or machine: {0}")]
+    Machine(#[from] crate::machine::MachineError),
+    #[error("model of the part or machine: {0}")]
+    Toolpath(#[from] crate::toolpath::ToolpathError),
+    #[error("model of the part or machine: {0}")]
+    Exact(#[from] crate::identify::refine::ModelError),
 }

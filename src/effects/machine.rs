@@ -30,10 +30,6 @@ use crate::sensitivity::defect::jacobian_rows;
 use crate::sensitivity::reversal::{backlash_signatures_lagged, grid_u, Lag, Pass};
 use crate::sensitivity::SensitivityOptions;
 
-fn model_err(e: impl std::fmt::Display) -> GapError {
-    GapError::Model(e.to_string())
-}
-
 /// `scale_<axis>.k` columns (mm/mm), axes of [`SCALE_AXES`].
 pub fn scale_signatures(
     part: &SShape,
@@ -48,7 +44,7 @@ pub fn scale_signatures(
             power: 1,
         })
         .collect();
-    let m = jacobian_rows(part, points, opts, &params).map_err(model_err)?;
+    let m = jacobian_rows(part, points, opts, &params)?;
     Ok(SCALE_AXES
         .iter()
         .enumerate()
@@ -65,7 +61,7 @@ pub fn backlash_columns(
     points: &[MeasurementPoint],
     opts: &SensitivityOptions,
 ) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
-    let cols = backlash_signatures_lagged(lags, part, points, opts).map_err(model_err)?;
+    let cols = backlash_signatures_lagged(lags, part, points, opts)?;
     Ok(lags[0].axes.iter().copied().zip(cols).collect())
 }
 
@@ -148,7 +144,7 @@ pub fn machine_z_columns(
     if machine_z_is_fixed(&opts.chain) {
         return Ok(None);
     }
-    let q = axis_values(part, points, opts).map_err(model_err)?;
+    let q = axis_values(part, points, opts)?;
     Ok(Some(
         q.iter()
             .map(|q| machine_z_in_part(&opts.chain, q))
@@ -170,13 +166,12 @@ pub fn index_signatures(
     let params: Vec<ErrorParam> = axes.iter().map(|&a| ErrorParam::axis_value(a)).collect();
     let chain = &opts.chain;
     let none = MachineErrors::none();
-    let q_ref =
-        inverse(chain, &Vector3::zeros(), &Vector3::z(), Branch::Signed, 0.0).map_err(model_err)?;
-    let (jref, _) = jacobian(chain, &q_ref, 0.0, &none, &params).map_err(model_err)?;
-    let q = axis_values(part, points, opts).map_err(model_err)?;
+    let q_ref = inverse(chain, &Vector3::zeros(), &Vector3::z(), Branch::Signed, 0.0)?;
+    let (jref, _) = jacobian(chain, &q_ref, 0.0, &none, &params)?;
+    let q = axis_values(part, points, opts)?;
     let mut cols = vec![vec![0.0; points.len()]; axes.len()];
     for (i, (pt, q)) in points.iter().zip(&q).enumerate() {
-        let (j, _) = jacobian_body_point(chain, q, &pt.point, &none, &params).map_err(model_err)?;
+        let (j, _) = jacobian_body_point(chain, q, &pt.point, &none, &params)?;
         let d = (j - &jref).transpose() * pt.normal;
         for (k, col) in cols.iter_mut().enumerate() {
             col[i] = d[k];

@@ -35,7 +35,7 @@ impl PathModel {
     /// Computes the path model of `part` on the chain and branch of `opts` (its mode is not
     /// used: the passes follow the tool, not a displaced point).
     pub fn new(part: &SShape, opts: &SensitivityOptions) -> Result<Self, GapError> {
-        let passes = passes(part, opts).map_err(|e| GapError::Model(e.to_string()))?;
+        let passes = passes(part, opts)?;
         let axes = backlash_axes(&opts.chain);
         Ok(Self {
             lags: [

@@ -412,11 +412,9 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
                 &used_y,
                 sigma,
             )
-            .ok_or_else(|| {
-                GapError::Invalid(format!(
-                    "the structure's covariance cannot be estimated (σ = {sigma} mm, {} points)",
-                    used.len()
-                ))
+            .ok_or(GapError::StructureNotEstimated {
+                sigma,
+                points: used.len(),
             })?;
             let n = obs.len();
             let c = match &s.form {

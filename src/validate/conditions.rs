@@ -22,7 +22,6 @@ use serde::Serialize;
 use super::pairs::validate_pairs;
 use super::shapes::Shape;
 use super::single::{validate, validate_with, MachinePart, ValidateOptions, ValidationModel};
-use crate::effects::GapError;
 use crate::part::{curve_points_n, Curve, MeasurementPoint, SShape};
 
 /// The conditions, in the table's order.
@@ -165,10 +164,9 @@ pub fn run_conditions(
                 }
             }
             other => {
-                return Err(super::ValidateError::from(GapError::Invalid(format!(
-                    "unknown condition `{other}` (known: {})",
-                    CONDITIONS.join(", ")
-                ))))
+                return Err(super::ValidateError::UnknownCondition {
+                    name: other.to_string(),
+                })
             }
         };
         r.rate = r.correct as f64 / r.cases.max(1) as f64;

@@ -27,6 +27,12 @@ pub enum ValidateError {
     },
     #[error("case {case}: no diagnosis was made ({reason})")]
     NotDiagnosed { case: usize, reason: String },
+    #[error("the simulated machine: {0}")]
+    Simulate(#[from] crate::simulate::SimulateError),
+    #[error("no two candidates can be told apart on this part")]
+    NoPairs,
+    #[error("unknown condition `{name}` (known: {})", CONDITIONS.join(", "))]
+    UnknownCondition { name: String },
 }
 
 pub use conditions::{conditions_table, run_conditions, ConditionsReport, CONDITIONS};

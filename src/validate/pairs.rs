@@ -12,9 +12,9 @@
 use serde::Serialize;
 
 use super::single::{effect_parameters, machine_errors, ValidateOptions, ValidationModel};
+use super::ValidateError;
 use crate::effects::data::GapInput;
 use crate::effects::Effect;
-use crate::effects::GapError;
 use crate::gap::diagnose::diagnose_with;
 use crate::gap::verdict::VerdictId;
 use crate::identify::solve::{hstack, Factor};
@@ -63,7 +63,7 @@ pub struct PairCase {
 pub fn validate_pairs(
     model: &ValidationModel,
     opts: &ValidateOptions,
-) -> Result<PairValidation, GapError> {
+) -> Result<PairValidation, ValidateError> {
     let a = &model.baseline.matrix;
     let base = Factor::new(a, None);
     let alike = model.near_equivalence();
@@ -76,9 +76,7 @@ pub fn validate_pairs(
         }
     }
     if pairs.is_empty() {
-        return Err(GapError::Model(
-            "no two candidates can be told apart on this part".into(),
-        ));
+        return Err(ValidateError::NoPairs);
     }
     let limit = opts.detect_factor * opts.noise_sigma;
     let mut rng = Sampler::new(opts.seed);

@@ -85,7 +85,6 @@ impl ShapeColumns {
         points: &[MeasurementPoint],
         opts: &SensitivityOptions,
     ) -> Result<Self, GapError> {
-        let err = |e: crate::sensitivity::SensitivityError| GapError::Model(e.to_string());
         let linear = [AxisName::X, AxisName::Y, AxisName::Z];
         let params: Vec<ErrorParam> = linear
             .iter()
@@ -100,7 +99,7 @@ impl ShapeColumns {
                     })
             })
             .collect();
-        let m = jacobian_rows(part, points, opts, &params).map_err(err)?;
+        let m = jacobian_rows(part, points, opts, &params)?;
         let straightness = params
             .iter()
             .enumerate()
@@ -109,9 +108,8 @@ impl ShapeColumns {
             .collect();
         let cyclic_c = if opts.chain.axis(AxisName::C).is_some() {
             let ecc = ErrorParam::axis_value(AxisName::C);
-            let col = jacobian_rows(part, points, opts, &[ecc]).map_err(err)?;
-            let c: Vec<f64> = axis_values(part, points, opts)
-                .map_err(err)?
+            let col = jacobian_rows(part, points, opts, &[ecc])?;
+            let c: Vec<f64> = axis_values(part, points, opts)?
                 .iter()
                 .map(|q| q.c)
                 .collect();

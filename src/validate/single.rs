@@ -132,9 +132,7 @@ impl ValidationModel {
     /// The location errors' design: the baseline's columns with the machine's location errors
     /// (their units and typical sizes from their kinds, [`Parameter::of_error`]).
     pub fn location_design(&self) -> Result<Design, GapError> {
-        let errors = sensitivity_options(&self.settings)
-            .params()
-            .map_err(|e| GapError::Model(e.to_string()))?;
+        let errors = sensitivity_options(&self.settings).params()?;
         Ok(Design::try_new(
             errors.iter().map(Parameter::of_error).collect(),
             self.baseline.matrix.clone(),
@@ -415,22 +413,15 @@ pub type MachinePart<'a> = dyn Fn(&DVector<f64>) -> Result<DVector<f64>, GapErro
 /// The machine part of the built-in points by the exact eq. 12 defect of
 /// [`crate::simulate::ExactDefectModel`] (paper 000's machine, physical mode, signed B), for
 /// [`validate_with`].
-pub fn exact_machine_part(names: &[String]) -> Result<Box<MachinePart<'static>>, GapError> {
+pub fn exact_machine_part(names: &[String]) -> Result<Box<MachinePart<'static>>, ValidateError> {
     use crate::identify::refine::ExactModel;
-    let model_err = |e: String| GapError::Model(e);
-    let design = crate::simulate::builtin_design(Mode::Physical, Branch::Signed, false)
-        .map_err(|e| model_err(e.to_string()))?;
-    let exact = crate::simulate::ExactDefectModel::new(&design, Mode::Physical, Branch::Signed)
-        .map_err(|e| model_err(e.to_string()))?;
+    let design = crate::simulate::builtin_design(Mode::Physical, Branch::Signed, false)?;
+    let exact = crate::simulate::ExactDefectModel::new(&design, Mode::Physical, Branch::Signed)?;
     let names = names.to_vec();
     Ok(Box::new(move |xi: &DVector<f64>| {
         let pairs: Vec<(String, f64)> = names.iter().cloned().zip(xi.iter().copied()).collect();
-        let x = design
-            .vector_from(&pairs)
-            .map_err(|e| GapError::Model(e.to_string()))?;
-        let d = exact
-            .deviation(&x)
-            .map_err(|e| GapError::Model(e.to_string()))?;
+        let x = design.vector_from(&pairs)?;
+        let d = exact.deviation(&x)?;
         Ok(DVector::from_vec(d))
     }))
 }
@@ -443,16 +434,13 @@ pub fn exact_machine_part_on(
     model: &ValidationModel,
     points: Vec<crate::part::MeasurementPoint>,
     opts: &crate::sensitivity::SensitivityOptions,
-) -> Result<Box<MachinePart<'static>>, GapError> {
+) -> Result<Box<MachinePart<'static>>, ValidateError> {
     use crate::identify::refine::ExactModel;
     let design = model.location_design()?;
     let opts = opts.clone().with_mode(crate::sensitivity::Mode::Physical);
-    let exact = crate::simulate::ExactDefectModel::at_points(&design, points, opts)
-        .map_err(|e| GapError::Model(e.to_string()))?;
+    let exact = crate::simulate::ExactDefectModel::at_points(&design, points, opts)?;
     Ok(Box::new(move |xi: &DVector<f64>| {
-        let d = exact
-            .deviation(xi.as_slice())
-            .map_err(|e| GapError::Model(e.to_string()))?;
+        let d = exact.deviation(xi.as_slice())?;
         Ok(DVector::from_vec(d))
     }))
 }
