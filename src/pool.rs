@@ -96,8 +96,13 @@ pub enum PoolError {
     KnownDeviation,
     #[error("pooled identification: {0}")]
     Identify(#[from] IdentifyError),
+    #[error("pooled exact-model refinement: {part}: {source}")]
+    ExactModel {
+        part: String,
+        source: crate::simulate::SimulateError,
+    },
     #[error("pooled exact-model refinement: {0}")]
-    Refine(String),
+    Refine(IdentifyError),
 }
 
 /// One part of a pool: its name, design at its own matched points and its observations.
@@ -164,7 +169,10 @@ impl PooledExactModel {
         let mut models = Vec::new();
         for p in parts {
             let m = ExactDefectModel::at_points(&p.design, p.points.clone(), sopts.clone())
-                .map_err(|e| PoolError::Refine(format!("{}: {e}", p.name)))?;
+                .map_err(|source| PoolError::ExactModel {
+                    part: p.name.clone(),
+                    source,
+                })?;
             models.push((m, row));
             row += p.design.rows();
         }
@@ -355,7 +363,7 @@ pub fn identify_parts(
             &RefineOptions::default(),
             &iopts,
         )
-        .map_err(|e| PoolError::Refine(e.to_string()))?;
+        .map_err(PoolError::Refine)?;
         apply_refinement(&mut identification, &r, " at every part's points");
         Some(r)
     } else {

@@ -24,7 +24,7 @@ pub enum AnalysisError {
     #[error("exact model: {0}")]
     Exact(#[from] SimulateError),
     #[error("exact-model refinement: {0}")]
-    Refine(String),
+    Refine(IdentifyError),
     #[error("{0}")]
     Correction(GapError),
     #[error("{0}")]

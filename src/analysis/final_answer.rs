@@ -45,7 +45,7 @@ pub(super) fn refine_with(
             )
         }
     };
-    r.map_err(|e| AnalysisError::Refine(e.to_string()))
+    r.map_err(AnalysisError::Refine)
 }
 
 /// What the final identification starts from.

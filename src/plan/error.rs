@@ -1,7 +1,7 @@
 //! The errors of a measurement plan, each with the offending values.
 
 /// Why a measurement plan could not be made.
-#[derive(Debug, thiserror::Error, PartialEq)]
+#[derive(Debug, thiserror::Error)]
 pub enum PlanError {
     #[error(
         "{per_curve} points per curve: expected 1 to {max} (4 curves: A_Z11, A_Z25, B_Z11, B_Z25)"
@@ -14,11 +14,11 @@ pub enum PlanError {
     #[error("L0 = {0} mm is not a positive finite length")]
     BadL0(f64),
     #[error("design at the plan's points: {0}")]
-    Design(String),
+    Design(crate::analysis::AnalysisError),
     #[error("predicted identification: {0}")]
-    Identify(String),
+    Identify(crate::identify::IdentifyError),
     #[error("effect signatures at the plan's points: {0}")]
-    Effects(String),
+    Effects(crate::effects::GapError),
     #[error("DMIS line {line}: {message} (found `{text}`)")]
     Dmis {
         line: usize,

@@ -211,8 +211,7 @@ pub fn plan(opts: &PlanOptions) -> Result<Plan, PlanError> {
     )];
     // The machine's own candidates (Effect::on_chain), as the analysis diagnoses them.
     let sens = crate::analysis::sensitivity_options(&opts.analysis(noise.sigma));
-    let model =
-        part_model_on(&part, &points, &sens).map_err(|e| PlanError::Effects(e.to_string()))?;
+    let model = part_model_on(&part, &points, &sens).map_err(PlanError::Effects)?;
     let k = DiagnoseOptions::default().detect_factor;
     let limits = detection_limits(&model, noise.sigma, k);
     notes.push(format!(

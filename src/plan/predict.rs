@@ -66,15 +66,14 @@ pub fn predicted_identification(
     opts: &AnalysisOptions,
     sigma: f64,
 ) -> Result<Identification, PlanError> {
-    let (design, _) =
-        design_at(part, points, opts).map_err(|e| PlanError::Design(e.to_string()))?;
+    let (design, _) = design_at(part, points, opts).map_err(PlanError::Design)?;
     let obs = Observations::new(
         points.iter().map(|p| p.id.to_string()).collect(),
         points.iter().map(|p| p.curve.name().to_string()).collect(),
         vec![0.0; points.len()],
     );
     identify(&design, &obs, &IdentifyOptions::default().with_sigma(sigma))
-        .map_err(|e| PlanError::Identify(e.to_string()))
+        .map_err(PlanError::Identify)
 }
 
 #[cfg(test)]
