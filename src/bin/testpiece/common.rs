@@ -182,3 +182,15 @@ impl Part {
         }
     }
 }
+
+/// The defect model's `--mode` and `--branch`, as the commands that build a design of the
+/// location errors take them (`compare`, `identify`, `plan`).
+#[derive(clap::Args)]
+pub struct ModeBranch {
+    /// the defect's displaced point, normal and reference (as `testpiece sensitivity`)
+    #[arg(long, value_name = "physical|paper", default_value = "physical", value_parser = mode)]
+    pub mode: Mode,
+    /// the B-axis branch of the inverse kinematics
+    #[arg(long, value_name = "signed|positive", default_value = "signed", value_parser = branch)]
+    pub branch: Branch,
+}

@@ -2,10 +2,8 @@
 
 use testpiece::analysis::{analyse, AnalysisOptions};
 use testpiece::compare::{compare, parameters_of, Comparison, Flag};
-use testpiece::machine::Branch;
-use testpiece::sensitivity::Mode;
 
-use crate::common::{branch, file_name, mm, mode, print_json, read};
+use crate::common::{file_name, mm, print_json, read, ModeBranch};
 
 /// differences of two parts' parameters with σ_d = √(σa²+σb²), flagged at 2 and 3 σ
 ///
@@ -20,12 +18,8 @@ pub struct Args {
     a: String,
     /// the second measured part
     b: String,
-    /// the defect's displaced point, normal and reference (as `testpiece sensitivity`)
-    #[arg(long, value_name = "physical|paper", default_value = "physical", value_parser = mode)]
-    mode: Mode,
-    /// the B-axis branch of the inverse kinematics
-    #[arg(long, value_name = "signed|positive", default_value = "signed", value_parser = branch)]
-    branch: Branch,
+    #[command(flatten)]
+    model: ModeBranch,
     /// also fit the tool-radius error dR (mm)
     #[arg(long)]
     tool_radius: bool,
@@ -39,8 +33,8 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), String> {
     let settings = AnalysisOptions {
-        mode: a.mode,
-        branch: a.branch,
+        mode: a.model.mode,
+        branch: a.model.branch,
         tool_radius: a.tool_radius,
         noise_sigma: a.sigma,
         ..AnalysisOptions::default()

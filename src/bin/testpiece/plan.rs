@@ -2,12 +2,10 @@
 //! detection limits; DMIS and CSV programs for the CMM.
 
 use testpiece::machine::chain::PAPER000_L0;
-use testpiece::machine::Branch;
 use testpiece::plan::{nominal_csv, plan, split_total, Plan, PlanOptions};
-use testpiece::sensitivity::Mode;
 use testpiece::settings::MachineChoice;
 
-use crate::common::{branch, cmm_noise, machine, mm, mode, mpe, print_json, whole, Mpe};
+use crate::common::{cmm_noise, machine, mm, mpe, print_json, whole, ModeBranch, Mpe};
 
 /// the measurement plan: points, predicted std, groups, detection limits; DMIS, CSV
 ///
@@ -48,12 +46,8 @@ pub struct Args {
     /// the pivot-to-tip length (mm)
     #[arg(long, value_name = "MM", default_value_t = PAPER000_L0, value_parser = mm, allow_negative_numbers = true)]
     l0: f64,
-    /// the defect's displaced point, normal and reference (as `testpiece sensitivity`)
-    #[arg(long, value_name = "physical|paper", default_value = "physical", value_parser = mode)]
-    mode: Mode,
-    /// the B-axis branch of the inverse kinematics
-    #[arg(long, value_name = "signed|positive", default_value = "signed", value_parser = branch)]
-    branch: Branch,
+    #[command(flatten)]
+    model: ModeBranch,
     /// include the tool-radius term dR (mm) in the predicted identification
     #[arg(long)]
     tool_radius: bool,
@@ -106,8 +100,8 @@ impl Args {
             mpe: cmm_noise(self.sigma, self.mpe.as_ref())?,
             machine: self.machine,
             l0: self.l0,
-            mode: self.mode,
-            branch: self.branch,
+            mode: self.model.mode,
+            branch: self.model.branch,
             tool_radius: self.tool_radius,
         })
     }

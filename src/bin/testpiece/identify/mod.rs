@@ -12,13 +12,11 @@ use testpiece::identify::monte_carlo::{
 };
 use testpiece::identify::{export, ExcludedPoint, Identification, IdentifyOptions};
 use testpiece::machine::chain::PAPER000_L0;
-use testpiece::machine::Branch;
-use testpiece::sensitivity::Mode;
 use testpiece::settings::MachineChoice;
 
 use crate::common::{
-    analyse_files, branch, branch_name, cmm_noise, machine, mm, mode, mpe, print_json, seed,
-    to_json, whole, Mpe,
+    analyse_files, branch_name, cmm_noise, machine, mm, mpe, print_json, seed, to_json, whole,
+    ModeBranch, Mpe,
 };
 
 /// the machine errors, groups, uncertainty and residuals; --compensation: the errors as the controller's kinematic description and the part after correction
@@ -60,12 +58,8 @@ pub struct Args {
     /// the measured part (any CMM export); several: a pool of parts of one machine
     #[arg(value_name = "FILE")]
     files: Vec<String>,
-    /// the defect's displaced point, normal and reference (as `testpiece sensitivity`)
-    #[arg(long, value_name = "physical|paper", default_value = "physical", value_parser = mode)]
-    mode: Mode,
-    /// the B-axis branch of the inverse kinematics
-    #[arg(long, value_name = "signed|positive", default_value = "signed", value_parser = branch)]
-    branch: Branch,
+    #[command(flatten)]
+    model: ModeBranch,
     /// also fit the tool-radius error dR (mm, + = a larger tool)
     #[arg(long)]
     tool_radius: bool,
@@ -211,7 +205,7 @@ pub fn run(a: Args) -> Result<(), String> {
         }
         return print_json(&v);
     }
-    let (mode, branch) = (a.mode.name(), branch_name(a.branch));
+    let (mode, branch) = (a.model.mode.name(), branch_name(a.model.branch));
     text::print(
         mode,
         branch,
@@ -229,8 +223,8 @@ impl Args {
         Ok(AnalysisOptions {
             machine: self.machine,
             l0: self.l0,
-            mode: self.mode,
-            branch: self.branch,
+            mode: self.model.mode,
+            branch: self.model.branch,
             tool_radius: self.tool_radius,
             exclude_bad_rows: self.exclude_bad_rows,
             noise_sigma: self.sigma,
@@ -339,8 +333,8 @@ fn report_json(
     id: &Identification,
 ) -> Result<serde_json::Value, String> {
     let mut v = to_json(id)?;
-    v["mode"] = serde_json::json!(a.mode.name());
-    v["branch"] = serde_json::json!(branch_name(a.branch));
+    v["mode"] = serde_json::json!(a.model.mode.name());
+    v["branch"] = serde_json::json!(branch_name(a.model.branch));
     if let Some(r) = &analysis.refinement {
         v["refinement"] = to_json(r)?;
     }
