@@ -71,7 +71,9 @@ pub struct MachineDescription {
 impl MachineDescription {
     /// Parses the JSON text.
     pub fn from_json(text: &str) -> Result<Self, MachineError> {
-        serde_json::from_str(text).map_err(|e| MachineError::Description(e.to_string()))
+        serde_json::from_str(text).map_err(|e| MachineError::DescriptionJson {
+            message: e.to_string(),
+        })
     }
 
     /// The chain it describes.
@@ -81,11 +83,7 @@ impl MachineDescription {
             let mut chars = name.chars();
             let axis = match (chars.next().and_then(AxisName::from_letter), chars.next()) {
                 (Some(a), None) => a,
-                _ => {
-                    return Err(MachineError::Description(format!(
-                        "offsets: `{name}` is not an axis letter (X Y Z A B C)"
-                    )))
-                }
+                _ => return Err(MachineError::OffsetAxis { name: name.clone() }),
             };
             c = c.with_offset(axis, Vector3::new(o[0], o[1], o[2]))?;
         }

@@ -288,14 +288,10 @@ where
     let pair = RotaryPair::of(chain)?;
     let (u0, u1) = domain;
     if u0.partial_cmp(&u1) != Some(std::cmp::Ordering::Less) || grid == 0 {
-        return Err(MachineError::Path(format!(
-            "empty domain [{u0}, {u1}] or grid of {grid} steps"
-        )));
+        return Err(MachineError::EmptyDomain { u0, u1, grid });
     }
     if let Some(u) = us.iter().find(|u| !(**u >= u0 && **u <= u1)) {
-        return Err(MachineError::Path(format!(
-            "u = {u} is outside the path domain [{u0}, {u1}]"
-        )));
+        return Err(MachineError::OutsideDomain { u: *u, u0, u1 });
     }
     let mut g: Vec<f64> = (0..=grid)
         .map(|k| u0 + (u1 - u0) * k as f64 / grid as f64)
@@ -374,7 +370,7 @@ where
         .map(|&u| {
             let j = g
                 .binary_search_by(|x| x.total_cmp(&u))
-                .map_err(|_| MachineError::Path(format!("u = {u} lost from the grid")))?;
+                .map_err(|_| MachineError::LostFromGrid { u })?;
             let (tip, w) = poses[j];
             let (o, i) = if solved[j].1 {
                 (outer[j], pair.inner_at(&w, outer[j]))

@@ -72,8 +72,19 @@ pub enum MachineError {
     ErrorTooLarge { name: String, value: f64 },
     #[error("the error matrices make the workpiece chain singular (determinant {det:e})")]
     SingularErrorMatrix { det: f64 },
-    #[error("machine description: {0}")]
-    Description(String),
-    #[error("path: {0}")]
-    Path(String),
+    #[error("machine description: {message}")]
+    DescriptionJson {
+        /// The JSON reader's message (line and column of the fault).
+        message: String,
+    },
+    #[error("machine description: offsets: `{name}` is not an axis letter (X Y Z A B C)")]
+    OffsetAxis { name: String },
+    #[error("path: empty domain [{u0}, {u1}] or grid of {grid} steps")]
+    EmptyDomain { u0: f64, u1: f64, grid: usize },
+    #[error("path: u = {u} is outside the path domain [{u0}, {u1}]")]
+    OutsideDomain { u: f64, u0: f64, u1: f64 },
+    #[error("path: u = {u} lost from the grid")]
+    LostFromGrid { u: f64 },
+    #[error("path: axis rates: singular Jacobian")]
+    SingularRates,
 }

@@ -55,8 +55,7 @@ pub fn axis_rates(
             [p[0], p[1], p[2], d[0], d[1], d[2]]
         })
         .collect();
-    let x = least_squares(cols, rhs)
-        .ok_or_else(|| MachineError::Path("axis rates: singular Jacobian".into()))?;
+    let x = least_squares(cols, rhs).ok_or(MachineError::SingularRates)?;
     for (c, &k) in free.iter().enumerate() {
         out.set(axes[k], x[c]);
     }
