@@ -153,7 +153,7 @@ pub fn analyse_parts(
     let part = SShape::iso();
     let (matched, pure) = read_parts(files, opts)?;
     let points = measurement_points(&part, &matched);
-    let noise = match &pure {
+    let mut noise = match &pure {
         Some(pe) => NoiseSource {
             source: NoiseKind::Repeat,
             sigma: Some(pe.sigma_mean),
@@ -176,31 +176,25 @@ pub fn analyse_parts(
     let deviations = minus_known(matched.deviations(), opts.known.as_ref())?;
     let ids: Vec<String> = matched.points.iter().map(|p| p.file.id.clone()).collect();
     let PointsFit {
-        diagnosis,
+        mut diagnosis,
         outliers,
-        baseline,
+        mut baseline,
         design: final_design,
         identification: mut final_id,
         refinement: final_refinement,
         correction,
         observations: obs,
     } = fit_points(&part, &points, &deviations, &ids, opts)?;
-    let mut diagnosis = diagnosis;
-    let BaselineFit {
-        design: columns,
-        mut identification,
-        refinement,
-    } = baseline;
-    let mut noise = noise;
     let repeat = pure.map(|pe| {
-        let used: Vec<f64> = identification
+        let baseline = &baseline.identification;
+        let used: Vec<f64> = baseline
             .points
             .iter()
             .filter(|p| p.used)
             .map(|p| p.residual)
             .collect();
         let rss: f64 = used.iter().map(|r| r * r).sum();
-        let lack_of_fit = repeat::lack_of_fit(&pe, rss, used.len(), identification.rank_used);
+        let lack_of_fit = repeat::lack_of_fit(&pe, rss, used.len(), baseline.rank_used);
         let summary = repeat::sentence(&pe, &lack_of_fit);
         noise.summary = summary.clone();
         RepeatReport {
@@ -211,13 +205,13 @@ pub fn analyse_parts(
     });
     if let Some(k) = &opts.known {
         let note = known_note(k);
-        identification.notes.push(note.clone());
+        baseline.identification.notes.push(note.clone());
         final_id.notes.push(note.clone());
         if let Diagnosis::Made { report, .. } = &mut diagnosis {
             report.summary = format!("{}\n{note}", report.summary.trim_end());
         }
     }
-    for id in [&mut identification, &mut final_id] {
+    for id in [&mut baseline.identification, &mut final_id] {
         name_outliers(id, &outliers);
         if noise.source.is_derived() {
             id.notes.push(noise.summary.clone());
@@ -241,11 +235,7 @@ pub fn analyse_parts(
         identification: final_id,
         refinement: final_refinement,
         correction,
-        baseline: BaselineFit {
-            design: columns,
-            identification,
-            refinement,
-        },
+        baseline,
     };
     Ok((
         analysis,

@@ -177,8 +177,9 @@ pub struct ValidateOptions {
     pub ratio_max: f64,
     /// Pass the simulated σ to the diagnosis as the CMM repeatability (default: estimate it).
     pub known_sigma: bool,
-    /// `k` of the `k σ` detection rule, given to the diagnosis and used to size the effects
-    /// (default [`DETECT_FACTOR`]).
+    /// `k` of the `k σ` detection rule that sizes the effects (default [`DETECT_FACTOR`], the
+    /// diagnosis's own: the cases are analysed with the product's settings, the pairs with this
+    /// `k`).
     pub detect_factor: f64,
     /// Add a single-point spike of 25-40 µm at a random point of every case.
     pub spikes: bool,
@@ -215,10 +216,6 @@ impl ValidateOptions {
     }
     pub fn with_seed(mut self, s: u64) -> Self {
         self.seed = s;
-        self
-    }
-    pub fn with_detect_factor(mut self, k: f64) -> Self {
-        self.detect_factor = k;
         self
     }
     /// The diagnosis options of the cases (default α, this `k`).
