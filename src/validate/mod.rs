@@ -7,11 +7,14 @@
 //! - [`pairs`]: two effects at once (`validate --pairs`);
 //! - [`parameter_error`]: the identified location errors against the simulated truth;
 //! - [`shapes`]: the out-of-list shapes (waviness, bump, short wave, gouge, straightness, cyclic C);
-//! - [`conditions`]: one table of the lab's conditions (noise, spikes, layouts, shapes, ...).
+//! - [`conditions`]: one table of the lab's conditions (noise, spikes, layouts, shapes, ...);
+//! - [`physics`]: parts made by the physics of machining and measuring, not by the fitter's
+//!   signatures.
 
 pub mod conditions;
 pub mod pairs;
 pub mod parameter_error;
+pub mod physics;
 pub mod shapes;
 pub mod single;
 
