@@ -1,6 +1,6 @@
 //! A generator of measured parts that is not the fitter (issue 29 item 4): parts made from the
 //! physics of machining and measuring, for `testpiece validate --generator physics`
-//! (scored with the shipped analysis by the benchmark).
+//! ([`super::physics_bench`] scores them with the shipped analysis).
 //!
 //! The product's own benchmark ([`super::single`]) builds linear twins from the very signature
 //! columns the diagnosis fits; its figures are a ceiling. Here a part is machined: the flank path
