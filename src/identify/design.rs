@@ -50,7 +50,7 @@ impl Parameter {
     pub fn of_error(e: &ErrorParam) -> Self {
         Parameter {
             name: e.name(),
-            unit: e.unit(),
+            unit: e.unit().to_string(),
             typical: e.typical(),
         }
     }
