@@ -114,7 +114,7 @@ impl ExactDefectModel {
         let mut params = Vec::new();
         for (j, p) in design.parameters().iter().enumerate() {
             let column = || design.matrix().column(j).iter().copied().collect();
-            if p.name == TOOL_RADIUS || crate::effects::Effect::parse_parameter(&p.name).is_ok() {
+            if p.name == TOOL_RADIUS || crate::parameter::Effect::parse_parameter(&p.name).is_ok() {
                 params.push(ExactColumn::Linear(column()));
             } else {
                 params.push(ExactColumn::Location(

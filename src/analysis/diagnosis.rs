@@ -4,10 +4,11 @@
 use serde::Serialize;
 
 use crate::effects::builtin::{part_model, part_model_on, PartModel};
-use crate::effects::{Effect, GapError, GapInput};
+use crate::effects::{GapError, GapInput};
 use crate::gap::verdict::VerdictId;
 use crate::gap::{diagnose, DiagnosisReport};
 use crate::measurement::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
+use crate::parameter::Effect;
 use crate::part::{MeasurementPoint, SShape};
 use crate::settings::MachineChoice;
 

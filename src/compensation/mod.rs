@@ -63,7 +63,7 @@ pub struct Compensation {
 /// A named effect the kinematic compensation leaves on the part.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EffectLeft {
-    pub effect: crate::effects::Effect,
+    pub effect: crate::parameter::Effect,
     pub plain_name: &'static str,
     #[serde(flatten)]
     pub remedy: Remedy,

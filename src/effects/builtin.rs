@@ -1,9 +1,10 @@
 //! The signatures and point metadata of the built-in S-shape points, from the geometry.
 
 use crate::effects::data::{Candidate, NamedColumns, PointMeta};
-use crate::effects::effect::{Effect, SignatureModel};
+use crate::effects::effect::SignatureModel;
 use crate::effects::EffectPoint;
 use crate::effects::GapError;
+use crate::parameter::Effect;
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};

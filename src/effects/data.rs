@@ -9,8 +9,9 @@
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
-use crate::effects::{Effect, GapError};
+use crate::effects::GapError;
 use crate::machine::AxisName;
+use crate::parameter::Effect;
 use crate::part::Surface;
 
 /// Where a measured point lies on the part and on the tool path.

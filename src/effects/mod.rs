@@ -25,5 +25,5 @@ pub mod path_length;
 pub mod path_model;
 
 pub use data::{Candidate, GapInput, NamedColumns, PointMeta, Reversal};
-pub use effect::{Effect, EffectPoint};
+pub use effect::EffectPoint;
 pub use error::GapError;

@@ -37,7 +37,7 @@ use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::effects::data::{Candidate, PointMeta};
-use crate::effects::{Effect, GapError};
+use crate::effects::GapError;
 use crate::final_fit::structure::{self, CovarianceForm, StructureCovariance};
 use crate::gap::verdict::{Finding, Verdict, VerdictId};
 use crate::identify::correlated::{
@@ -46,6 +46,7 @@ use crate::identify::correlated::{
 use crate::identify::solve::{rms, Factor};
 use crate::identify::{identify, Design, Identification, IdentifyOptions, Observations, Parameter};
 use crate::machine::location_errors::TYPICAL_LENGTH_MM;
+use crate::parameter::Effect;
 
 /// A signature column whose RMS over the points is below this (mm per unit) leaves nothing on
 /// the part: it is not fitted.
@@ -304,7 +305,10 @@ pub fn with_effects(
                 ));
                 continue;
             }
-            d = d.with_column(Parameter::new(&name, unit, TYPICAL_LENGTH_MM / size), &col)?;
+            d = d.with_column(
+                Parameter::new(&name, &unit.to_string(), TYPICAL_LENGTH_MM / size),
+                &col,
+            )?;
             added.push(name);
         }
     }

@@ -206,7 +206,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         .effects()
         .into_iter()
         .filter_map(|e| match e {
-            crate::effects::Effect::Backlash(axis) => Some(axis),
+            crate::parameter::Effect::Backlash(axis) => Some(axis),
             _ => None,
         })
         .collect();

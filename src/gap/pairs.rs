@@ -38,11 +38,11 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::effects::data::{Candidate, NamedColumns};
-use crate::effects::Effect;
 use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
 use crate::gap::which::{fit_candidate, CandidateFit, Context};
 use crate::numerics::stats;
 use crate::numerics::stats::CHI2_1_95;
+use crate::parameter::Effect;
 
 /// The accepted pair and its evidence.
 #[derive(Debug, Clone, Serialize)]

@@ -26,10 +26,10 @@ use serde::Serialize;
 
 use crate::effects::data::curve_sequences;
 use crate::effects::data::{Candidate, PointMeta};
-use crate::effects::Effect;
 use crate::gap::folds::FoldFactor;
 use crate::identify::solve::{max_abs, rms, Factor};
 use crate::numerics::stats;
+use crate::parameter::Effect;
 
 /// A fitted value with its standard deviation (units of the parameter).
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]

@@ -14,11 +14,11 @@ use serde::Serialize;
 use super::single::{effect_parameters, machine_errors, ValidateOptions, ValidationModel};
 use super::ValidateError;
 use crate::effects::data::GapInput;
-use crate::effects::Effect;
 use crate::gap::diagnose::diagnose_with;
 use crate::gap::verdict::VerdictId;
 use crate::identify::solve::{hstack, Factor};
 use crate::numerics::random::Sampler;
+use crate::parameter::Effect;
 
 /// Smallest simulated `ρ` of each effect of a pair.
 pub const RATIO_MIN: f64 = 1.5;

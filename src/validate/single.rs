@@ -49,7 +49,6 @@ use super::parameter_error::{answer_error, AnswerError, ErrorComparison};
 use super::ValidateError;
 use crate::analysis::{fit_points, sensitivity_options, AnalysisOptions, Diagnosis};
 use crate::effects::data::{Candidate, NamedColumns, PointMeta};
-use crate::effects::Effect;
 use crate::effects::GapError;
 use crate::final_fit::correct::Basis;
 use crate::gap::diagnose::DiagnoseOptions;
@@ -59,6 +58,7 @@ use crate::gap::verdict::VerdictId;
 use crate::identify::solve::{hstack, rms, Factor};
 use crate::identify::{Design, Parameter};
 use crate::numerics::random::Sampler;
+use crate::parameter::Effect;
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::Mode;
 

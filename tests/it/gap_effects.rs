@@ -5,10 +5,11 @@
 use crate::gap_common::*;
 use nalgebra::{Rotation3, Vector3};
 use testpiece::effects::builtin::{effect_points, point_meta};
-use testpiece::effects::effect::{Effect, SignatureModel};
+use testpiece::effects::effect::SignatureModel;
 use testpiece::effects::path_length::total_path_length;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::Chain;
+use testpiece::parameter::Effect;
 use testpiece::part::points::builtin_points;
 use testpiece::part::SShape;
 use testpiece::toolpath::envelope::builtin_envelope;

@@ -9,12 +9,12 @@ use testpiece::analysis::{analyse, diagnose_on_machine, AnalysisOptions};
 use testpiece::effects::builtin::{
     part_model, part_model_every_candidate, part_model_on, PartModel,
 };
-use testpiece::effects::Effect;
 use testpiece::gap::verdict::VerdictId;
 use testpiece::identify::solve::{rms, Factor};
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::AxisName;
 use testpiece::numerics::random::Sampler;
+use testpiece::parameter::Effect;
 use testpiece::part::SShape;
 use testpiece::sensitivity::SensitivityOptions;
 use testpiece::settings::MachineChoice;

@@ -6,11 +6,12 @@ use crate::cli_common;
 
 use testpiece::analysis::{analyse, Analysis, AnalysisOptions};
 use testpiece::effects::builtin::builtin_model;
-use testpiece::effects::{Effect, GapInput};
+use testpiece::effects::GapInput;
 use testpiece::identify::monte_carlo::CmmMpe;
 use testpiece::machine::AxisName;
 use testpiece::measurement::outliers::find_outliers;
 use testpiece::numerics::random::Sampler;
+use testpiece::parameter::Effect;
 use testpiece::part::SShape;
 use testpiece::settings::cmm_noise::noise_from_mpe;
 use testpiece::validate::{validate, ValidateOptions, ValidationModel};

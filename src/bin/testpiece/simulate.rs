@@ -2,10 +2,10 @@
 
 use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::effects::builtin::part_model_on;
-use testpiece::effects::Effect;
 use testpiece::identify::ISO_LOCATION_ERRORS;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::Branch;
+use testpiece::parameter::Effect;
 use testpiece::part::{builtin_points, SShape};
 use testpiece::sensitivity::error_set::full_list;
 use testpiece::sensitivity::{Mode, SensitivityOptions};
