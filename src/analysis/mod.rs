@@ -277,7 +277,7 @@ mod tests {
             );
             assert!((p.h - q.h).abs() < 1e-6);
         }
-        assert_eq!(a.design.params.len(), 8);
+        assert_eq!(a.design.parameters.len(), 8);
         assert_eq!(a.identification.points_used, 100);
     }
 
@@ -288,7 +288,10 @@ mod tests {
             ..Default::default()
         };
         let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
-        assert_eq!(a.design.params.last().map(String::as_str), Some("dR"));
+        assert_eq!(
+            a.design.parameters.last(),
+            Some(&crate::parameter::ParamId::ToolRadius)
+        );
         assert!(a.design.columns[8].iter().all(|&v| v == -1.0));
     }
 
@@ -334,7 +337,7 @@ mod tests {
             };
             let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
             let set = crate::sensitivity::error_set::error_set(&m.chain(o.l0), o.branch).unwrap();
-            assert_eq!(a.design.params, set.kept, "{m:?}");
+            assert_eq!(a.design.names(), set.kept, "{m:?}");
             assert_eq!(a.identification.points_used, 100);
             assert!(a.identification.residual.rms.is_finite(), "{m:?}");
         }

@@ -1,29 +1,54 @@
 //! What one analysis reports: the serialisable [`Analysis`] and its parts.
 
-use serde::Serialize;
+use serde::ser::SerializeStruct;
+use serde::{Serialize, Serializer};
 
 use crate::cmm::MatchedPart;
 use crate::final_fit::correct::Correction;
 use crate::gap::verdict::VerdictId;
 use crate::identify::refine::RefineReport;
 use crate::identify::{Design, Identification, Observations};
+use crate::machine::Unit;
 use crate::measurement::outliers::OutlierTest;
 use crate::measurement::repeat::{LackOfFit, PureError};
+use crate::parameter::ParamId;
 use crate::part::MeasurementPoint;
 use crate::settings::NoiseKind;
 
 use super::diagnosis::Diagnosis;
 use super::options::AnalysisOptions;
 
-/// The design at the measured points: one row per point, one column per parameter.
-#[derive(Debug, Clone, Serialize)]
+/// The design at the measured points: one row per point, one column per parameter. Serialised
+/// as `{params (names), units, columns, parameters: [{kind, name, unit}]}`.
+#[derive(Debug, Clone)]
 pub struct DesignColumns {
-    /// Parameter names (`EC0Y` … `EC0B`, then `dR` when fitted).
-    pub params: Vec<String>,
-    /// `mm` or `rad` per parameter.
-    pub units: Vec<String>,
+    /// The parameters (`EC0Y` … `EC0B`, then `dR` when fitted, then the effect columns), each
+    /// with its kind and unit.
+    pub parameters: Vec<ParamId>,
     /// `columns[k][i]`: defect at point `i` per unit of parameter `k` (mm/rad or mm/mm).
     pub columns: Vec<Vec<f64>>,
+}
+
+impl DesignColumns {
+    /// The parameters' names, in column order.
+    pub fn names(&self) -> Vec<String> {
+        self.parameters.iter().map(ParamId::name).collect()
+    }
+    /// The parameters' units, in column order.
+    pub fn units(&self) -> Vec<Unit> {
+        self.parameters.iter().map(ParamId::unit).collect()
+    }
+}
+
+impl Serialize for DesignColumns {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_struct("DesignColumns", 4)?;
+        m.serialize_field("params", &self.names())?;
+        m.serialize_field("units", &self.units())?;
+        m.serialize_field("columns", &self.columns)?;
+        m.serialize_field("parameters", &self.parameters)?;
+        m.end()
+    }
 }
 
 /// Everything one analysis reports.

@@ -61,7 +61,7 @@ pub fn location_equivalents(
             worst = worst.max(left);
         }
         if worst < VISIBLE_FRACTION {
-            let like = coef.map_or(String::new(), |x| like_text(&baseline.names, typical, &x));
+            let like = coef.map_or(String::new(), |x| like_text(&baseline.names(), typical, &x));
             out.push((
                 c.effect,
                 format!(

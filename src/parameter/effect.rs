@@ -12,7 +12,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use crate::machine::chain::AxisKind;
 use crate::machine::{AxisName, Chain, Unit};
 
-use super::ParameterError;
+use super::{ParamId, ParameterError};
 
 /// One candidate unmodelled effect of effects.md.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -174,6 +174,16 @@ impl Effect {
             Effect::PivotLength => &[("dL0", Unit::Mm)],
             Effect::AIndex => &[("dA", Unit::Rad)],
         }
+    }
+
+    /// Its parameters' ids (kind, name and unit), in column order.
+    pub fn parameter_ids(self) -> Vec<ParamId> {
+        (0..self.parameters().len())
+            .map(|index| ParamId::Effect {
+                effect: self,
+                index,
+            })
+            .collect()
     }
 
     /// The parameter names, in column order.

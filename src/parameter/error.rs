@@ -23,4 +23,9 @@ pub enum ParameterError {
         name: String,
         known: String,
     },
+    #[error(
+        "`{name}` is not a parameter name (expected a machine error such as EX0B, dR, or an \
+         effect's parameter such as tool_taper.g)"
+    )]
+    NotAParameter { name: String },
 }

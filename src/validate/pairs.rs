@@ -83,7 +83,7 @@ pub fn validate_pairs(
     let mut results = Vec::with_capacity(opts.cases);
     for case in 0..opts.cases {
         let (c1, c2) = pairs[case % pairs.len()];
-        let xi = machine_errors(&model.baseline.names, opts, &mut rng);
+        let xi = machine_errors(&model.baseline.params, opts, &mut rng);
         let mut y = a * xi;
         let mut ratios = [0.0; 2];
         let mut parts = Vec::with_capacity(2);

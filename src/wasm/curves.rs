@@ -15,6 +15,7 @@ use wasm_bindgen::prelude::*;
 use super::to_js;
 use crate::analysis::{sensitivity_options, AnalysisOptions};
 use crate::machine::{Branch, Chain, ErrorParam, Unit};
+use crate::parameter::ParamId;
 use crate::part::{builtin_points, SShape, Surface};
 use crate::sensitivity::cone_frustum::ConeFrustum;
 use crate::sensitivity::frenet::{coefficients, cone_frames, flank_frames, Coefficients, Cutting};
@@ -47,15 +48,18 @@ fn set(o: &Object, k: &str, v: &JsValue) -> Result<(), JsError> {
         .map_err(|_| JsError::new(&format!("could not set `{k}` on the result")))
 }
 
-/// A sensitivity matrix as `{ids, curves, params, units, scales, rows, cols, values}`, `values`
-/// a Float64Array in column-major order (nalgebra's storage): `values[k * rows + i]` is the
-/// defect (mm) at point `ids[i]` per unit of `params[k]` (`units[k]`, drawn per `scales[k]`).
+/// A sensitivity matrix as `{ids, curves, params, parameters, units, scales, rows, cols,
+/// values}`, `values` a Float64Array in column-major order (nalgebra's storage):
+/// `values[k * rows + i]` is the defect (mm) at point `ids[i]` per unit of `params[k]`
+/// (`parameters[k]` its `{kind, name, unit}`, `units[k]` the same unit, drawn per `scales[k]`).
 fn matrix_to_js(m: &SensitivityMatrix, params: &[ErrorParam]) -> Result<JsValue, JsError> {
     let o = Object::new();
     let (units, scales): (Vec<Unit>, Vec<f64>) = params.iter().map(unit_of).unzip();
+    let ids: Vec<ParamId> = m.errors.iter().map(|e| ParamId::Machine(*e)).collect();
     set(&o, "ids", &to_js(&m.ids)?)?;
     set(&o, "curves", &to_js(&m.curves)?)?;
-    set(&o, "params", &to_js(&m.params)?)?;
+    set(&o, "params", &to_js(&m.names())?)?;
+    set(&o, "parameters", &to_js(&ids)?)?;
     set(&o, "units", &to_js(&units)?)?;
     set(&o, "scales", &to_js(&scales)?)?;
     set(&o, "rows", &JsValue::from(m.values.nrows() as u32))?;
