@@ -7,7 +7,7 @@ use crate::effects::builtin::{part_model, part_model_on, PartModel};
 use crate::effects::{GapError, GapInput};
 use crate::gap::verdict::VerdictId;
 use crate::gap::{diagnose, DiagnosisReport};
-use crate::measurement::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
+use crate::measurement::outliers::{find_outliers, without_rows, OutlierTest};
 use crate::parameter::Effect;
 use crate::part::{MeasurementPoint, SShape};
 use crate::settings::MachineChoice;
@@ -103,24 +103,14 @@ pub(super) fn diagnose_modelled(
         } else {
             test.indices()
         };
-        let sentence = outlier_sentence(&test, opts.keep_outliers);
         outliers = Some(test);
         let all = diagnose(&input)?;
-        let mut report = if drop.is_empty() {
+        let report = if drop.is_empty() {
             all
         } else {
             verdict_all_points = Some(all.verdict.id());
             diagnose(&without_rows(&input, &drop))?
         };
-        if !sentence.is_empty() {
-            report.summary = format!("{}\nOutliers: {sentence}\n", report.summary.trim_end());
-        }
-        if let Some(v) = verdict_all_points {
-            report.summary = format!(
-                "{}With every point, outliers included, the verdict would be `{v}`.\n",
-                report.summary
-            );
-        }
         excluded = drop;
         Ok(report)
     };

@@ -49,6 +49,7 @@ pub use points::{
     columns_of, design_at, effects_on_machine, measurement_points, nearest_curve,
     sensitivity_options,
 };
+use report::diagnosis_summary;
 pub use report::{
     Analysis, BaselineFit, DesignColumns, Fitted, NoiseSource, Outliers, RepeatReport,
 };
@@ -206,10 +207,7 @@ pub fn analyse_parts(
     if let Some(k) = &opts.known {
         let note = known_note(k);
         baseline.identification.notes.push(note.clone());
-        final_id.notes.push(note.clone());
-        if let Diagnosis::Made { report, .. } = &mut diagnosis {
-            report.summary = format!("{}\n{note}", report.summary.trim_end());
-        }
+        final_id.notes.push(note);
     }
     for id in [&mut baseline.identification, &mut final_id] {
         name_outliers(id, &outliers);
@@ -217,10 +215,8 @@ pub fn analyse_parts(
             id.notes.push(noise.summary.clone());
         }
     }
-    if noise.source.is_derived() {
-        if let Diagnosis::Made { report, .. } = &mut diagnosis {
-            report.summary = format!("{}\n{}\n", report.summary.trim_end(), noise.summary);
-        }
+    if let Diagnosis::Made { report, .. } = &mut diagnosis {
+        report.summary = diagnosis_summary(report, &outliers, &points, opts.known.as_ref(), &noise);
     }
     let analysis = Analysis {
         diagnosis,
