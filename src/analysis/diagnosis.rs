@@ -37,9 +37,15 @@ pub enum Diagnosis {
         report: Box<DiagnosisReport>,
     },
     NotMade {
-        /// The diagnosis stage's message.
-        reason: String,
+        /// The diagnosis stage's error (serialised as its message).
+        #[serde(serialize_with = "as_message")]
+        reason: GapError,
     },
+}
+
+/// An error as its message.
+fn as_message<S: serde::Serializer>(e: &GapError, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(e)
 }
 
 impl Diagnosis {
@@ -135,9 +141,7 @@ pub(super) fn diagnose_modelled(
             verdict_all_points,
         },
         Err(e) => Modelled {
-            diagnosis: Diagnosis::NotMade {
-                reason: e.to_string(),
-            },
+            diagnosis: Diagnosis::NotMade { reason: e },
             model: None,
             unavailable,
             outliers,
