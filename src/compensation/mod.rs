@@ -20,6 +20,7 @@ pub use part::{predicted_part, LeftIn, PredictedPart, PredictedPoint, Spread};
 pub use remedy::{remedy, Remedy};
 
 use crate::analysis::Analysis;
+use crate::final_fit::correct::Basis;
 use crate::identify::Status;
 use crate::machine::axis_lines::{kinematic_description, KinematicDescription};
 use crate::machine::{ErrorParam, LocationError, MachineErrors, Unit};
@@ -223,7 +224,7 @@ fn notes(
             l.rms * 1e3
         ));
     }
-    if a.correction.fitted_with == "structure" {
+    if a.correction.basis == Basis::Structure {
         notes.push(
             "The residual holds a structure no candidate explains (fitted as a correlated \
              error): it stays on the part after compensation."
