@@ -24,7 +24,7 @@ use nalgebra::{DMatrix, Vector3};
 
 use crate::analysis::{analyse, AnalysisOptions};
 use crate::cmm::write::{canonical_csv, Precision};
-use crate::identify::{identify, Design, IdentifyOptions, Observations};
+use crate::identify::{identify, Design, IdentifyOptions, Observations, Parameter};
 use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
 use crate::sensitivity::path::solve_path;
 use crate::sensitivity::{sensitivity_matrix, SensitivityOptions};
@@ -84,9 +84,8 @@ pub fn identify_input(rows: usize) -> Result<(Design, Observations), BenchError>
     let pts = builtin_points(&part);
     let m = sensitivity_matrix(&part, &pts, &SensitivityOptions::default())?;
     let tiled = DMatrix::from_fn(rows, m.values.ncols(), |i, j| m.values[(i % pts.len(), j)]);
-    let names: Vec<&str> = m.params.iter().map(String::as_str).collect();
-    let design = Design::from_column_major(&names, rows, tiled.as_slice())
-        .and_then(Design::with_tool_radius)?;
+    let params = m.errors.iter().map(Parameter::of_error).collect();
+    let design = Design::try_new(params, tiled).and_then(Design::with_tool_radius)?;
     let truth: Vec<f64> = (0..design.cols())
         .map(|j| 1e-5 * (j as f64 - 3.5))
         .collect();

@@ -15,6 +15,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::identify::Identification;
+use crate::machine::Unit;
 
 /// `|z|` from which a difference is flagged `different`.
 pub const DIFFERENT_Z: f64 = 3.0;
@@ -28,7 +29,8 @@ pub struct ParameterValue {
     pub value: f64,
     /// `None` when the parameter is not separable (no std of its own).
     pub std: Option<f64>,
-    pub unit: String,
+    /// Its unit, as the identification gave it (read back from its text where it comes in).
+    pub unit: Unit,
 }
 
 /// How a difference compares with its standard deviation (module docs).
@@ -45,7 +47,7 @@ pub enum Flag {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Difference {
     pub name: String,
-    pub unit: String,
+    pub unit: Unit,
     pub a: Option<f64>,
     pub a_std: Option<f64>,
     pub b: Option<f64>,
@@ -78,8 +80,8 @@ pub enum CompareError {
     #[error("parameter {name}: unit {a} in {a_name} but {b} in {b_name}")]
     Unit {
         name: String,
-        a: String,
-        b: String,
+        a: Unit,
+        b: Unit,
         a_name: String,
         b_name: String,
     },
@@ -97,10 +99,10 @@ pub fn parameters_of(id: &Identification) -> Vec<ParameterValue> {
         .0
         .iter()
         .map(|p| ParameterValue {
-            name: p.name.clone(),
+            name: p.name(),
             value: p.value,
             std: p.std,
-            unit: p.unit.clone(),
+            unit: p.unit(),
         })
         .collect()
 }
@@ -149,7 +151,9 @@ pub fn compare(
                 });
             }
         }
-        let unit = pa.or(pb).map(|p| p.unit.clone()).unwrap_or_default();
+        let unit = pa
+            .or(pb)
+            .map_or(Unit::Text(String::new()), |p| p.unit.clone());
         let diff = match (pa, pb) {
             (Some(x), Some(y)) => Some(y.value - x.value),
             _ => None,
@@ -226,7 +230,7 @@ mod tests {
             name: name.into(),
             value,
             std,
-            unit: "rad".into(),
+            unit: Unit::Rad,
         }
     }
 
@@ -263,7 +267,7 @@ mod tests {
     #[test]
     fn units_must_agree_and_values_be_finite() {
         let mut q = p("EX0B", 0.0, Some(1e-3));
-        q.unit = "mm".into();
+        q.unit = Unit::Mm;
         let e = compare("a", &[p("EX0B", 0.0, Some(1e-3))], "b", &[q]).unwrap_err();
         assert!(e.to_string().contains("unit rad in a but mm in b"), "{e}");
         let e = compare("a", &[p("EA0B", f64::NAN, None)], "b", &[]).unwrap_err();

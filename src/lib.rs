@@ -29,6 +29,7 @@ pub mod identify;
 pub mod machine;
 pub mod measurement;
 pub mod numerics;
+pub mod parameter;
 pub mod part;
 pub mod plan;
 pub mod pool;

@@ -56,9 +56,8 @@ use crate::identify::refine::{
 };
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
-    TOOL_RADIUS,
 };
-use crate::machine::location_errors::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
+use crate::parameter::{ParamId, PartTerm};
 use crate::part::{MeasurementPoint, SShape};
 use crate::simulate::ExactDefectModel;
 
@@ -267,7 +266,7 @@ pub fn stack(
     let first = &parts[0];
     let shared: Vec<Parameter> = first.design.parameters().to_vec();
     for p in &parts[1..] {
-        if p.design.names() != first.design.names() {
+        if p.design.ids() != first.design.ids() {
             return Err(PoolError::Mismatch {
                 name: p.name.clone(),
                 first: first.name.clone(),
@@ -278,30 +277,26 @@ pub fn stack(
     }
     let mut params = shared.clone();
     let mut per_part = Vec::new();
-    for k in 1..=parts.len() {
-        if opts.analysis.tool_radius {
+    let mut terms = Vec::new();
+    if opts.analysis.tool_radius {
+        terms.push(PartTerm::ToolRadius);
+    }
+    if opts.setup_per_part {
+        terms.extend([
+            PartTerm::SetupRotation,
+            PartTerm::SetupShiftX,
+            PartTerm::SetupShiftY,
+        ]);
+    }
+    for part in 1..=parts.len() {
+        for &term in &terms {
             params.push(Parameter::new(
-                &format!("{TOOL_RADIUS}[{k}]"),
-                "mm",
-                TYPICAL_LENGTH_MM,
+                ParamId::PerPart { part, term },
+                term.typical(),
             ));
-        }
-        if opts.setup_per_part {
-            params.push(Parameter::new(
-                &format!("Rz[{k}]"),
-                "rad",
-                TYPICAL_ANGLE_RAD,
-            ));
-            for t in ["Tx", "Ty"] {
-                params.push(Parameter::new(
-                    &format!("{t}[{k}]"),
-                    "mm",
-                    TYPICAL_LENGTH_MM,
-                ));
-            }
         }
     }
-    per_part.extend(params[shared.len()..].iter().map(|p| p.name.clone()));
+    per_part.extend(params[shared.len()..].iter().map(Parameter::name));
     let n: usize = parts.iter().map(|p| p.design.rows()).sum();
     let per = per_part.len() / parts.len();
     let mut m = DMatrix::zeros(n, params.len());

@@ -15,8 +15,9 @@ use thiserror::Error;
 use nalgebra::DMatrix;
 
 use crate::identify::refine::ModelError;
-use crate::identify::{Design, IdentifyError, TOOL_RADIUS};
+use crate::identify::{Design, IdentifyError};
 use crate::machine::{Branch, ErrorParam, MachineErrors};
+use crate::parameter::ParamId;
 use crate::part::{builtin_points, SShape};
 use crate::sensitivity::defect::DefectPoses;
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
@@ -46,6 +47,10 @@ pub enum SimulateError {
     /// The sensitivity stage failed.
     #[error(transparent)]
     Sensitivity(#[from] SensitivityError),
+    /// A parameter the machine's exact defect has no term for (an effect's parameter, a part's
+    /// term, a user's column): effects are added by their signatures.
+    #[error("`{name}` is not a machine error or dR: the exact defect has no term for it")]
+    NotAMachineError { name: String },
 }
 
 /// Sensitivity options for a mode and a B branch on paper 000's machine.
@@ -74,9 +79,9 @@ pub fn builtin_design(
 }
 
 /// The exact machined defect (eq. 12) at a set of measurement points for a design's parameters
-/// (location errors; `dR` contributing `-dR`; an effect parameter `<id>.<name>` of effects.md
-/// contributing its signature column times its value, linear by the definition of every
-/// signature): the model for [`crate::identify::refine::refine`]. The Jacobian of the location
+/// (machine errors; every other column, `dR` contributing `-dR`, an effect's parameter its
+/// signature column, linear in its value by definition): the model for
+/// [`crate::identify::refine::refine`]. The Jacobian of the location
 /// errors is a central finite difference of the exact defect (steps 1e-7 rad, 1e-5 mm; eq. 12 is
 /// smooth and nearly linear at these magnitudes); that of a linear column is the column.
 pub struct ExactDefectModel {
@@ -97,8 +102,8 @@ enum ExactColumn {
 }
 
 impl ExactDefectModel {
-    /// The model at the 100 built-in points for the columns of `design` (location-error names
-    /// and `dR`).
+    /// The model at the 100 built-in points for the columns of `design` (location errors and
+    /// `dR`).
     pub fn new(design: &Design, mode: Mode, branch: Branch) -> Result<Self, SimulateError> {
         let part = SShape::iso();
         let points = builtin_points(&part);
@@ -113,14 +118,10 @@ impl ExactDefectModel {
     ) -> Result<Self, SimulateError> {
         let mut params = Vec::new();
         for (j, p) in design.parameters().iter().enumerate() {
-            let column = || design.matrix().column(j).iter().copied().collect();
-            if p.name == TOOL_RADIUS || crate::effects::Effect::parse_parameter(&p.name).is_ok() {
-                params.push(ExactColumn::Linear(column()));
-            } else {
-                params.push(ExactColumn::Location(
-                    ErrorParam::parse(&p.name).map_err(SensitivityError::from)?,
-                ));
-            }
+            params.push(match p.id {
+                ParamId::Machine(e) => ExactColumn::Location(e),
+                _ => ExactColumn::Linear(design.matrix().column(j).iter().copied().collect()),
+            });
         }
         // Finite-difference steps: 1e-7 for an angle, 1e-5 mm otherwise (a linear column needs
         // none: its Jacobian is the column).
@@ -179,7 +180,9 @@ impl crate::identify::refine::ExactModel for ExactDefectModel {
         Ok(j)
     }
 }
-/// Parses `EX0B=0.03,EA0B=3e-4` (commas or semicolons; spaces ignored; empty gives none).
+/// Reads `EX0B=0.03,EA0B=3e-4` (commas or semicolons; spaces ignored; empty gives none): the
+/// names as written, each read into a parameter id ([`ParamId::parse`]) by the caller, who
+/// knows what they may name (a CLI argument: the chain's errors and `dR`).
 pub fn parse_errors(text: &str) -> Result<Vec<(String, f64)>, SimulateError> {
     let mut out: Vec<(String, f64)> = Vec::new();
     for (k, item) in text
@@ -218,10 +221,10 @@ pub fn parse_errors(text: &str) -> Result<Vec<(String, f64)>, SimulateError> {
     Ok(out)
 }
 
-/// `A·x + e` at the design rows, `x` from `(name, value)` pairs (others 0), `e ~ N(0, σ²)`.
+/// `A·x + e` at the design rows, `x` from `(parameter, value)` pairs (others 0), `e ~ N(0, σ²)`.
 pub fn simulate_deviation(
     design: &Design,
-    errors: &[(String, f64)],
+    errors: &[(ParamId, f64)],
     noise_sigma: f64,
     seed: u64,
 ) -> Result<Vec<f64>, SimulateError> {
@@ -238,13 +241,13 @@ pub fn simulate_deviation(
 pub fn simulate_exact(
     mode: Mode,
     branch: Branch,
-    errors: &[(String, f64)],
+    errors: &[(ParamId, f64)],
     noise_sigma: f64,
     seed: u64,
 ) -> Result<Vec<f64>, SimulateError> {
     use crate::identify::refine::ExactModel;
     check_noise(noise_sigma)?;
-    let tool_radius = errors.iter().any(|(n, _)| n == TOOL_RADIUS);
+    let tool_radius = errors.iter().any(|(id, _)| *id == ParamId::ToolRadius);
     let design = builtin_design(mode, branch, tool_radius)?;
     let x = design.vector_from(errors)?;
     let model = ExactDefectModel::new(&design, mode, branch)?;
@@ -261,21 +264,25 @@ pub fn simulate_exact(
 /// seeded noise as [`simulate_deviation`]: the parts of `testpiece simulate --machine`.
 pub fn simulate_on(
     opts: &SensitivityOptions,
-    errors: &[(String, f64)],
+    errors: &[(ParamId, f64)],
     noise_sigma: f64,
     seed: u64,
 ) -> Result<Vec<f64>, SimulateError> {
     check_noise(noise_sigma)?;
-    let mut params = Vec::new();
+    let mut params: Vec<ErrorParam> = Vec::new();
     let mut values = Vec::new();
     let mut d_r = 0.0;
-    for (name, v) in errors {
-        if name == TOOL_RADIUS {
-            d_r = *v;
-            continue;
+    for (id, v) in errors {
+        match id {
+            ParamId::ToolRadius => d_r = *v,
+            ParamId::Machine(e) => {
+                params.push(*e);
+                values.push(*v);
+            }
+            other => {
+                return Err(SimulateError::NotAMachineError { name: other.name() });
+            }
         }
-        params.push(ErrorParam::parse(name).map_err(SensitivityError::from)?);
-        values.push(*v);
     }
     let part = SShape::iso();
     let points = builtin_points(&part);

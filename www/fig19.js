@@ -20,11 +20,11 @@ function perSize(params) {
   return sorted.map(([k, names], i) => (i === 0 ? `per ${k}` : `per ${k} for ${names.join(', ')}`)).join('; ');
 }
 
-/** Figure-19 curves: `sens` = {ids, curves, params, units, scales, rows, cols, values
- * (column-major, mm per unit)}. */
+/** Figure-19 curves: `sens` = {ids, curves, params, parameters ([{kind, name, unit}]), units,
+ * scales, rows, cols, values (column-major, mm per unit)}. */
 function fig19View(root, sens, st) {
   root.textContent = '';
-  const params = sens.params.map((name, k) => ({ name, unit: sens.units[k], scale: sens.scales[k] }));
+  const params = sens.parameters.map((p, k) => ({ name: p.name, unit: p.unit, scale: sens.scales[k] }));
   const per = perSize(params);
   root.append(h('h2', {}, 'Machined defect per error at the 100 built-in points (Figure 19 of paper 000, for the chosen machine)'),
     h('p', {}, `Machine: ${machineName(st.settings.machine)}. Mode ${st.settings.mode}, ${st.settings.branch} B. Each curve: the normal defect (µm) that one error alone leaves at each point, ${per}. Points are grouped by measurement curve; hover for the value.`));

@@ -17,8 +17,8 @@ function outlierBlock(a) {
 }
 
 /** A parameters table: value, unit, std, t, status, and the shift from the baseline when given
- * (`effectParameters`: the effect's own parameters, which have none). */
-function parameterTable(name, caption, id, shift, fitted, effectParameters = []) {
+ * (an effect's own parameters, `kind` `effect`, have none). */
+function parameterTable(name, caption, id, shift, fitted) {
   const header = ['parameter', 'value', 'unit', 'std', 't', 'status'];
   if (shift) header.push('shift from baseline (std)');
   header.push('fitted with');
@@ -28,7 +28,7 @@ function parameterTable(name, caption, id, shift, fitted, effectParameters = [])
       { text: word('parameter_status', p.status), class: `status-${p.status}` }];
     if (shift) {
       const v = shift[n];
-      row.push(v === undefined ? { text: effectParameters.includes(n) ? 'effect' : '—', value: '' }
+      row.push(v === undefined ? { text: p.kind === 'effect' ? 'effect' : '—', value: '' }
         : { text: v === null ? '—' : (v >= 0 ? '+' : '') + v.toFixed(1), num: true, value: v ?? '' });
     }
     row.push(fitted);
@@ -45,7 +45,7 @@ export function identifyView(root, a) {
   root.append(h('h2', {}, 'Identified parameters: the final answer'),
     h('p', { id: 'correction-summary', class: `correction correction-${c.basis}` }, c.summary),
     h('p', {}, `${id.points_used} points, rank ${id.rank} of ${params.length}, condition number ${fmtNum(id.condition)} (unit-scaled design), σ ${id.sigma ? (id.sigma * 1000).toFixed(2) + ' µm' : '—'} (${id.sigma_source}). Residual RMS ${(id.residual.rms * 1000).toFixed(2)} µm, max ${(id.residual.max_abs * 1000).toFixed(2)} µm.`));
-  root.append(parameterTable('parameters', `ISO 230-1 location errors (each in the unit of its row), ${fittedWith(a)}${c.effect_parameters.length ? '; the effect\'s own parameters are named <effect>.<parameter>' : ''}. std: one standard deviation${c.std_includes_structure ? ' (includes the unexplained structure)' : ''}; t = |value|/std; shift = (final − baseline)/std.`, id, c.basis === 'baseline' ? null : c.shift, fittedWithId(a), c.effect_parameters));
+  root.append(parameterTable('parameters', `ISO 230-1 location errors (each in the unit of its row), ${fittedWith(a)}${c.effect_parameters.length ? '; the effect\'s own parameters are named <effect>.<parameter>' : ''}. std: one standard deviation${c.std_includes_structure ? ' (includes the unexplained structure)' : ''}; t = |value|/std; shift = (final − baseline)/std.`, id, c.basis === 'baseline' ? null : c.shift, fittedWithId(a)));
   if (c.alternatives && c.alternatives.length) {
     root.append(h('ul', { id: 'alternatives' }, c.alternatives.map((x) => h('li', {}, x.same_answer
       ? `With the equivalent ${x.effect} instead: the same location errors (largest difference ${x.difference_std.toFixed(2)} std, ${x.parameter}).`

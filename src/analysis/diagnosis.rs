@@ -4,10 +4,11 @@
 use serde::Serialize;
 
 use crate::effects::builtin::{part_model, part_model_on, PartModel};
-use crate::effects::{Effect, GapError, GapInput};
+use crate::effects::{GapError, GapInput};
 use crate::gap::verdict::VerdictId;
 use crate::gap::{diagnose, DiagnosisReport};
-use crate::measurement::outliers::{find_outliers, outlier_sentence, without_rows, OutlierTest};
+use crate::measurement::outliers::{find_outliers, without_rows, OutlierTest};
+use crate::parameter::Effect;
 use crate::part::{MeasurementPoint, SShape};
 use crate::settings::MachineChoice;
 
@@ -36,9 +37,15 @@ pub enum Diagnosis {
         report: Box<DiagnosisReport>,
     },
     NotMade {
-        /// The diagnosis stage's message.
-        reason: String,
+        /// The diagnosis stage's error (serialised as its message).
+        #[serde(serialize_with = "as_message")]
+        reason: GapError,
     },
+}
+
+/// An error as its message.
+fn as_message<S: serde::Serializer>(e: &GapError, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(e)
 }
 
 impl Diagnosis {
@@ -102,24 +109,14 @@ pub(super) fn diagnose_modelled(
         } else {
             test.indices()
         };
-        let sentence = outlier_sentence(&test, opts.keep_outliers);
         outliers = Some(test);
         let all = diagnose(&input)?;
-        let mut report = if drop.is_empty() {
+        let report = if drop.is_empty() {
             all
         } else {
             verdict_all_points = Some(all.verdict.id());
             diagnose(&without_rows(&input, &drop))?
         };
-        if !sentence.is_empty() {
-            report.summary = format!("{}\nOutliers: {sentence}\n", report.summary.trim_end());
-        }
-        if let Some(v) = verdict_all_points {
-            report.summary = format!(
-                "{}With every point, outliers included, the verdict would be `{v}`.\n",
-                report.summary
-            );
-        }
         excluded = drop;
         Ok(report)
     };
@@ -144,9 +141,7 @@ pub(super) fn diagnose_modelled(
             verdict_all_points,
         },
         Err(e) => Modelled {
-            diagnosis: Diagnosis::NotMade {
-                reason: e.to_string(),
-            },
+            diagnosis: Diagnosis::NotMade { reason: e },
             model: None,
             unavailable,
             outliers,

@@ -40,5 +40,5 @@ pub enum AnalysisError {
         points: usize,
     },
     #[error("no diagnosis: {reason}")]
-    NotDiagnosed { reason: String },
+    NotDiagnosed { reason: GapError },
 }

@@ -1,13 +1,13 @@
 //! The final answer, refined with the exact model like the baseline.
 
 use crate::effects::builtin::PartModel;
-use crate::effects::Effect;
 use crate::final_fit::correct::{
     correct, shifts, summary, Basis, Correction, CorrectionInput, Final,
 };
 use crate::identify::correlated::{whiten, whitened_limit, Whitened, Whitener};
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{Design, Identification, IdentifyOptions, Observations};
+use crate::parameter::Effect;
 use crate::part::MeasurementPoint;
 use crate::simulate::ExactDefectModel;
 

@@ -49,6 +49,7 @@ pub use points::{
     columns_of, design_at, effects_on_machine, measurement_points, nearest_curve,
     sensitivity_options,
 };
+use report::diagnosis_summary;
 pub use report::{
     Analysis, BaselineFit, DesignColumns, Fitted, NoiseSource, Outliers, RepeatReport,
 };
@@ -206,10 +207,7 @@ pub fn analyse_parts(
     if let Some(k) = &opts.known {
         let note = known_note(k);
         baseline.identification.notes.push(note.clone());
-        final_id.notes.push(note.clone());
-        if let Diagnosis::Made { report, .. } = &mut diagnosis {
-            report.summary = format!("{}\n{note}", report.summary.trim_end());
-        }
+        final_id.notes.push(note);
     }
     for id in [&mut baseline.identification, &mut final_id] {
         name_outliers(id, &outliers);
@@ -217,10 +215,8 @@ pub fn analyse_parts(
             id.notes.push(noise.summary.clone());
         }
     }
-    if noise.source.is_derived() {
-        if let Diagnosis::Made { report, .. } = &mut diagnosis {
-            report.summary = format!("{}\n{}\n", report.summary.trim_end(), noise.summary);
-        }
+    if let Diagnosis::Made { report, .. } = &mut diagnosis {
+        report.summary = diagnosis_summary(report, &outliers, &points, opts.known.as_ref(), &noise);
     }
     let analysis = Analysis {
         diagnosis,
@@ -277,7 +273,7 @@ mod tests {
             );
             assert!((p.h - q.h).abs() < 1e-6);
         }
-        assert_eq!(a.design.params.len(), 8);
+        assert_eq!(a.design.parameters.len(), 8);
         assert_eq!(a.identification.points_used, 100);
     }
 
@@ -288,7 +284,10 @@ mod tests {
             ..Default::default()
         };
         let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
-        assert_eq!(a.design.params.last().map(String::as_str), Some("dR"));
+        assert_eq!(
+            a.design.parameters.last(),
+            Some(&crate::parameter::ParamId::ToolRadius)
+        );
         assert!(a.design.columns[8].iter().all(|&v| v == -1.0));
     }
 
@@ -334,7 +333,7 @@ mod tests {
             };
             let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
             let set = crate::sensitivity::error_set::error_set(&m.chain(o.l0), o.branch).unwrap();
-            assert_eq!(a.design.params, set.kept, "{m:?}");
+            assert_eq!(a.design.names(), set.kept, "{m:?}");
             assert_eq!(a.identification.points_used, 100);
             assert!(a.identification.residual.rms.is_finite(), "{m:?}");
         }

@@ -101,8 +101,7 @@ pub fn design_at(
 pub fn columns_of(design: &Design) -> DesignColumns {
     let m = design.matrix();
     DesignColumns {
-        params: design.names(),
-        units: design.parameters().iter().map(|p| p.unit.clone()).collect(),
+        parameters: design.ids(),
         columns: (0..m.ncols())
             .map(|k| m.column(k).iter().copied().collect())
             .collect(),

@@ -1,29 +1,56 @@
 //! What one analysis reports: the serialisable [`Analysis`] and its parts.
 
-use serde::Serialize;
+use serde::ser::SerializeStruct;
+use serde::{Serialize, Serializer};
 
 use crate::cmm::MatchedPart;
 use crate::final_fit::correct::Correction;
 use crate::gap::verdict::VerdictId;
+use crate::gap::DiagnosisReport;
 use crate::identify::refine::RefineReport;
 use crate::identify::{Design, Identification, Observations};
-use crate::measurement::outliers::OutlierTest;
+use crate::machine::Unit;
+use crate::measurement::outliers::{outlier_sentence, OutlierTest};
 use crate::measurement::repeat::{LackOfFit, PureError};
+use crate::parameter::ParamId;
 use crate::part::MeasurementPoint;
 use crate::settings::NoiseKind;
 
 use super::diagnosis::Diagnosis;
-use super::options::AnalysisOptions;
+use super::known::known_note;
+use super::options::{AnalysisOptions, KnownDeviation};
 
-/// The design at the measured points: one row per point, one column per parameter.
-#[derive(Debug, Clone, Serialize)]
+/// The design at the measured points: one row per point, one column per parameter. Serialised
+/// as `{params (names), units, columns, parameters: [{kind, name, unit}]}`.
+#[derive(Debug, Clone)]
 pub struct DesignColumns {
-    /// Parameter names (`EC0Y` … `EC0B`, then `dR` when fitted).
-    pub params: Vec<String>,
-    /// `mm` or `rad` per parameter.
-    pub units: Vec<String>,
+    /// The parameters (`EC0Y` … `EC0B`, then `dR` when fitted, then the effect columns), each
+    /// with its kind and unit.
+    pub parameters: Vec<ParamId>,
     /// `columns[k][i]`: defect at point `i` per unit of parameter `k` (mm/rad or mm/mm).
     pub columns: Vec<Vec<f64>>,
+}
+
+impl DesignColumns {
+    /// The parameters' names, in column order.
+    pub fn names(&self) -> Vec<String> {
+        self.parameters.iter().map(ParamId::name).collect()
+    }
+    /// The parameters' units, in column order.
+    pub fn units(&self) -> Vec<Unit> {
+        self.parameters.iter().map(ParamId::unit).collect()
+    }
+}
+
+impl Serialize for DesignColumns {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_struct("DesignColumns", 4)?;
+        m.serialize_field("params", &self.names())?;
+        m.serialize_field("units", &self.units())?;
+        m.serialize_field("columns", &self.columns)?;
+        m.serialize_field("parameters", &self.parameters)?;
+        m.end()
+    }
 }
 
 /// Everything one analysis reports.
@@ -120,6 +147,39 @@ pub struct BaselineFit {
 pub struct Fitted {
     pub design: Design,
     pub observations: Observations,
+}
+
+/// The diagnosis's summary as the reports show it, composed from typed results: the gap report's
+/// own ([`crate::gap::report::summary`], the verdict first), then the single-point outliers
+/// ([`outlier_sentence`], each named by its point's id in the part model, as the diagnosis saw
+/// it) and, when they were left out, the verdict with every point; the known deviation
+/// subtracted ([`known_note`]); the CMM noise when its σ was not given.
+pub(super) fn diagnosis_summary(
+    report: &DiagnosisReport,
+    outliers: &Outliers,
+    points: &[MeasurementPoint],
+    known: Option<&KnownDeviation>,
+    noise: &NoiseSource,
+) -> String {
+    let mut s = crate::gap::report::summary(report);
+    if let Some(test) = outliers.test.as_ref().filter(|t| !t.points.is_empty()) {
+        let mut named = test.clone();
+        for o in &mut named.points {
+            o.id = points[o.index].id.to_string();
+        }
+        let sentence = outlier_sentence(&named, !outliers.excluded);
+        s = format!("{}\nOutliers: {sentence}\n", s.trim_end());
+        if let (true, Some(v)) = (outliers.excluded, outliers.verdict_all_points) {
+            s += &format!("With every point, outliers included, the verdict would be `{v}`.\n");
+        }
+    }
+    if let Some(k) = known {
+        s = format!("{}\n{}", s.trim_end(), known_note(k));
+    }
+    if noise.source.is_derived() {
+        s = format!("{}\n{}\n", s.trim_end(), noise.summary);
+    }
+    s
 }
 
 impl Analysis {

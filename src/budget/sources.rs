@@ -32,7 +32,7 @@ use super::discrete::PreparedPath;
 use super::{BudgetError, ToolPath};
 use crate::analysis::{analyse, measurement_points, AnalysisOptions, KnownDeviation};
 use crate::cmm::{read_and_match, MatchedPart, ReadOptions};
-use crate::identify::TOOL_RADIUS as DR_NAME;
+use crate::parameter::{Effect, ParamId};
 use crate::part::{MeasurementPoint, SShape};
 use crate::toolpath::{points_deviation, TOOL_RADIUS};
 
@@ -175,12 +175,12 @@ pub struct PathSummary {
     pub notes: Vec<String>,
 }
 
-/// An identified parameter as the budget used it.
+/// An identified parameter as the budget used it (serialised as `{kind, name, unit, value}`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct UsedParameter {
-    pub name: String,
+    #[serde(flatten)]
+    pub id: ParamId,
     pub value: f64,
-    pub unit: String,
 }
 
 /// The whole budget.
@@ -309,20 +309,28 @@ pub fn error_budget(
     let n = points.len();
     let (mut machine, mut tool) = (vec![0.0; n], vec![0.0; n]);
     let mut parameters = Vec::new();
-    for (k, name) in analysis.design.params.iter().enumerate() {
-        let value = analysis.identification.value(name).unwrap_or(0.0);
-        let target = if name == DR_NAME || name.starts_with("tool_") {
-            &mut tool
-        } else {
-            &mut machine
-        };
+    for (k, id) in analysis.design.parameters.iter().enumerate() {
+        let value = analysis
+            .identification
+            .parameters
+            .of(id)
+            .map_or(0.0, |p| p.value);
+        // The tool's terms: dR and the tool effects' parameters; the rest is the machine's.
+        let of_the_tool = matches!(
+            id,
+            ParamId::ToolRadius
+                | ParamId::Effect {
+                    effect: Effect::ToolRadius | Effect::ToolTaper,
+                    ..
+                }
+        );
+        let target = if of_the_tool { &mut tool } else { &mut machine };
         for (i, t) in target.iter_mut().enumerate() {
             *t += analysis.design.columns[k][i] * value;
         }
         parameters.push(UsedParameter {
-            name: name.clone(),
+            id: id.clone(),
             value,
-            unit: analysis.design.units[k].clone(),
         });
     }
     let lengths = analysis.lengths();

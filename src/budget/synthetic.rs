@@ -177,7 +177,8 @@ pub fn write_trace_csv(
 /// `(file name, content)`; tests/it/budget_examples.rs checks the files on disk are exactly these.
 pub fn example_files() -> Result<Vec<(&'static str, String)>, super::BudgetError> {
     use crate::cmm::write::{canonical_csv, Precision};
-    use crate::machine::AxisName;
+    use crate::machine::{AxisName, ErrorParam, LocationError};
+    use crate::parameter::ParamId;
     use crate::part::builtin_points;
     use crate::simulate::{builtin_design, simulate_deviation};
     use crate::toolpath::TOOL_RADIUS;
@@ -209,10 +210,14 @@ pub fn example_files() -> Result<Vec<(&'static str, String)>, super::BudgetError
         .map(|h| h.deviation)
         .collect();
     let design = builtin_design(Mode::Physical, Branch::Signed, true)?;
+    let (ex0b, ea0b) = (
+        LocationError::new(AxisName::X, AxisName::B),
+        LocationError::new(AxisName::A, AxisName::B),
+    );
     let errors = vec![
-        ("EX0B".to_string(), 0.01),
-        ("EA0B".to_string(), 1.2e-4),
-        ("dR".to_string(), 0.005),
+        (ParamId::Machine(ErrorParam::Location(ex0b)), 0.01),
+        (ParamId::Machine(ErrorParam::Location(ea0b)), 1.2e-4),
+        (ParamId::ToolRadius, 0.005),
     ];
     let defect = simulate_deviation(&design, &errors, 0.001, 10)?;
     let measured: Vec<f64> = d_trace.iter().zip(&defect).map(|(a, b)| a + b).collect();

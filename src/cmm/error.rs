@@ -248,8 +248,11 @@ pub enum CmmError {
         expected: &'static str,
     },
 
-    #[error("projection onto the nominal part failed at line {line}: {message}")]
-    Projection { line: usize, message: String },
+    #[error("projection onto the nominal part failed at line {line}: {source}")]
+    Projection {
+        line: usize,
+        source: crate::geometry::GeometryError,
+    },
 }
 
 impl CmmError {

@@ -286,9 +286,9 @@ fn match_point(
         }));
     };
     let p = v3(pos);
-    let proj: Projection = project_point(projector, &p).map_err(|e| CmmError::Projection {
+    let proj: Projection = project_point(projector, &p).map_err(|source| CmmError::Projection {
         line: pt.line,
-        message: e.to_string(),
+        source,
     })?;
     let n = proj.normal;
     let gap = (p - proj.foot).norm();

@@ -20,16 +20,18 @@ pub use part::{predicted_part, LeftIn, PredictedPart, PredictedPoint, Spread};
 pub use remedy::{remedy, Remedy};
 
 use crate::analysis::Analysis;
+use crate::final_fit::correct::Basis;
 use crate::identify::Status;
 use crate::machine::axis_lines::{kinematic_description, KinematicDescription};
-use crate::machine::{ErrorParam, LocationError, MachineErrors};
+use crate::machine::{ErrorParam, LocationError, MachineErrors, Unit};
+use crate::parameter::ParamId;
 
 /// One location error entered into the description.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EnteredError {
     pub name: String,
     pub value: f64,
-    pub unit: String,
+    pub unit: Unit,
     pub std: Option<f64>,
     pub status: Status,
 }
@@ -63,7 +65,7 @@ pub struct Compensation {
 /// A named effect the kinematic compensation leaves on the part.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EffectLeft {
-    pub effect: crate::effects::Effect,
+    pub effect: crate::parameter::Effect,
     pub plain_name: &'static str,
     #[serde(flatten)]
     pub remedy: Remedy,
@@ -79,26 +81,28 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 pub fn compensation(a: &Analysis) -> Compensation {
     let chain = a.settings.machine.chain(a.settings.l0);
     let id = &a.identification;
-    let names = &a.design.params;
-    let location: Vec<Option<LocationError>> = names
+    let params = &a.design.parameters;
+    let location: Vec<Option<LocationError>> = params
         .iter()
-        .map(|n| {
-            LocationError::parse(n)
-                .ok()
-                .filter(|l| chain.axis(l.axis).is_some())
+        .map(|p| match p {
+            ParamId::Machine(ErrorParam::Location(l)) if chain.axis(l.axis).is_some() => Some(*l),
+            _ => None,
         })
         .collect();
-    let values: Vec<f64> = names.iter().map(|n| id.value(n).unwrap_or(0.0)).collect();
+    let values: Vec<f64> = params
+        .iter()
+        .map(|p| id.parameters.of(p).map_or(0.0, |e| e.value))
+        .collect();
     let mut errors = MachineErrors::none();
     let mut entered = Vec::new();
-    for ((l, n), x) in location.iter().zip(names).zip(&values) {
+    for ((l, n), x) in location.iter().zip(params).zip(&values) {
         if let Some(l) = l {
             errors = errors.with(ErrorParam::Location(*l), *x);
-            let p = id.parameters.get(n);
+            let p = id.parameters.of(n);
             entered.push(EnteredError {
-                name: n.clone(),
+                name: n.name(),
                 value: *x,
-                unit: p.map_or_else(String::new, |p| p.unit.clone()),
+                unit: l.unit(),
                 std: p.and_then(|p| p.std),
                 status: p.map_or(Status::Weak, |p| p.status),
             });
@@ -132,8 +136,7 @@ pub fn compensation(a: &Analysis) -> Compensation {
         &pts.iter().map(|p| p.curve.clone()).collect::<Vec<_>>(),
         &pts.iter().map(|p| p.used).collect::<Vec<_>>(),
         &pts.iter().map(|p| p.measured).collect::<Vec<_>>(),
-        names,
-        &a.design.units,
+        params,
         &a.design.columns,
         &values,
         &is_location,
@@ -149,7 +152,7 @@ pub fn compensation(a: &Analysis) -> Compensation {
             rms: part
                 .left_in
                 .iter()
-                .filter(|l| l.parameter.starts_with(&format!("{}.", e.id())))
+                .filter(|l| l.id.effect() == Some(e))
                 .map(|l| l.rms)
                 .fold(0.0, f64::max),
         })
@@ -213,11 +216,7 @@ fn notes(
             e.remedy.corrected_by
         ));
     }
-    if let Some(l) = part
-        .left_in
-        .iter()
-        .find(|l| l.parameter == crate::identify::TOOL_RADIUS)
-    {
+    if let Some(l) = part.left_in.iter().find(|l| l.id == ParamId::ToolRadius) {
         notes.push(format!(
             "Left in: the tool-radius term dR = {:.4} mm is the tool's, not the machine's: correct \
              the tool table ({:.2} µm RMS on the part).",
@@ -225,7 +224,7 @@ fn notes(
             l.rms * 1e3
         ));
     }
-    if a.correction.fitted_with == "structure" {
+    if a.correction.basis == Basis::Structure {
         notes.push(
             "The residual holds a structure no candidate explains (fitted as a correlated \
              error): it stays on the part after compensation."

@@ -18,6 +18,8 @@
 use serde::Serialize;
 
 use crate::identify::solve::{max_abs, rms};
+use crate::machine::Unit;
+use crate::parameter::{ParamId, ParamKind};
 
 /// One point before and after.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -57,12 +59,17 @@ impl Spread {
 /// A fitted term the compensation leaves in the part.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LeftIn {
-    /// Column name (`dR`, `backlash_c.b`).
+    /// The column's parameter.
+    #[serde(skip)]
+    pub id: ParamId,
+    /// Its name (`dR`, `backlash_c.b`).
     pub parameter: String,
     pub value: f64,
-    pub unit: String,
+    pub unit: Unit,
     /// RMS of its part over the used points (mm).
     pub rms: f64,
+    /// What the parameter is.
+    pub kind: ParamKind,
 }
 
 /// The predicted part after compensation.
@@ -78,16 +85,15 @@ pub struct PredictedPart {
     pub left_in: Vec<LeftIn>,
 }
 
-/// The prediction from the final design's columns (`columns[j][i]`, mm per unit), their names,
-/// units, values, which of them are location errors, and the measured deviations.
+/// The prediction from the final design's columns (`columns[j][i]`, mm per unit), their
+/// parameters, values, which of them are location errors, and the measured deviations.
 #[allow(clippy::too_many_arguments)]
 pub fn predicted_part(
     ids: &[String],
     curves: &[String],
     used: &[bool],
     measured: &[f64],
-    names: &[String],
-    units: &[String],
+    params: &[ParamId],
     columns: &[Vec<f64>],
     values: &[f64],
     is_location: &[bool],
@@ -122,18 +128,20 @@ pub fn predicted_part(
     let over_used = |f: &dyn Fn(&PredictedPoint) -> f64| -> Vec<f64> {
         points.iter().filter(|p| p.used).map(f).collect()
     };
-    let left_in = names
+    let left_in = params
         .iter()
         .enumerate()
         .filter(|&(j, _)| !is_location[j])
-        .map(|(j, name)| LeftIn {
-            parameter: name.clone(),
+        .map(|(j, id)| LeftIn {
+            id: id.clone(),
+            parameter: id.name(),
             value: values[j],
-            unit: units[j].clone(),
+            unit: id.unit(),
             rms: rms(&(0..n)
                 .filter(|&i| used[i])
                 .map(|i| columns[j][i] * values[j])
                 .collect::<Vec<_>>()),
+            kind: id.kind(),
         })
         .collect();
     PredictedPart {
@@ -161,8 +169,7 @@ mod tests {
             &s(&["A_Z11", "A_Z11"]),
             &[true, true],
             &[0.7, 0.95],
-            &s(&["EX0B", "backlash_c.b"]),
-            &s(&["mm", "rad"]),
+            &["EX0B".parse().unwrap(), "backlash_c.b".parse().unwrap()],
             &[vec![1.0, 2.0], vec![1.0, -1.0]],
             &[0.5, 0.1],
             &[true, false],

@@ -14,8 +14,8 @@
 
 use serde::Serialize;
 
-use crate::effects::Effect;
 use crate::machine::AxisName;
+use crate::parameter::Effect;
 
 /// What corrects an effect.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -1,9 +1,10 @@
 //! The signatures and point metadata of the built-in S-shape points, from the geometry.
 
 use crate::effects::data::{Candidate, NamedColumns, PointMeta};
-use crate::effects::effect::{Effect, SignatureModel};
+use crate::effects::effect::SignatureModel;
 use crate::effects::EffectPoint;
 use crate::effects::GapError;
+use crate::parameter::{Effect, ParamId};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
@@ -138,7 +139,7 @@ fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapErr
         .ok_or(GapError::NotModelled(effect))?;
     Ok(invisible_as_zero(Candidate {
         effect,
-        signature: NamedColumns::from_columns(effect.parameter_names(), &columns)?,
+        signature: NamedColumns::from_columns(effect.parameter_ids(), &columns)?,
     }))
 }
 
@@ -209,7 +210,10 @@ fn compute_model(
         backlash_columns, c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
     let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)?;
-    let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
+    let baseline = NamedColumns::try_new(
+        sens.errors.iter().map(|e| ParamId::Machine(*e)).collect(),
+        sens.values.clone(),
+    )?;
     let path = crate::effects::cache::path_model(part, opts)?;
     let eps = effect_points_on(part, points, path.lengths());
     let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);

@@ -6,7 +6,8 @@
 use serde::Serialize;
 
 use crate::effects::builtin::{location_equivalents_of, part_model_on};
-use crate::effects::{Effect, GapError};
+use crate::effects::GapError;
+use crate::parameter::Effect;
 use crate::part::{builtin_points, SShape};
 use crate::sensitivity::SensitivityOptions;
 

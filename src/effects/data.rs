@@ -9,8 +9,9 @@
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
-use crate::effects::{Effect, GapError};
+use crate::effects::GapError;
 use crate::machine::AxisName;
+use crate::parameter::{Effect, ParamId};
 use crate::part::Surface;
 
 /// Where a measured point lies on the part and on the tool path.
@@ -34,52 +35,58 @@ pub struct PointMeta {
     pub nz: f64,
 }
 
-/// A matrix with one named column per parameter (`n × p`, one row per point).
+/// A matrix with one column per parameter (`n × p`, one row per point), each column with its
+/// parameter's id (kind, name and unit).
 #[derive(Debug, Clone, PartialEq)]
 pub struct NamedColumns {
-    pub names: Vec<String>,
+    pub params: Vec<ParamId>,
     pub matrix: DMatrix<f64>,
 }
 
 impl NamedColumns {
-    /// Checks that there is one name per column and that every entry is finite.
-    pub fn try_new(names: Vec<String>, matrix: DMatrix<f64>) -> Result<Self, GapError> {
-        if names.len() != matrix.ncols() {
+    /// Checks that there is one id per column and that every entry is finite.
+    pub fn try_new(params: Vec<ParamId>, matrix: DMatrix<f64>) -> Result<Self, GapError> {
+        if params.len() != matrix.ncols() {
             return Err(GapError::NameMismatch {
                 what: "named columns".into(),
-                count: names.len(),
+                count: params.len(),
                 columns: matrix.ncols(),
             });
         }
-        for (j, name) in names.iter().enumerate() {
+        for (j, id) in params.iter().enumerate() {
             for i in 0..matrix.nrows() {
                 let v = matrix[(i, j)];
                 if !v.is_finite() {
                     return Err(GapError::NotFinite {
-                        what: format!("column `{name}`"),
+                        what: format!("column `{id}`"),
                         index: i,
                         value: v,
                     });
                 }
             }
         }
-        Ok(Self { names, matrix })
+        Ok(Self { params, matrix })
     }
 
     /// Builds the matrix from columns (each of length `n`).
-    pub fn from_columns(names: Vec<String>, columns: &[Vec<f64>]) -> Result<Self, GapError> {
+    pub fn from_columns(params: Vec<ParamId>, columns: &[Vec<f64>]) -> Result<Self, GapError> {
         let n = columns.first().map_or(0, Vec::len);
-        for (name, c) in names.iter().zip(columns) {
+        for (id, c) in params.iter().zip(columns) {
             if c.len() != n {
                 return Err(GapError::LengthMismatch {
-                    what: format!("column `{name}`"),
+                    what: format!("column `{id}`"),
                     got: c.len(),
                     expected: n,
                 });
             }
         }
         let matrix = DMatrix::from_fn(n, columns.len(), |i, j| columns[j][i]);
-        Self::try_new(names, matrix)
+        Self::try_new(params, matrix)
+    }
+
+    /// The columns' names, in order.
+    pub fn names(&self) -> Vec<String> {
+        self.params.iter().map(ParamId::name).collect()
     }
 
     pub fn nrows(&self) -> usize {
@@ -92,14 +99,15 @@ impl NamedColumns {
     /// The rows `rows` (in that order).
     pub fn select_rows(&self, rows: &[usize]) -> Self {
         Self {
-            names: self.names.clone(),
+            params: self.params.clone(),
             matrix: self.matrix.select_rows(rows),
         }
     }
 }
 
 /// A candidate unmodelled effect of effects.md and its signature per unit of each parameter
-/// (`n × q`, column names = parameter names, e.g. `dR0`, `g`).
+/// (`n × q`, one column per parameter of the effect, in the order of
+/// [`Effect::parameters`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Candidate {
     pub effect: Effect,

@@ -32,36 +32,24 @@ pub enum GapError {
     #[error("noise sigma must be positive and finite, got {0}")]
     BadSigma(f64),
     #[error("candidate `{0}` appears twice")]
-    DuplicateCandidate(crate::effects::Effect),
+    DuplicateCandidate(crate::parameter::Effect),
     #[error("candidate `{0}` has no signature column")]
-    EmptyCandidate(crate::effects::Effect),
-    #[error("unknown effect id `{0}` (`testpiece machine` lists the ids)")]
-    UnknownEffect(String),
-    #[error("`{key}`: `{effect}` has the parameters {known}; write `{effect}.<parameter>`")]
-    ParameterNeeded {
-        key: String,
-        effect: crate::effects::Effect,
-        known: String,
-    },
-    #[error("`{key}`: `{effect}` has no parameter `{name}` (its parameters: {known})")]
-    UnknownParameter {
-        key: String,
-        effect: crate::effects::Effect,
-        name: String,
-        known: String,
-    },
+    EmptyCandidate(crate::parameter::Effect),
+    /// An effect or a parameter named in text that comes in.
+    #[error(transparent)]
+    Parameter(#[from] crate::parameter::ParameterError),
     #[error("`{effect}` is not a candidate on the {machine}: {reason}")]
     NotOnMachine {
-        effect: crate::effects::Effect,
+        effect: crate::parameter::Effect,
         /// The machine's description.
         machine: String,
-        /// Why its physics does not exist there ([`crate::effects::Effect::absent_from`]).
+        /// Why its physics does not exist there ([`crate::parameter::Effect::absent_from`]).
         reason: String,
     },
     #[error(
         "`{0}` has no signature in this part model (its axis is not modelled on this machine)"
     )]
-    NotModelled(crate::effects::Effect),
+    NotModelled(crate::parameter::Effect),
     #[error("the structure's covariance cannot be estimated (σ = {sigma} mm, {points} points)")]
     StructureNotEstimated { sigma: f64, points: usize },
     #[error("final identification: {0}")]

@@ -21,9 +21,10 @@ use std::rc::Rc;
 use nalgebra::DVector;
 
 use crate::effects::data::{Candidate, NamedColumns};
-use crate::effects::{Effect, GapError};
+use crate::effects::GapError;
 use crate::machine::{Branch, Chain};
 use crate::numerics::memo::Memo;
+use crate::parameter::Effect;
 use crate::sensitivity::error_set::VISIBLE_FRACTION;
 
 /// The candidates of a part model that are location errors of the machine, each with why
@@ -60,7 +61,7 @@ pub fn location_equivalents(
             worst = worst.max(left);
         }
         if worst < VISIBLE_FRACTION {
-            let like = coef.map_or(String::new(), |x| like_text(&baseline.names, typical, &x));
+            let like = coef.map_or(String::new(), |x| like_text(&baseline.names(), typical, &x));
             out.push((
                 c.effect,
                 format!(

@@ -1,5 +1,5 @@
 //! Signatures that need the machine's axis path (kinematics stage, [`crate::sensitivity`]):
-//! `scale_x/y/z`, `backlash_<axis>` of the chain's axes ([`backlash_axes`]), the index columns
+//! `scale_x/y/z`, `backlash_<axis>` of the chain's axes ([`crate::parameter::backlash_axes`]), the index columns
 //! of `a_index` (and of `c_index` where the C axis is not the table next to the part), machine Z
 //! in the part frame for `thermal_drift`, and the axis reversals along the path.
 //!
@@ -19,11 +19,11 @@
 use nalgebra::{Rotation3, Vector3};
 
 use crate::effects::data::Reversal;
-pub use crate::effects::effect::{backlash_axes, BACKLASH_AXES, SCALE_AXES};
 use crate::effects::GapError;
 use crate::machine::direct::{jacobian, jacobian_body_point};
 use crate::machine::inverse::inverse;
 use crate::machine::{AxisKind, AxisName, AxisValues, Branch, Chain, ErrorParam, MachineErrors};
+use crate::parameter::SCALE_AXES;
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::defect::axis_values;
 use crate::sensitivity::defect::jacobian_rows;
@@ -54,7 +54,7 @@ pub fn scale_signatures(
 
 /// `backlash_<axis>.b` columns (mm/mm or mm/rad), axes of the lags, on the lags of the passes
 /// of [`crate::sensitivity::reversal::passes`] ([`crate::effects::path_model::PathModel::lags`]: the
-/// axes of [`BACKLASH_AXES`]).
+/// axes of [`crate::parameter::BACKLASH_AXES`]).
 pub fn backlash_columns(
     lags: &[Lag; 2],
     part: &SShape,
@@ -88,7 +88,7 @@ pub fn reversals(part: &SShape, passes: &[Pass; 2], axes: &[AxisName]) -> Vec<Re
 /// `s_C` (+1, or −1 when primed) when the C axis of `chain` is the workpiece-side axis next to
 /// the part with no offset (paper 000's `C`, paper 002's `C'`): a zero offset `dC` then turns the
 /// part frame by `s_C·dC` about z through the origin, and `c_index` is the rotation
-/// `−s_C·(ẑ × p)·N` ([`crate::effects::Effect::signature`]). `None` otherwise.
+/// `−s_C·(ẑ × p)·N` ([`crate::parameter::Effect::signature`]). `None` otherwise.
 pub fn c_table_sign(chain: &Chain) -> Option<f64> {
     chain
         .workpiece_axes()

@@ -1,7 +1,8 @@
-//! The candidate effects of `shared/spec/effects.md` and the part model they are evaluated on.
+//! The signatures of the candidate effects of `shared/spec/effects.md` and the part model they
+//! are evaluated on (the effects themselves, with their ids, parameters and units, are
+//! [`crate::parameter::Effect`]).
 //!
-//! - [`effect`]: each [`Effect`] with its id, parameters and units, plain name and signature
-//!   formula;
+//! - [`effect`]: each effect's signature formula;
 //! - [`data`]: the plain-data inputs of a diagnosis ([`GapInput`]: deviations, point metadata,
 //!   the baseline design and the candidates' signatures);
 //! - the part model: where the columns of each signature come from. [`builtin`] computes what the
@@ -25,5 +26,5 @@ pub mod path_length;
 pub mod path_model;
 
 pub use data::{Candidate, GapInput, NamedColumns, PointMeta, Reversal};
-pub use effect::{Effect, EffectPoint};
+pub use effect::EffectPoint;
 pub use error::GapError;

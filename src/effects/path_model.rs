@@ -10,9 +10,9 @@
 //! Units: mm for path lengths, the lag per unit lost motion (mm/mm or rad/rad).
 
 use crate::effects::data::Reversal;
-use crate::effects::effect::backlash_axes;
 use crate::effects::machine::reversals;
 use crate::effects::GapError;
+use crate::parameter::backlash_axes;
 use crate::part::{SShape, Surface};
 use crate::sensitivity::reversal::{passes, Lag};
 use crate::sensitivity::SensitivityOptions;

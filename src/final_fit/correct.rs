@@ -37,7 +37,7 @@ use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::effects::data::{Candidate, PointMeta};
-use crate::effects::{Effect, GapError};
+use crate::effects::GapError;
 use crate::final_fit::structure::{self, CovarianceForm, StructureCovariance};
 use crate::gap::verdict::{Finding, Verdict, VerdictId};
 use crate::identify::correlated::{
@@ -46,6 +46,7 @@ use crate::identify::correlated::{
 use crate::identify::solve::{rms, Factor};
 use crate::identify::{identify, Design, Identification, IdentifyOptions, Observations, Parameter};
 use crate::machine::location_errors::TYPICAL_LENGTH_MM;
+use crate::parameter::{Effect, ParamId};
 
 /// A signature column whose RMS over the points is below this (mm per unit) leaves nothing on
 /// the part: it is not fitted.
@@ -186,8 +187,10 @@ pub struct Correction {
     pub verdict: Option<VerdictId>,
     /// The effects fitted with the location errors (ids; empty for the baseline and structure).
     pub effects_included: Vec<Effect>,
-    /// The effect parameters added to the design (`<id>.<parameter>`), in design order.
-    pub effect_parameters: Vec<String>,
+    /// The effect parameters added to the design, in design order (serialised by name,
+    /// `<id>.<parameter>`).
+    #[serde(serialize_with = "names")]
+    pub effect_parameters: Vec<ParamId>,
     /// Per location error of the baseline: `(final − baseline) / std_final`.
     pub shift: ShiftMap,
     /// Equivalent effects tried in place of the named one.
@@ -205,6 +208,11 @@ pub struct Correction {
     pub notes: Vec<String>,
     /// The plain-language account (the page's verdict box, the CLI).
     pub summary: String,
+}
+
+/// Parameters as the list of their names.
+fn names<S: Serializer>(ids: &[ParamId], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(ids.iter().map(ParamId::name))
 }
 
 /// What the final values were fitted with, for the export: effect ids joined by `+`,
@@ -267,14 +275,15 @@ pub struct Final {
     pub correction: Correction,
 }
 
-/// The effect columns added to `design` for `effects`: names `<id>.<parameter>`, unit from
-/// effects.md, typical size the value that leaves 0.01 mm RMS on the part (like a typical
-/// location error). Returns the design, the added names and the notes of what was not added.
+/// The effect columns added to `design` for `effects`: ids [`ParamId::Effect`] (names
+/// `<id>.<parameter>`, unit from effects.md), typical size the value that leaves 0.01 mm RMS on
+/// the part (like a typical location error). Returns the design, the added parameters and the
+/// notes of what was not added.
 pub fn with_effects(
     design: &Design,
     candidates: &[Candidate],
     effects: &[Effect],
-) -> Result<(Design, Vec<String>, Vec<String>), GapError> {
+) -> Result<(Design, Vec<ParamId>, Vec<String>), GapError> {
     let mut d = design.clone();
     let mut added = Vec::new();
     let mut notes = Vec::new();
@@ -283,8 +292,8 @@ pub fn with_effects(
             .iter()
             .find(|c| c.effect == e)
             .ok_or(GapError::NotModelled(e))?;
-        for (j, (pname, unit)) in e.parameters().iter().enumerate() {
-            let name = format!("{}.{pname}", e.id());
+        for (j, id) in e.parameter_ids().into_iter().enumerate() {
+            let name = id.name();
             let col: Vec<f64> = c.signature.matrix.column(j).iter().copied().collect();
             let size = rms(&col);
             if size < NO_SIGNATURE {
@@ -304,8 +313,8 @@ pub fn with_effects(
                 ));
                 continue;
             }
-            d = d.with_column(Parameter::new(&name, unit, TYPICAL_LENGTH_MM / size), &col)?;
-            added.push(name);
+            d = d.with_column(Parameter::new(id.clone(), TYPICAL_LENGTH_MM / size), &col)?;
+            added.push(id);
         }
     }
     Ok((d, added, notes))
@@ -362,11 +371,11 @@ pub fn shifts(baseline: &Identification, fin: &Identification) -> ShiftMap {
             .0
             .iter()
             .map(|b| {
-                let f = fin.parameters.get(&b.name);
+                let f = fin.parameters.of(&b.id);
                 let std =
                     f.and_then(|f| f.std.filter(|s| *s > 0.0).map(|s| (f.value - b.value) / s));
                 Shift {
-                    parameter: b.name.clone(),
+                    parameter: b.name(),
                     std,
                 }
             })
@@ -378,7 +387,7 @@ pub fn shifts(baseline: &Identification, fin: &Identification) -> ShiftMap {
 pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final, GapError> {
     let (basis, effects, mut notes) = chosen(input, choice);
     let verdict = input.verdict.map(Verdict::id);
-    let base_names = input.design.names();
+    let base_ids = input.design.ids();
     let (design, identification, added, whitener, structure) = match basis {
         Basis::Baseline => (
             input.design.clone(),
@@ -470,7 +479,7 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
     let shift = shifts(input.baseline, &identification);
     let alternatives = match (basis, input.verdict.map(|v| &v.finding), choice) {
         (Basis::Effects, Some(f @ Finding::Named { effect, .. }), EffectsChoice::Auto) => {
-            alternatives(input, &identification, &base_names, *effect, f)?
+            alternatives(input, &identification, &base_ids, *effect, f)?
         }
         _ => Vec::new(),
     };
@@ -506,7 +515,7 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
 fn alternatives(
     input: &CorrectionInput,
     fin: &Identification,
-    base_names: &[String],
+    base_ids: &[ParamId],
     named: Effect,
     finding: &Finding,
 ) -> Result<Vec<Alternative>, GapError> {
@@ -523,8 +532,8 @@ fn alternatives(
         let (d, _, _) = with_effects(input.design, input.candidates, &effects)?;
         let id = identify(&d, input.observations, input.options)?;
         let mut worst = (String::new(), 0.0f64);
-        for name in base_names {
-            let (Some(a), Some(b)) = (fin.parameters.get(name), id.parameters.get(name)) else {
+        for p in base_ids {
+            let (Some(a), Some(b)) = (fin.parameters.of(p), id.parameters.of(p)) else {
                 continue;
             };
             let Some(s) = a.std.filter(|s| *s > 0.0) else {
@@ -532,7 +541,7 @@ fn alternatives(
             };
             let d = (b.value - a.value).abs() / s;
             if d >= worst.1 {
-                worst = (name.clone(), d);
+                worst = (p.name(), d);
             }
         }
         out.push(Alternative {
@@ -576,14 +585,14 @@ pub fn summary(c: &Correction, baseline: &Identification, fin: &Identification) 
             let ps: Vec<String> = c
                 .effect_parameters
                 .iter()
-                .filter_map(|n| fin.parameters.get(n))
+                .filter_map(|n| fin.parameters.of(n))
                 .map(|p| {
                     format!(
                         "{} = {:.4e}{} {}",
-                        p.name,
+                        p.name(),
                         p.value,
                         p.std.map_or(String::new(), |x| format!(" ± {x:.1e}")),
-                        p.unit
+                        p.unit()
                     )
                 })
                 .collect();
@@ -629,7 +638,7 @@ pub fn summary(c: &Correction, baseline: &Identification, fin: &Identification) 
             .0
             .iter()
             .filter_map(|b| {
-                let f = fin.parameters.get(&b.name)?;
+                let f = fin.parameters.of(&b.id)?;
                 Some(f.std? / b.std.filter(|x| *x > 0.0)?)
             })
             .collect();

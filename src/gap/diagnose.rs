@@ -62,7 +62,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let p = factor.rank;
     let beta = &factor.pinv * &y;
     let s2 = rss / (n - p).max(1) as f64;
-    let parameters = estimates(&input.baseline.names, &beta, &factor.cov, s2);
+    let parameters = estimates(&input.baseline.names(), &beta, &factor.cov, s2);
     let max_q = input
         .candidates
         .iter()
@@ -206,7 +206,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         .effects()
         .into_iter()
         .filter_map(|e| match e {
-            crate::effects::Effect::Backlash(axis) => Some(axis),
+            crate::parameter::Effect::Backlash(axis) => Some(axis),
             _ => None,
         })
         .collect();

@@ -17,7 +17,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use crate::effects::Effect;
+use crate::parameter::Effect;
 
 /// Cosine at or above which two candidates are reported as near-equivalent on this part.
 pub const EQUIVALENT_COS: f64 = 0.98;

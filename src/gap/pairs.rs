@@ -38,11 +38,11 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::effects::data::{Candidate, NamedColumns};
-use crate::effects::Effect;
 use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
 use crate::gap::which::{fit_candidate, CandidateFit, Context};
 use crate::numerics::stats;
 use crate::numerics::stats::CHI2_1_95;
+use crate::parameter::Effect;
 
 /// The accepted pair and its evidence.
 #[derive(Debug, Clone, Serialize)]
@@ -74,15 +74,10 @@ fn stacked(first: &Candidate, second: &Candidate) -> Candidate {
     m.columns_mut(0, a.matrix.ncols()).copy_from(&a.matrix);
     m.columns_mut(a.matrix.ncols(), b.matrix.ncols())
         .copy_from(&b.matrix);
-    let names = a
-        .names
-        .iter()
-        .map(|p| format!("{}.{p}", first.effect))
-        .chain(b.names.iter().map(|p| format!("{}.{p}", second.effect)))
-        .collect();
+    let params = a.params.iter().chain(&b.params).cloned().collect();
     Candidate {
         effect: first.effect,
-        signature: NamedColumns { names, matrix: m },
+        signature: NamedColumns { params, matrix: m },
     }
 }
 

@@ -5,13 +5,13 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use crate::effects::Effect;
 use crate::gap::equivalence::Equivalence;
 use crate::gap::location::{WhereEntry, WhereReport};
 use crate::gap::pairs::PairFit;
 use crate::gap::verdict::{Finding, Verdict};
 use crate::gap::which::{CandidateFit, Estimate};
 use crate::measurement::layout::{sentence as layout_sentence, Layout};
+use crate::parameter::Effect;
 
 /// The baseline fit (location errors only).
 #[derive(Debug, Clone, Serialize)]

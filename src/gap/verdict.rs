@@ -38,11 +38,11 @@ use std::fmt;
 
 use serde::{Serialize, Serializer};
 
-use crate::effects::Effect;
 use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
 use crate::gap::pairs::PairFit;
 use crate::gap::which::{CandidateFit, CurveShrink, Estimate};
 use crate::numerics::stats::CHI2_1_95;
+use crate::parameter::Effect;
 
 /// Family-wise false-alarm rate of the significance test.
 pub const ALPHA: f64 = 0.05;

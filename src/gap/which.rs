@@ -26,10 +26,10 @@ use serde::Serialize;
 
 use crate::effects::data::curve_sequences;
 use crate::effects::data::{Candidate, PointMeta};
-use crate::effects::Effect;
 use crate::gap::folds::FoldFactor;
 use crate::identify::solve::{max_abs, rms, Factor};
 use crate::numerics::stats;
+use crate::parameter::{Effect, ParamId};
 
 /// A fitted value with its standard deviation (units of the parameter).
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]
@@ -261,6 +261,21 @@ pub fn per_curve(
         .collect()
 }
 
+/// The names a candidate's fit reports its parameters by: the effect's own parameter names
+/// (`dR0`, `g`) for one effect, `<effect>.<parameter>` for a pair of effects ([`super::pairs`]).
+fn parameter_keys(c: &Candidate) -> Vec<String> {
+    let ids = &c.signature.params;
+    let one_effect = ids.iter().all(|id| id.effect() == Some(c.effect));
+    ids.iter()
+        .map(|id| match id {
+            ParamId::Effect { effect, index } if one_effect => {
+                effect.parameters()[*index].0.to_string()
+            }
+            _ => id.name(),
+        })
+        .collect()
+}
+
 /// Fits one candidate on top of the baseline.
 pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
     let n = ctx.y.len();
@@ -291,7 +306,8 @@ pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
         let rss = (&ctx.smooth.residual - us * th).norm_squared();
         (rss / (n - ctx.smooth.factor.rank - fs.rank).max(1) as f64).sqrt()
     });
-    let parameters = estimates(&c.signature.names, &theta, &fu.cov, s2);
+    let keys = parameter_keys(c);
+    let parameters = estimates(&keys, &theta, &fu.cov, s2);
     let (f, p_value) = if q > 0 && rss1 > 0.0 {
         let f = ((rss0 - rss1).max(0.0) / q as f64) / s2;
         (f, stats::f_sf(f, q as f64, dof1))
@@ -312,7 +328,7 @@ pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
     };
     let mut absorbed_per = BTreeMap::new();
     let mut detection_limit = BTreeMap::new();
-    for (j, name) in c.signature.names.iter().enumerate() {
+    for (j, name) in keys.iter().enumerate() {
         let un = u.column(j).norm();
         let sn = scale[j];
         absorbed_per.insert(

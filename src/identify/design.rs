@@ -1,4 +1,5 @@
-//! The linear model `y ≈ A·x`: a design matrix whose columns are named parameters with units.
+//! The linear model `y ≈ A·x`: a design matrix whose columns are parameters, each with its typed
+//! id (kind, name and unit: [`crate::parameter::ParamId`]).
 //!
 //! Row `i` of `A` is the machined defect at measured point `i` per unit of each parameter
 //! (paper 000 eq. 13-14: mm/rad for angles, mm/mm for `EX0B`), so `A·x` is the predicted deviation
@@ -6,42 +7,26 @@
 //! kinematics: the sensitivity stage (or a test, or the page) supplies the columns.
 
 use nalgebra::DMatrix;
-use serde::{Deserialize, Serialize};
 
 use super::IdentifyError;
-
-/// The 8 ISO 230-1 location errors of the B-head/C-table machine (paper 000 Table 3), in the
-/// column order of the sensitivity files.
-pub const ISO_LOCATION_ERRORS: [&str; 8] = [
-    "EC0Y", "EA0Z", "EB0Z", "EA0C", "EB0C", "EX0B", "EA0B", "EC0B",
-];
-
-/// Name of the tool-radius term (cli.md): mm, + = a larger tool, column = -1 (s-shape.md).
-pub const TOOL_RADIUS: &str = "dR";
-
 use crate::machine::location_errors::TYPICAL_LENGTH_MM;
-use crate::machine::ErrorParam;
+use crate::machine::{ErrorParam, Unit};
+use crate::parameter::ParamId;
 
-/// One unknown: its name, unit, and a typical magnitude used to judge whether the part shows it
-/// above the measurement noise (see [`crate::identify`] "weak directions").
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// One unknown: its id (kind, name and unit: [`ParamId`]) and a typical magnitude used to judge
+/// whether the part shows it above the measurement noise (see [`crate::identify`] "weak
+/// directions").
+#[derive(Debug, Clone, PartialEq)]
 pub struct Parameter {
-    /// Name as in files and APIs (ISO 230-1 without underscores, e.g. `EX0B`; `dR`).
-    pub name: String,
-    /// `"mm"` or `"rad"` (any text is accepted for user columns).
-    pub unit: String,
-    /// A typical size of this error on a real machine, in `unit` (> 0).
+    pub id: ParamId,
+    /// A typical size of this error on a real machine, in its unit (> 0).
     pub typical: f64,
 }
 
 impl Parameter {
-    /// A parameter with a unit and typical magnitude.
-    pub fn new(name: &str, unit: &str, typical: f64) -> Self {
-        Parameter {
-            name: name.to_string(),
-            unit: unit.to_string(),
-            typical,
-        }
+    /// A parameter with a typical magnitude (in its unit).
+    pub fn new(id: ParamId, typical: f64) -> Self {
+        Parameter { id, typical }
     }
 
     /// A machine error parameter: its unit and typical size are those of its kind
@@ -49,31 +34,50 @@ impl Parameter {
     /// mm, A/B/C in rad), set where the parameter is defined.
     pub fn of_error(e: &ErrorParam) -> Self {
         Parameter {
-            name: e.name(),
-            unit: e.unit(),
+            id: ParamId::Machine(*e),
             typical: e.typical(),
         }
     }
 
     /// The tool-radius term `dR` (mm, + = a larger tool).
     pub fn tool_radius() -> Self {
-        Parameter::new(TOOL_RADIUS, "mm", TYPICAL_LENGTH_MM)
+        Parameter {
+            id: ParamId::ToolRadius,
+            typical: TYPICAL_LENGTH_MM,
+        }
     }
 
-    /// A parameter named in text that comes in (a file's or a caller's column names): `dR`, a
-    /// machine error parameter ([`ErrorParam::parse`]: `EX0B`, `EA0C`, `EXX1`), or a column of
-    /// the lab's own, taken as a length in mm (typical 0.01 mm).
-    pub fn parse(name: &str) -> Self {
-        if name == TOOL_RADIUS {
-            return Parameter::tool_radius();
-        }
-        match ErrorParam::parse(name) {
-            Ok(e) => Parameter {
+    /// A column of the caller's own, with the name and unit it came in with (a file's header).
+    pub fn user(name: &str, unit: Unit, typical: f64) -> Self {
+        Parameter {
+            id: ParamId::User {
                 name: name.to_string(),
-                ..Parameter::of_error(&e)
+                unit,
             },
-            Err(_) => Parameter::new(name, "mm", TYPICAL_LENGTH_MM),
+            typical,
         }
+    }
+
+    /// A parameter named in text that comes in (a file's or a caller's column names): `dR` or
+    /// a machine error parameter ([`ParamId::parse`]: `EX0B`, `EA0C`, `EXX1`), with the typical
+    /// size of its kind ([`ParamId::typical`]). An effect's parameter has none of its own:
+    /// give it with [`Parameter::new`].
+    pub fn parse(name: &str) -> Result<Self, IdentifyError> {
+        let id = ParamId::parse(name)?;
+        let typical = id.typical().ok_or_else(|| IdentifyError::NoTypical {
+            name: name.to_string(),
+        })?;
+        Ok(Parameter { id, typical })
+    }
+
+    /// Its name ([`ParamId::name`]).
+    pub fn name(&self) -> String {
+        self.id.name()
+    }
+
+    /// Its unit ([`ParamId::unit`]).
+    pub fn unit(&self) -> Unit {
+        self.id.unit()
     }
 }
 
@@ -99,20 +103,21 @@ impl Design {
                 cols: matrix.ncols(),
             });
         }
-        for (j, p) in parameters.iter().enumerate() {
-            if p.name.trim().is_empty() {
+        let names: Vec<String> = parameters.iter().map(Parameter::name).collect();
+        for (j, (p, name)) in parameters.iter().zip(&names).enumerate() {
+            if name.trim().is_empty() {
                 return Err(IdentifyError::EmptyName { index: j });
             }
-            if let Some(k) = parameters[..j].iter().position(|q| q.name == p.name) {
+            if let Some(k) = names[..j].iter().position(|q| q == name) {
                 return Err(IdentifyError::DuplicateName {
-                    name: p.name.clone(),
+                    name: name.clone(),
                     first: k,
                     second: j,
                 });
             }
             if !(p.typical.is_finite() && p.typical > 0.0) {
                 return Err(IdentifyError::BadTypical {
-                    name: p.name.clone(),
+                    name: name.clone(),
                     value: p.typical,
                 });
             }
@@ -123,7 +128,7 @@ impl Design {
                 if !v.is_finite() {
                     return Err(IdentifyError::NonFiniteDesign {
                         row: i,
-                        column: parameters[j].name.clone(),
+                        column: names[j].clone(),
                         value: v,
                     });
                 }
@@ -132,8 +137,8 @@ impl Design {
         Ok(Design { parameters, matrix })
     }
 
-    /// From column-major data (`data[j*n + i]` = row i, column j), parameter names following
-    /// [`Parameter::parse`].
+    /// From column-major data (`data[j*n + i]` = row i, column j), parameter names as they come
+    /// in (a file's header), read by [`Parameter::parse`].
     pub fn from_column_major(
         names: &[&str],
         n: usize,
@@ -147,12 +152,15 @@ impl Design {
                 found: data.len(),
             });
         }
-        let params = names.iter().map(|s| Parameter::parse(s)).collect();
+        let params = names
+            .iter()
+            .map(|s| Parameter::parse(s))
+            .collect::<Result<_, _>>()?;
         Design::try_new(params, DMatrix::from_column_slice(n, p, data))
     }
 
     /// The design of a sensitivity matrix (paper 000 eq. 14 per unit error, Figure 19 columns);
-    /// units and typical magnitudes follow [`Parameter::parse`].
+    /// units and typical magnitudes those of its errors' kinds ([`Parameter::of_error`]).
     pub fn from_sensitivity(
         m: &crate::sensitivity::SensitivityMatrix,
     ) -> Result<Self, IdentifyError> {
@@ -201,23 +209,24 @@ impl Design {
     pub fn matrix(&self) -> &DMatrix<f64> {
         &self.matrix
     }
-    /// Column index of a parameter name.
-    pub fn index_of(&self, name: &str) -> Option<usize> {
-        self.parameters.iter().position(|p| p.name == name)
+    /// Column index of a parameter.
+    pub fn index_of(&self, id: &ParamId) -> Option<usize> {
+        self.parameters.iter().position(|p| p.id == *id)
     }
     /// `A·x` (mm).
     pub fn predict(&self, x: &[f64]) -> Vec<f64> {
         let xv = nalgebra::DVector::from_column_slice(x);
         (&self.matrix * xv).iter().copied().collect()
     }
-    /// Parameter vector from `(name, value)` pairs (others 0); unknown names are an error.
-    pub fn vector_from(&self, values: &[(String, f64)]) -> Result<Vec<f64>, IdentifyError> {
+    /// Parameter vector from `(id, value)` pairs (others 0); a parameter not in the design is
+    /// an error.
+    pub fn vector_from(&self, values: &[(ParamId, f64)]) -> Result<Vec<f64>, IdentifyError> {
         let mut x = vec![0.0; self.cols()];
-        for (name, v) in values {
+        for (id, v) in values {
             let j = self
-                .index_of(name)
+                .index_of(id)
                 .ok_or_else(|| IdentifyError::UnknownParameter {
-                    name: name.clone(),
+                    name: id.name(),
                     known: self.names().join(", "),
                 })?;
             x[j] = *v;
@@ -226,6 +235,10 @@ impl Design {
     }
     /// The parameter names.
     pub fn names(&self) -> Vec<String> {
-        self.parameters.iter().map(|p| p.name.clone()).collect()
+        self.parameters.iter().map(Parameter::name).collect()
+    }
+    /// The parameter ids, in column order.
+    pub fn ids(&self) -> Vec<ParamId> {
+        self.parameters.iter().map(|p| p.id.clone()).collect()
     }
 }

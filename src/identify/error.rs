@@ -66,6 +66,12 @@ pub enum IdentifyError {
     /// A parameter named in an input is not in the design.
     #[error("unknown parameter `{name}`; the design has {known}")]
     UnknownParameter { name: String, known: String },
+    /// A parameter named in text that comes in is not one.
+    #[error(transparent)]
+    Parameter(#[from] crate::parameter::ParameterError),
+    /// A parameter named in text has no typical size of its own (an effect's parameter).
+    #[error("`{name}` has no typical size of its own: give it with its column")]
+    NoTypical { name: String },
     /// The exact model given to the refinement failed or returned the wrong shape.
     #[error("exact model: {0}")]
     Model(#[from] crate::identify::refine::ModelError),

@@ -14,12 +14,14 @@
 //! effect's own parameters (`backlash_y.b`) are rows of the table too: they are not machine
 //! location errors, and the compensation of the location errors must not include them twice.
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use super::{Identification, Status};
+use crate::machine::{ErrorParam, Unit};
+use crate::parameter::{ParamId, ParamKind};
 
 /// One row of the compensation table.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CompensationEntry {
     /// Name as in files and APIs (`EX0B`, `dR`).
     pub name: String,
@@ -28,22 +30,25 @@ pub struct CompensationEntry {
     /// Identified value.
     pub value: f64,
     /// `mm` or `rad`.
-    pub unit: String,
+    pub unit: Unit,
     /// Standard deviation (same unit), `None` when not separable.
     pub std: Option<f64>,
     /// `identified`, `weak` or `not_separable`.
     pub status: Status,
     /// What the values were fitted with: effect ids joined by `+`, `structure` or `none`.
     pub fitted_with: String,
+    /// What the parameter is ([`ParamKind`]).
+    pub kind: ParamKind,
 }
 
-/// ISO 230-1 subscripted form of a location-error name: `EX0B` → `E_X0B`.
-pub fn iso_230_1_name(name: &str) -> String {
-    let b = name.as_bytes();
-    if b.len() == 4 && b[0] == b'E' && b'A' <= b[1] && b[1] <= b'Z' && b[2] == b'0' {
-        format!("E_{}", &name[1..])
-    } else {
-        name.to_string()
+/// ISO 230-1 subscripted form of a location error's name: `EX0B` → `E_X0B`; the name itself for
+/// any other parameter.
+pub fn iso_230_1_name(id: &ParamId) -> String {
+    match id {
+        ParamId::Machine(ErrorParam::Location(l)) => {
+            format!("E_{}0{}", l.component.letter(), l.axis.letter())
+        }
+        _ => id.name(),
     }
 }
 
@@ -53,13 +58,14 @@ pub fn compensation_table(id: &Identification, fitted_with: &str) -> Vec<Compens
         .0
         .iter()
         .map(|p| CompensationEntry {
-            name: p.name.clone(),
-            iso_230_1: iso_230_1_name(&p.name),
+            name: p.name(),
+            iso_230_1: iso_230_1_name(&p.id),
             value: p.value,
-            unit: p.unit.clone(),
+            unit: p.unit(),
             std: p.std,
             status: p.status,
             fitted_with: fitted_with.to_string(),
+            kind: p.id.kind(),
         })
         .collect()
 }
@@ -83,7 +89,7 @@ pub fn compensation_csv(id: &Identification, fitted_with: &str) -> String {
     s
 }
 
-/// JSON array `[{"name","iso_230_1","value","unit","std","status","fitted_with"}, ...]`.
+/// JSON array `[{"name","iso_230_1","value","unit","std","status","fitted_with","kind"}, ...]`.
 pub fn compensation_json(id: &Identification, fitted_with: &str) -> String {
     serde_json::to_string_pretty(&compensation_table(id, fitted_with))
         .unwrap_or_else(|_| "[]".to_string())

@@ -493,7 +493,7 @@ fn parameter_estimates(
     let mut params = Vec::with_capacity(design.cols());
     for (j, q) in design.parameters().iter().enumerate() {
         let sd = cov.map(|c| c[(j, j)].max(0.0).sqrt());
-        let status = status_of(&q.name, sd, q.typical, groups, weak_limit);
+        let status = status_of(&q.name(), sd, q.typical, groups, weak_limit);
         let std = if status == Status::NotSeparable {
             None
         } else {
@@ -501,10 +501,9 @@ fn parameter_estimates(
         };
         let t = std.filter(|s| *s > 0.0).map(|s| x[j].abs() / s);
         params.push(ParameterEstimate {
-            name: q.name.clone(),
+            id: q.id.clone(),
             value: x[j],
             std,
-            unit: q.unit.clone(),
             status,
             t,
             nonzero: status == Status::Identified && t.is_some_and(|t| t >= NONZERO_T),
@@ -703,6 +702,7 @@ fn notes(f: &Factored, p: usize, opts: &IdentifyOptions, noise: &NoiseSigma) -> 
 mod tests {
     use super::*;
     use crate::assert_near;
+    use crate::identify::Parameter;
 
     /// `σ = √(wss / (n − r))`: wss = 8 mm², 6 points, 2 solved directions → dof 4, σ = √2 mm
     /// (closed form, to rounding 1e-15 mm).
@@ -725,8 +725,13 @@ mod tests {
     /// residual sum of `y − ŷ = (0.5, −1, 2)` over the same weights is `4·0.25 + 1 + 4 = 6` mm².
     #[test]
     fn column_cosine_and_residual_sum_are_weighted() {
-        let design =
-            Design::from_column_major(&["A", "B"], 3, &[1.0, 1.0, 0.0, 1.0, 0.0, 0.0]).unwrap();
+        // Two columns of the caller's own (a user's names and unit).
+        let user = |n: &str| Parameter::user(n, crate::machine::Unit::Mm, 0.01);
+        let design = Design::try_new(
+            vec![user("A"), user("B")],
+            DMatrix::from_column_slice(3, 2, &[1.0, 1.0, 0.0, 1.0, 0.0, 0.0]),
+        )
+        .unwrap();
         let used = [0, 1, 2];
         let sqrt_w = [2.0, 1.0, 1.0];
         let c = column_correlations(&design, &used, &sqrt_w, 0.7);

@@ -5,7 +5,8 @@
 //! same code fits the 8 ISO 230-1 location errors, with or without the tool-radius term `dR`,
 //! or any extra effect column.
 //!
-//! - [`Design`], [`Parameter`]: the columns with names, units and typical magnitudes.
+//! - [`Design`], [`Parameter`]: the columns, each with its parameter's id (kind, name and unit:
+//!   [`crate::parameter::ParamId`]) and typical magnitude.
 //! - [`Observations`]: measured deviations `(measured - nominal)·N` (mm; + = material left).
 //! - [`identify`]: weighted least squares by truncated SVD of the column-scaled design
 //!   ([`ScaledSvd`]: numerical rank, condition indices), covariance, correlations, residual
@@ -33,7 +34,7 @@ mod scaled_svd;
 pub mod solve;
 mod stats;
 
-pub use design::{Design, Parameter, ISO_LOCATION_ERRORS, TOOL_RADIUS};
+pub use design::{Design, Parameter};
 pub use error::IdentifyError;
 pub use groups::{
     Combination, ConventionShare, Direction, Estimable, Group, GroupKind, CONVENTION_SHARE_FLOOR,

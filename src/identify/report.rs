@@ -5,6 +5,8 @@ use serde::{Deserialize, Serialize, Serializer};
 
 use super::groups::Group;
 use super::stats::ResidualStats;
+use crate::machine::Unit;
+use crate::parameter::ParamId;
 
 /// How well one parameter is determined.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -19,23 +21,31 @@ pub enum Status {
     NotSeparable,
 }
 
-/// One identified parameter.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// One identified parameter: its id (serialised as `kind`, `name`, `unit`), value and std.
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ParameterEstimate {
-    #[serde(skip)]
-    pub name: String,
-    /// Identified value (mm or rad).
+    #[serde(flatten)]
+    pub id: ParamId,
+    /// Identified value (in the parameter's unit: mm or rad).
     pub value: f64,
     /// Standard deviation (same unit); `None` (JSON null) when not separable or no dof.
     pub std: Option<f64>,
-    /// `mm` or `rad`.
-    pub unit: String,
     pub status: Status,
     /// `|value| / std`: below 2 the value is not distinguishable from 0 at 95 %.
     pub t: Option<f64>,
     /// Identified and clearly non-zero: `t ≥` [`NONZERO_T`] (the page's summary lists these).
-    #[serde(default)]
     pub nonzero: bool,
+}
+
+impl ParameterEstimate {
+    /// Its name ([`ParamId::name`]).
+    pub fn name(&self) -> String {
+        self.id.name()
+    }
+    /// Its unit ([`ParamId::unit`]).
+    pub fn unit(&self) -> Unit {
+        self.id.unit()
+    }
 }
 
 /// `t` at or above which an identified value is reported as clearly non-zero.
@@ -49,16 +59,20 @@ impl Serialize for ParameterMap {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let mut m = s.serialize_map(Some(self.0.len()))?;
         for p in &self.0 {
-            m.serialize_entry(&p.name, p)?;
+            m.serialize_entry(&p.name(), p)?;
         }
         m.end()
     }
 }
 
 impl ParameterMap {
-    /// The estimate of a parameter by name.
+    /// The estimate of a parameter by name (as a report or a caller writes it).
     pub fn get(&self, name: &str) -> Option<&ParameterEstimate> {
-        self.0.iter().find(|p| p.name == name)
+        self.0.iter().find(|p| p.id.name() == name)
+    }
+    /// The estimate of a parameter.
+    pub fn of(&self, id: &ParamId) -> Option<&ParameterEstimate> {
+        self.0.iter().find(|p| p.id == *id)
     }
 }
 
@@ -143,7 +157,11 @@ pub struct Identification {
 impl Identification {
     /// Parameter names in design order.
     pub fn names(&self) -> Vec<String> {
-        self.parameters.0.iter().map(|p| p.name.clone()).collect()
+        self.parameters
+            .0
+            .iter()
+            .map(ParameterEstimate::name)
+            .collect()
     }
     /// Values in design order.
     pub fn values(&self) -> Vec<f64> {

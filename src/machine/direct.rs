@@ -16,11 +16,12 @@ use serde::{Deserialize, Serialize};
 
 use super::chain::{AxisKind, AxisName, AxisValues, Chain, ChainAxis};
 use super::error_motion::{motion_name, parse_motion_name, ErrorMotion, MotionComponent};
-use super::location_errors::{kind_typical, kind_unit, LocationError};
+use super::location_errors::{kind_typical, LocationError};
 use super::transform::{
     affine_inverse, location_matrix, location_matrix_derivative, motion_matrix,
     motion_matrix_derivative, translation, Rigid,
 };
+use super::unit::Unit;
 use super::MachineError;
 
 /// The tool point (mm) and unit tool direction in the workpiece frame.
@@ -102,22 +103,23 @@ impl ErrorParam {
     }
     /// The unit of its value: a location error's (`mm` or `rad`); an error motion's coefficient
     /// of `q^k`: its component's unit per the axis's unit to the `k` (`mm/mm`, `rad/mm^2`, ...).
-    pub fn unit(&self) -> String {
+    pub fn unit(&self) -> Unit {
         match self {
-            ErrorParam::Location(l) => l.unit().to_string(),
+            ErrorParam::Location(l) => l.unit(),
+            ErrorParam::Motion {
+                component,
+                power: 0,
+                ..
+            } => Unit::of_kind(component.kind()),
             ErrorParam::Motion {
                 component,
                 axis,
                 power,
-            } => {
-                let c = kind_unit(component.kind());
-                let q = kind_unit(axis.kind());
-                match power {
-                    0 => c.to_string(),
-                    1 => format!("{c}/{q}"),
-                    k => format!("{c}/{q}^{k}"),
-                }
-            }
+            } => Unit::Per {
+                of: component.kind(),
+                per: axis.kind(),
+                power: *power,
+            },
         }
     }
     /// Whether its value is an angle (a rotary component, `rad`, or a coefficient of one).

@@ -23,6 +23,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::chain::{AxisKind, AxisName, Chain};
+use super::unit::Unit;
 use super::MachineError;
 
 /// Typical magnitude of an angular location error (rad): the unit of paper 000 Figure 19.
@@ -30,15 +31,8 @@ pub const TYPICAL_ANGLE_RAD: f64 = 1e-4;
 /// Typical magnitude of a linear location error or tool-radius error (mm): Figure 19's unit for `EX0B`.
 pub const TYPICAL_LENGTH_MM: f64 = 0.01;
 
-/// The unit of a displacement of an axis of this kind: `mm` (linear) or `rad` (rotary).
-pub fn kind_unit(kind: AxisKind) -> &'static str {
-    match kind {
-        AxisKind::Linear => "mm",
-        AxisKind::Rotary => "rad",
-    }
-}
-
-/// The typical size of a location error of this kind of component, in [`kind_unit`].
+/// The typical size of a location error of this kind of component, in its unit
+/// ([`Unit::of_kind`]).
 pub fn kind_typical(kind: AxisKind) -> f64 {
     match kind {
         AxisKind::Linear => TYPICAL_LENGTH_MM,
@@ -78,8 +72,8 @@ impl LocationError {
     }
     /// The unit of its value: `mm` for a position component (X, Y, Z), `rad` for an orientation
     /// (A, B, C).
-    pub fn unit(&self) -> &'static str {
-        kind_unit(self.component.kind())
+    pub fn unit(&self) -> Unit {
+        Unit::of_kind(self.component.kind())
     }
     /// Its typical size on a real machine, in its unit ([`TYPICAL_LENGTH_MM`],
     /// [`TYPICAL_ANGLE_RAD`]: paper 000 Figure 19's units).

@@ -17,6 +17,7 @@
 //!   branch choice (signed tilt, default, or tilt ≥ 0), and along a path with the outer rotary
 //!   angle unwrapped and interpolated linearly across singular zones (spec s-shape.md).
 //! - [`description`]: the JSON machine-description file read by `testpiece forward --machine`.
+//! - [`unit`]: the unit of a parameter's value ([`Unit`]), set where the parameter is defined.
 //!
 //! Units: mm and rad (the CLI converts degrees at its boundary). Positions are the tool point in
 //! the workpiece frame; the tool direction points from the tip up the tool, towards the spindle.
@@ -30,6 +31,7 @@ pub mod inverse;
 pub mod location_errors;
 pub mod rates;
 mod transform;
+pub mod unit;
 
 pub use chain::{AxisKind, AxisName, AxisValues, Chain, ChainAxis, Side};
 pub use description::MachineDescription;
@@ -37,6 +39,7 @@ pub use direct::{ErrorParam, MachineErrors, ToolPoint};
 pub use error_motion::{ErrorMotion, MotionComponent};
 pub use inverse::{Branch, PathSample};
 pub use location_errors::{LocationError, LocationStatus, MinimalSet};
+pub use unit::Unit;
 
 /// Failures of the machine stage, with the offending values.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

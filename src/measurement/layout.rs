@@ -18,9 +18,9 @@ use serde::Serialize;
 
 use crate::effects::data::curve_sequences;
 use crate::effects::data::PointMeta;
-use crate::effects::Effect;
 use crate::measurement::noise::LJUNG_BOX_LAGS;
 use crate::measurement::smooth_noise::SMOOTH_DEGREE;
+use crate::parameter::Effect;
 use crate::part::Curve;
 
 /// Fewest points on a curve for the full [`SMOOTH_DEGREE`] basis (`⌊m/2⌋ − 1 ≥ 5`).

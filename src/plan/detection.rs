@@ -22,14 +22,15 @@ use serde::ser::SerializeMap;
 use serde::{Serialize, Serializer};
 
 use crate::effects::builtin::PartModel;
-use crate::effects::Effect;
 use crate::identify::solve::Factor;
+use crate::machine::Unit;
+use crate::parameter::Effect;
 
 /// One parameter's limit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ParameterLimit {
     pub name: String,
-    pub unit: &'static str,
+    pub unit: Unit,
     /// Smallest visible size (unit of the parameter); `None` (null) when never visible.
     pub size: Option<f64>,
     /// Share of the signature's norm the baseline absorbs, `√(1 − ‖u‖²/‖s‖²)` (0..1).
@@ -80,7 +81,7 @@ pub fn detection_limits(model: &PartModel, sigma: f64, k: f64) -> DetectionLimit
                     .zip(c.effect.parameters())
                     .map(|((size, absorbed_fraction), (name, unit))| ParameterLimit {
                         name: name.to_string(),
-                        unit,
+                        unit: unit.clone(),
                         size,
                         absorbed_fraction,
                     })

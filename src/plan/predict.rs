@@ -14,17 +14,21 @@ use serde::Serialize;
 use super::PlanError;
 use crate::analysis::{design_at, AnalysisOptions};
 use crate::identify::{
-    identify, Group, Identification, IdentifyOptions, Observations, ParameterMap, Status,
+    identify, Group, Identification, IdentifyOptions, Observations, ParameterEstimate,
+    ParameterMap, Status,
 };
+use crate::parameter::ParamId;
 use crate::part::{MeasurementPoint, SShape};
 
-/// The predicted figures of one parameter (`{std, status, unit}`, as `identify` names them).
+/// The predicted figures of one parameter (`{std, status}` with its `kind`, `name` and `unit`,
+/// as `identify` names them).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PredictedParameter {
+    #[serde(flatten)]
+    pub id: ParamId,
     /// Predicted std (mm or rad); `None` (JSON null) when the parameter is not separable.
     pub std: Option<f64>,
     pub status: Status,
-    pub unit: String,
 }
 
 /// The prediction: per parameter, in design order, and the groups.
@@ -42,13 +46,13 @@ impl Prediction {
     pub fn of(id: &Identification) -> Self {
         let ParameterMap(ps) = &id.parameters;
         Prediction {
-            names: ps.iter().map(|p| p.name.clone()).collect(),
+            names: ps.iter().map(ParameterEstimate::name).collect(),
             parameters: ps
                 .iter()
                 .map(|p| PredictedParameter {
+                    id: p.id.clone(),
                     std: p.std,
                     status: p.status,
-                    unit: p.unit.clone(),
                 })
                 .collect(),
             groups: id.groups.clone(),

@@ -9,8 +9,11 @@ pub enum ProgramError {
     BadFeed(f64),
     #[error("L0 = {0} mm is not a positive finite length")]
     BadL0(f64),
-    #[error("inverse kinematics of surface {surface}: {message}")]
-    Kinematics { surface: char, message: String },
+    #[error("inverse kinematics of surface {surface}: {source}")]
+    Kinematics {
+        surface: char,
+        source: crate::sensitivity::SensitivityError,
+    },
     #[error(
         "surface {surface}: {positions} positions and the chord error is still {error:e} mm > \
          {tolerance} mm between u = {u0} and u = {u1} (the axes turn too fast there)"

@@ -279,7 +279,7 @@ impl Program {
                 let t = nalgebra::Vector3::from(q.tip) + nalgebra::Vector3::from(q.axis) * RETRACT;
                 solve_linear(&chain, &q.axes, &t).map_err(|e| ProgramError::Kinematics {
                     surface: letter,
-                    message: e.to_string(),
+                    source: e.into(),
                 })
             };
             let (first, last) = match (p.positions.first(), p.positions.last()) {

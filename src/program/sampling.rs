@@ -148,9 +148,9 @@ pub fn sample_surface(
     tolerance: f64,
 ) -> Result<(Vec<PathSample>, f64, f64), ProgramError> {
     let letter = if s == Surface::A { 'A' } else { 'B' };
-    let kin = |e: crate::sensitivity::SensitivityError| ProgramError::Kinematics {
+    let kin = |source: crate::sensitivity::SensitivityError| ProgramError::Kinematics {
         surface: letter,
-        message: e.to_string(),
+        source,
     };
     let mut us = crate::budget::synthetic::equal_steps(part, s, max_step(tolerance, TOOL_RADIUS));
     let mut last = (f64::NAN, 0.0, 1.0);

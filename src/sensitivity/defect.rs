@@ -150,11 +150,17 @@ fn point_poses(
 pub struct SensitivityMatrix {
     pub ids: Vec<usize>,
     pub curves: Vec<String>,
-    /// The parameters' names (`EC0Y`, ...) and the parameters themselves, in column order.
-    pub params: Vec<String>,
+    /// The parameters (`EC0Y`, ...: each with its unit, [`ErrorParam::unit`]), in column order.
     pub errors: Vec<ErrorParam>,
     /// `points × params`
     pub values: DMatrix<f64>,
+}
+
+impl SensitivityMatrix {
+    /// The parameters' names, in column order (for the reports).
+    pub fn names(&self) -> Vec<String> {
+        self.errors.iter().map(ErrorParam::name).collect()
+    }
 }
 
 /// The sensitivity matrix of the points (linear eq. 14 per unit error, mode of `opts`).
@@ -168,7 +174,6 @@ pub fn sensitivity_matrix(
     Ok(SensitivityMatrix {
         ids: points.iter().map(|p| p.id).collect(),
         curves: points.iter().map(|p| p.curve.name().to_string()).collect(),
-        params: params.iter().map(ErrorParam::name).collect(),
         errors: params,
         values,
     })

@@ -45,8 +45,7 @@ use serde::Serialize;
 
 use crate::machine::chain::{AxisKind, AxisName, Chain, Side};
 use crate::machine::location_errors::{minimal_set, LocationError, LocationStatus};
-use crate::machine::location_errors::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
-use crate::machine::{Branch, ErrorParam};
+use crate::machine::{Branch, ErrorParam, Unit};
 use crate::numerics::memo::Memo;
 use crate::numerics::terms::{dominant, magnitude_text, Term};
 use crate::part::{builtin_points, SShape};
@@ -78,10 +77,13 @@ pub enum ErrorStatus {
 /// One location error of the full ISO 230-1 list and what the part sees of it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ErrorRow {
+    /// The location error.
+    #[serde(skip)]
+    pub error: LocationError,
     /// `EY0C` …
     pub name: String,
-    /// `mm` or `rad`.
-    pub unit: &'static str,
+    /// `mm` or `rad` ([`LocationError::unit`]).
+    pub unit: Unit,
     pub status: ErrorStatus,
     /// RMS over the points of the deviation of one typical size of the error (mm per 1e-4 rad
     /// or per 0.01 mm).
@@ -129,9 +131,7 @@ impl ErrorSet {
         self.rows
             .iter()
             .filter(|r| r.status == ErrorStatus::Kept)
-            .map(|r| {
-                ErrorParam::Location(LocationError::parse(&r.name).expect("a row name parses"))
-            })
+            .map(|r| ErrorParam::Location(r.error))
             .collect()
     }
     /// The row of `name`.
@@ -174,11 +174,8 @@ pub fn full_list(chain: &Chain) -> Vec<(LocationError, u8)> {
     out
 }
 
-fn typical(e: &LocationError) -> (f64, &'static str) {
-    match e.component.kind() {
-        AxisKind::Linear => (TYPICAL_LENGTH_MM, "mm"),
-        AxisKind::Rotary => (TYPICAL_ANGLE_RAD, "rad"),
-    }
+fn typical(e: &LocationError) -> f64 {
+    e.typical()
 }
 
 /// The set of `chain` on the built-in design with `branch` (computed once per chain and branch
@@ -220,7 +217,7 @@ pub fn derive(
     // Columns in typical units (mm of deviation per typical size).
     let columns: Vec<DVector<f64>> = (0..list.len())
         .map(|k| {
-            let t = typical(&list[k].0).0;
+            let t = typical(&list[k].0);
             DVector::from_iterator(
                 n,
                 disp.iter()
@@ -255,7 +252,7 @@ pub fn derive(
             .iter()
             .map(|d| d.column(k).norm())
             .fold(0.0_f64, f64::max)
-            * typical(&e).0;
+            * typical(&e);
         let (combo, reason) = match status {
             ErrorStatus::Kept => (None, kept_reason(&e, group)),
             ErrorStatus::Invisible => (None, invisible_reason(moved)),
@@ -284,10 +281,10 @@ pub fn derive(
             basis.push(r / norm);
             kept.push(k);
         }
-        let (_, unit) = typical(&e);
         rows.push(ErrorRow {
+            error: e,
             name: e.name(),
-            unit,
+            unit: e.unit(),
             status,
             rms: total,
             unabsorbed: left,
@@ -321,12 +318,12 @@ fn equivalent(
     let a = DMatrix::from_columns(&kept.iter().map(|&j| columns[j].clone()).collect::<Vec<_>>());
     let c = a.svd(true, true).solve(&columns[k], 1e-12).ok()?;
     let scaled: Vec<f64> = c.iter().copied().collect();
-    let t0 = typical(&list[k].0).0;
+    let t0 = typical(&list[k].0);
     let mut terms = Vec::new();
     let mut text = format!("{} ≈", list[k].0.name());
     for (n, i) in dominant(&scaled, 0.99).into_iter().enumerate() {
         let j = kept[i];
-        let coefficient = c[i] * typical(&list[j].0).0 / t0;
+        let coefficient = c[i] * typical(&list[j].0) / t0;
         let name = list[j].0.name();
         let num = magnitude_text(coefficient.abs());
         let sign = match (n, coefficient < 0.0) {
@@ -377,11 +374,10 @@ fn conventions(
         let across: Vec<&ErrorRow> = rows
             .iter()
             .filter(|row| {
-                LocationError::parse(&row.name).is_ok_and(|e| {
-                    e.axis == r
-                        && e.component.kind() == AxisKind::Linear
-                        && e.component.direction() != r.direction()
-                })
+                let e = row.error;
+                e.axis == r
+                    && e.component.kind() == AxisKind::Linear
+                    && e.component.direction() != r.direction()
             })
             .collect();
         let what: Vec<String> = across

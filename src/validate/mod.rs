@@ -30,7 +30,10 @@ pub enum ValidateError {
         source: crate::analysis::AnalysisError,
     },
     #[error("case {case}: no diagnosis was made ({reason})")]
-    NotDiagnosed { case: usize, reason: String },
+    NotDiagnosed {
+        case: usize,
+        reason: crate::effects::GapError,
+    },
     #[error("the simulated machine: {0}")]
     Simulate(#[from] crate::simulate::SimulateError),
     #[error("no two candidates can be told apart on this part")]

@@ -14,11 +14,11 @@ use serde::Serialize;
 use super::single::{effect_parameters, machine_errors, ValidateOptions, ValidationModel};
 use super::ValidateError;
 use crate::effects::data::GapInput;
-use crate::effects::Effect;
 use crate::gap::diagnose::diagnose_with;
 use crate::gap::verdict::VerdictId;
 use crate::identify::solve::{hstack, Factor};
 use crate::numerics::random::Sampler;
+use crate::parameter::Effect;
 
 /// Smallest simulated `ρ` of each effect of a pair.
 pub const RATIO_MIN: f64 = 1.5;
@@ -83,7 +83,7 @@ pub fn validate_pairs(
     let mut results = Vec::with_capacity(opts.cases);
     for case in 0..opts.cases {
         let (c1, c2) = pairs[case % pairs.len()];
-        let xi = machine_errors(&model.baseline.names, opts, &mut rng);
+        let xi = machine_errors(&model.baseline.params, opts, &mut rng);
         let mut y = a * xi;
         let mut ratios = [0.0; 2];
         let mut parts = Vec::with_capacity(2);

@@ -66,7 +66,7 @@ pub fn answer_error(
         per_parameter: BTreeMap::new(),
     };
     for (p, &xi) in parameters.iter().zip(truth.iter()) {
-        let est = answer.parameters.get(&p.name);
+        let est = answer.parameters.of(&p.id);
         let signed = est.map_or(f64::NAN, |e| e.value - xi);
         let miss = if signed.is_finite() {
             signed.abs()
@@ -77,7 +77,7 @@ pub fn answer_error(
             .and_then(|e| e.std)
             .filter(|s| s.is_finite() && *s > 0.0);
         out.per_parameter.insert(
-            p.name.clone(),
+            p.name(),
             Miss {
                 error: signed / p.typical,
                 std: std.map(|s| s / p.typical),
@@ -87,7 +87,7 @@ pub fn answer_error(
         let typical = miss / p.typical;
         if out.largest_at.is_empty() || typical > out.largest_error {
             out.largest_error = typical;
-            out.largest_at = p.name.clone();
+            out.largest_at = p.name();
         }
         let within = std.is_some_and(|s| miss <= COVER_STD * s);
         out.covered += usize::from(within);
@@ -162,7 +162,10 @@ mod tests {
     /// given residual, so values and std are known in closed form.
     fn fit(y: &[f64]) -> (Vec<Parameter>, Identification) {
         let a = DMatrix::from_fn(5, 2, |i, j| if j == 0 { 1.0 } else { i as f64 - 2.0 });
-        let ps = vec![Parameter::parse("EA0B"), Parameter::parse("EX0B")];
+        let ps: Vec<Parameter> = ["EA0B", "EX0B"]
+            .iter()
+            .map(|n| Parameter::parse(n).unwrap())
+            .collect();
         let d = Design::try_new(ps.clone(), a).unwrap();
         let id = identify(
             &d,

@@ -39,7 +39,7 @@
 //! near-equivalent on this part ([`crate::gap::equivalence::EQUIVALENT_COS`]); exact hits are counted
 //! too. Cases are assigned in turn: each effect of the list, `none` twice, waviness, bump.
 
-use crate::machine::Branch;
+use crate::machine::{Branch, Unit};
 use std::collections::BTreeMap;
 
 use nalgebra::{DMatrix, DVector};
@@ -49,7 +49,6 @@ use super::parameter_error::{answer_error, AnswerError, ErrorComparison};
 use super::ValidateError;
 use crate::analysis::{fit_points, sensitivity_options, AnalysisOptions, Diagnosis};
 use crate::effects::data::{Candidate, NamedColumns, PointMeta};
-use crate::effects::Effect;
 use crate::effects::GapError;
 use crate::final_fit::correct::Basis;
 use crate::gap::diagnose::DiagnoseOptions;
@@ -59,6 +58,7 @@ use crate::gap::verdict::VerdictId;
 use crate::identify::solve::{hstack, rms, Factor};
 use crate::identify::{Design, Parameter};
 use crate::numerics::random::Sampler;
+use crate::parameter::{Effect, ParamId};
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::Mode;
 
@@ -410,13 +410,13 @@ pub type MachinePart<'a> = dyn Fn(&DVector<f64>) -> Result<DVector<f64>, GapErro
 /// The machine part of the built-in points by the exact eq. 12 defect of
 /// [`crate::simulate::ExactDefectModel`] (paper 000's machine, physical mode, signed B), for
 /// [`validate_with`].
-pub fn exact_machine_part(names: &[String]) -> Result<Box<MachinePart<'static>>, ValidateError> {
+pub fn exact_machine_part(params: &[ParamId]) -> Result<Box<MachinePart<'static>>, ValidateError> {
     use crate::identify::refine::ExactModel;
     let design = crate::simulate::builtin_design(Mode::Physical, Branch::Signed, false)?;
     let exact = crate::simulate::ExactDefectModel::new(&design, Mode::Physical, Branch::Signed)?;
-    let names = names.to_vec();
+    let params = params.to_vec();
     Ok(Box::new(move |xi: &DVector<f64>| {
-        let pairs: Vec<(String, f64)> = names.iter().cloned().zip(xi.iter().copied()).collect();
+        let pairs: Vec<(ParamId, f64)> = params.iter().cloned().zip(xi.iter().copied()).collect();
         let x = design.vector_from(&pairs)?;
         let d = exact.deviation(&x)?;
         Ok(DVector::from_vec(d))
@@ -442,13 +442,18 @@ pub fn exact_machine_part_on(
     }))
 }
 
-/// Random machine errors: angles uniform in ±`angle_range` rad, lengths (`EX…`, `EY…`, `EZ…`)
-/// in ±`length_range` mm.
-pub fn machine_errors(names: &[String], opts: &ValidateOptions, rng: &mut Sampler) -> DVector<f64> {
+/// Random machine errors: lengths (a parameter in mm: `EX0B`, `EY0C`, `EZ0B`) uniform in
+/// ±`length_range` mm, the others (angles) in ±`angle_range` rad; the unit is the parameter's
+/// ([`ParamId::unit`]).
+pub fn machine_errors(
+    params: &[ParamId],
+    opts: &ValidateOptions,
+    rng: &mut Sampler,
+) -> DVector<f64> {
     DVector::from_iterator(
-        names.len(),
-        names.iter().map(|name| {
-            let r = if name.starts_with("EX") || name.starts_with("EY") || name.starts_with("EZ") {
+        params.len(),
+        params.iter().map(|p| {
+            let r = if p.unit() == Unit::Mm {
                 opts.length_range
             } else {
                 opts.angle_range
@@ -506,7 +511,7 @@ pub fn validate_with(
     let mut results = Vec::with_capacity(opts.cases);
     for case in 0..opts.cases {
         let kind = case % kinds;
-        let xi = machine_errors(&model.baseline.names, opts, &mut rng);
+        let xi = machine_errors(&model.baseline.params, opts, &mut rng);
         let ratio = rng.log_uniform(opts.ratio_min, opts.ratio_max);
         let sigma = match opts.noise_max {
             Some(hi) => rng.uniform(opts.noise_sigma, hi),
@@ -519,8 +524,8 @@ pub fn validate_with(
                 let c = &model.candidates[kind];
                 let s = &c.signature.matrix;
                 let theta = effect_parameters(c, &base, ratio * limit, &mut rng);
-                for (j, name) in c.signature.names.iter().enumerate() {
-                    parameters.insert(name.clone(), theta[j]);
+                for (j, name) in c.effect.parameter_names().into_iter().enumerate() {
+                    parameters.insert(name, theta[j]);
                 }
                 (Truth::Effect(c.effect), s * &theta, Some(s.clone()))
             } else if kind < model.candidates.len() + 2 {
@@ -719,16 +724,13 @@ fn summarise(
             }
             let u = base.unabsorbed(&c.signature.matrix);
             let detection_limit = c
-                .signature
-                .names
-                .iter()
+                .effect
+                .parameter_names()
+                .into_iter()
                 .enumerate()
                 .map(|(j, name)| {
                     let un = u.column(j).norm() / n.sqrt();
-                    (
-                        name.clone(),
-                        if un > 0.0 { limit / un } else { f64::INFINITY },
-                    )
+                    (name, if un > 0.0 { limit / un } else { f64::INFINITY })
                 })
                 .collect();
             EffectRow {

@@ -14,8 +14,8 @@ use wasm_bindgen::prelude::*;
 
 use super::to_js;
 use crate::analysis::{sensitivity_options, AnalysisOptions};
-use crate::machine::location_errors::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
-use crate::machine::{AxisKind, Branch, Chain, ErrorParam};
+use crate::machine::{Branch, Chain, ErrorParam, Unit};
+use crate::parameter::ParamId;
 use crate::part::{builtin_points, SShape, Surface};
 use crate::sensitivity::cone_frustum::ConeFrustum;
 use crate::sensitivity::frenet::{coefficients, cone_frames, flank_frames, Coefficients, Cutting};
@@ -35,18 +35,11 @@ pub(crate) const SURFACES: [(&str, Surface, Cutting); 2] = [
     ("B", Surface::B, Cutting::Up),
 ];
 
-/// The unit of an error parameter and its typical size in that unit, from the kind of its
-/// component: a position error (X, Y, Z) is a length in mm, an orientation error (A, B, C) an
-/// angle in rad (an error motion's coefficient: per unit of `q^power`).
-fn unit_of(p: &ErrorParam) -> (&'static str, f64) {
-    let component = match p {
-        ErrorParam::Location(l) => l.component,
-        ErrorParam::Motion { component, .. } => *component,
-    };
-    match component.kind() {
-        AxisKind::Linear => ("mm", TYPICAL_LENGTH_MM),
-        AxisKind::Rotary => ("rad", TYPICAL_ANGLE_RAD),
-    }
+/// The unit of an error parameter and its typical size in that unit, both from the kind of its
+/// component ([`ErrorParam::unit`], [`ErrorParam::typical`]): a position error (X, Y, Z) is a
+/// length in mm, an orientation error (A, B, C) an angle in rad.
+fn unit_of(p: &ErrorParam) -> (Unit, f64) {
+    (p.unit(), p.typical())
 }
 
 fn set(o: &Object, k: &str, v: &JsValue) -> Result<(), JsError> {
@@ -55,15 +48,18 @@ fn set(o: &Object, k: &str, v: &JsValue) -> Result<(), JsError> {
         .map_err(|_| JsError::new(&format!("could not set `{k}` on the result")))
 }
 
-/// A sensitivity matrix as `{ids, curves, params, units, scales, rows, cols, values}`, `values`
-/// a Float64Array in column-major order (nalgebra's storage): `values[k * rows + i]` is the
-/// defect (mm) at point `ids[i]` per unit of `params[k]` (`units[k]`, drawn per `scales[k]`).
+/// A sensitivity matrix as `{ids, curves, params, parameters, units, scales, rows, cols,
+/// values}`, `values` a Float64Array in column-major order (nalgebra's storage):
+/// `values[k * rows + i]` is the defect (mm) at point `ids[i]` per unit of `params[k]`
+/// (`parameters[k]` its `{kind, name, unit}`, `units[k]` the same unit, drawn per `scales[k]`).
 fn matrix_to_js(m: &SensitivityMatrix, params: &[ErrorParam]) -> Result<JsValue, JsError> {
     let o = Object::new();
-    let (units, scales): (Vec<&str>, Vec<f64>) = params.iter().map(unit_of).unzip();
+    let (units, scales): (Vec<Unit>, Vec<f64>) = params.iter().map(unit_of).unzip();
+    let ids: Vec<ParamId> = m.errors.iter().map(|e| ParamId::Machine(*e)).collect();
     set(&o, "ids", &to_js(&m.ids)?)?;
     set(&o, "curves", &to_js(&m.curves)?)?;
-    set(&o, "params", &to_js(&m.params)?)?;
+    set(&o, "params", &to_js(&m.names())?)?;
+    set(&o, "parameters", &to_js(&ids)?)?;
     set(&o, "units", &to_js(&units)?)?;
     set(&o, "scales", &to_js(&scales)?)?;
     set(&o, "rows", &JsValue::from(m.values.nrows() as u32))?;
@@ -81,7 +77,7 @@ fn matrix_to_js(m: &SensitivityMatrix, params: &[ErrorParam]) -> Result<JsValue,
 struct ParamCoefficients {
     #[serde(flatten)]
     coefficients: Coefficients,
-    unit: &'static str,
+    unit: Unit,
     /// The typical size the page draws it at (in `unit`).
     scale: f64,
 }

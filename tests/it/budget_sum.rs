@@ -15,6 +15,7 @@ use testpiece::budget::{
     error_budget, path_deviation, read_cl, read_trace, BudgetOptions, TraceMachine,
 };
 use testpiece::machine::{AxisName, Branch};
+use testpiece::parameter::ParamId;
 use testpiece::part::{builtin_points, MeasurementPoint, SShape};
 use testpiece::sensitivity::Mode;
 use testpiece::simulate::{builtin_design, simulate_deviation};
@@ -60,12 +61,15 @@ fn the_budget_adds_up_to_the_simulated_measurement() {
         .iter()
         .map(|h| h.deviation)
         .collect();
-    let errors = vec![
-        ("EX0B".to_string(), 0.012),
-        ("EA0B".to_string(), 1.5e-4),
-        ("EC0Y".to_string(), -4e-5),
-        ("dR".to_string(), 0.008),
-    ];
+    let errors: Vec<(ParamId, f64)> = [
+        ("EX0B", 0.012),
+        ("EA0B", 1.5e-4),
+        ("EC0Y", -4e-5),
+        ("dR", 0.008),
+    ]
+    .iter()
+    .map(|(n, v)| (n.parse().unwrap(), *v))
+    .collect();
     let design = builtin_design(Mode::Physical, Branch::Signed, true).unwrap();
     let defect = simulate_deviation(&design, &errors, 0.0, 0).unwrap();
     let measured: Vec<f64> = d_trace.iter().zip(&defect).map(|(a, b)| a + b).collect();
@@ -87,7 +91,12 @@ fn the_budget_adds_up_to_the_simulated_measurement() {
         );
         assert!(p.cmm > 0.003 && p.cmm < 0.006, "MPE band {}", p.cmm);
     }
-    let dr = b.parameters.iter().find(|p| p.name == "dR").unwrap().value;
+    let dr = b
+        .parameters
+        .iter()
+        .find(|p| p.id.name() == "dR")
+        .unwrap()
+        .value;
     println!(
         "sum check: max |design+cam+nc+machine+tool+residual - simulated| = {sum_err:.3e} mm; max |residual| = {res:.3e} mm; max |machine+tool - simulated defect| = {mach:.3e} mm; dR = {dr:.6} mm; NC term {:.4}..{:.4} mm, CAM {:.4}..{:.4} mm",
         b.summary.nc.min, b.summary.nc.max, b.summary.cam.min, b.summary.cam.max
@@ -117,7 +126,7 @@ fn an_offset_path_shifts_the_budget_by_its_offset() {
     let cl0 = flank_path(&part, 0.5, "cl0");
     let cl1 = flank_path_with_allowance(&part, 0.5, delta, "cl1");
     let design = builtin_design(Mode::Physical, Branch::Signed, false).unwrap();
-    let defect = simulate_deviation(&design, &[("EA0B".into(), 1e-4)], 0.0, 0).unwrap();
+    let defect = simulate_deviation(&design, &[("EA0B".parse().unwrap(), 1e-4)], 0.0, 0).unwrap();
     let h0 = path_deviation(&cl0, &pts, TOOL_RADIUS).unwrap();
     let d0: Vec<f64> = h0.iter().map(|h| h.deviation).collect();
     // First order: the cylinder moved by v = δ·N(u,1) ⊥ its axis moves the entry of the line

@@ -52,7 +52,7 @@ fn every_fuzz_input_ends_cleanly() {
             match analyse(&b, &name, &o) {
                 Ok(a) => {
                     for p in &a.identification.parameters.0 {
-                        assert!(p.value.is_finite(), "{name}: {}", p.name);
+                        assert!(p.value.is_finite(), "{name}: {}", p.name());
                     }
                 }
                 Err(e) => assert!(!e.to_string().is_empty(), "{name}"),

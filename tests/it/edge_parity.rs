@@ -17,6 +17,7 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use testpiece::machine::Branch;
+use testpiece::parameter::ParamId;
 use testpiece::sensitivity::Mode;
 
 use crate::parity_common::*;
@@ -111,7 +112,7 @@ fn analysis_on_the_tilting_table() {
         ..AnalysisOptions::default()
     };
     let a = analyse(&bytes, name, &opts).unwrap();
-    let names: Vec<&str> = a.design.params.iter().map(String::as_str).collect();
+    let names = a.design.names();
     assert_eq!(
         names,
         ["EC0Y", "EA0Z", "EB0Z", "EA0C", "EX0B", "EC0B", "EY0C", "EZ0B"]
@@ -154,7 +155,10 @@ fn deterministic_for_a_given_seed() {
         .unwrap();
     assert_eq!(a, b);
 
-    let errors = vec![("EX0B".to_string(), 0.02), ("EA0B".to_string(), 1e-4)];
+    let errors: Vec<(ParamId, f64)> = vec![
+        ("EX0B".parse().unwrap(), 0.02),
+        ("EA0B".parse().unwrap(), 1e-4),
+    ];
     let d = builtin_design(Mode::Physical, Branch::Signed, false).unwrap();
     let y1 = simulate_deviation(&d, &errors, 0.0015, 42).unwrap();
     assert_eq!(y1, simulate_deviation(&d, &errors, 0.0015, 42).unwrap());

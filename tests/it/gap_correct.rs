@@ -55,7 +55,10 @@ fn the_examples_final_answers_are_within_two_std_of_their_keys() {
                     "{name} {fitted}: {} vs {t}, z = {z:.2}",
                     e.value
                 );
-                assert_eq!(a.design.params.last().map(String::as_str), Some(fitted));
+                assert_eq!(
+                    a.design.parameters.last().map(|p| p.name()).as_deref(),
+                    Some(fitted)
+                );
                 // the export's column and the page's words come from the core
                 let id = fitted.split('.').next().unwrap();
                 assert_eq!(a.correction.fitted_with, id);
@@ -117,7 +120,10 @@ fn unexplained_structure_widens_every_std() {
         report.summary
     );
     let design = Design::try_new(
-        base.names.iter().map(|n| Parameter::parse(n)).collect(),
+        base.params
+            .iter()
+            .map(|id| Parameter::new(id.clone(), id.typical().unwrap()))
+            .collect(),
         base.matrix.clone(),
     )
     .unwrap();
@@ -143,18 +149,18 @@ fn unexplained_structure_widens_every_std() {
     let s = fin.correction.structure.as_ref().unwrap();
     let white = identify(&design, &obs, &opts.clone().with_sigma(s.white_sigma)).unwrap();
     for p in &white.parameters.0 {
-        let f = fin.identification.parameters.get(&p.name).unwrap();
+        let f = fin.identification.parameters.get(&p.name()).unwrap();
         assert!(
             f.std.unwrap() >= p.std.unwrap() * (1.0 - 1e-9),
             "{}: {:?} < white {:?}",
-            p.name,
+            p.name(),
             f.std,
             p.std
         );
     }
     assert!(fin.correction.summary.contains("std include it"));
     // the truth is covered: |value − ξ| ≤ 2 std for every location error
-    for (j, name) in base.names.iter().enumerate() {
+    for (j, name) in base.names().iter().enumerate() {
         let f = fin.identification.parameters.get(name).unwrap();
         let z = (f.value - xi[j]) / f.std.unwrap();
         assert!(z.abs() <= 2.0, "{name}: z = {z:.2}");
@@ -215,16 +221,15 @@ fn effect_columns_enter_the_exact_model_linearly() {
         &AnalysisOptions::default(),
     )
     .unwrap();
-    let names: Vec<&str> = a.design.params.iter().map(String::as_str).collect();
-    let k = names.iter().position(|n| *n == "backlash_c.b").unwrap();
+    let names = a.design.names();
+    let k = names.iter().position(|n| n == "backlash_c.b").unwrap();
     let n = a.points.len();
     let data: Vec<f64> = a.design.columns.concat();
     let params: Vec<Parameter> = a
         .design
-        .params
+        .parameters
         .iter()
-        .zip(&a.design.units)
-        .map(|(p, u)| Parameter::new(p, u, 1e-4))
+        .map(|p| Parameter::new(p.clone(), 1e-4))
         .collect();
     let design =
         Design::try_new(params, DMatrix::from_column_slice(n, names.len(), &data)).unwrap();

@@ -36,16 +36,16 @@ fn a_large_part_with_structure_is_identified_with_the_grouped_covariance() {
     // The std include the structure: each is at least the baseline's (white-noise) std.
     for p in &a.identification.parameters.0 {
         let std = p.std.expect("a std");
-        assert!(std.is_finite() && std > 0.0, "{}", p.name);
+        assert!(std.is_finite() && std > 0.0, "{}", p.name());
         let base = a
             .baseline
             .identification
             .parameters
             .0
             .iter()
-            .find(|b| b.name == p.name)
+            .find(|b| b.name() == p.name())
             .and_then(|b| b.std)
             .unwrap();
-        assert!(std >= 0.9 * base, "{}: {std} < {base}", p.name);
+        assert!(std >= 0.9 * base, "{}: {std} < {base}", p.name());
     }
 }

@@ -5,10 +5,11 @@
 use crate::gap_common::*;
 use nalgebra::{Rotation3, Vector3};
 use testpiece::effects::builtin::{effect_points, point_meta};
-use testpiece::effects::effect::{Effect, SignatureModel};
+use testpiece::effects::effect::SignatureModel;
 use testpiece::effects::path_length::total_path_length;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::Chain;
+use testpiece::parameter::Effect;
 use testpiece::part::points::builtin_points;
 use testpiece::part::SShape;
 use testpiece::toolpath::envelope::builtin_envelope;
@@ -112,7 +113,7 @@ fn full_model_matches_the_reference() {
     use testpiece::effects::builtin::builtin_model;
     let m = builtin_model(&SShape::iso()).unwrap();
     let sens = table("sensitivity_physical.csv");
-    for (j, name) in m.baseline.names.iter().enumerate() {
+    for (j, name) in m.baseline.names().iter().enumerate() {
         let col: Vec<f64> = m.baseline.matrix.column(j).iter().copied().collect();
         let d = rel_max_diff(&col, &sens.numbers(name).unwrap());
         println!("baseline {name}: {d:.2e}");
@@ -120,7 +121,7 @@ fn full_model_matches_the_reference() {
     }
     let sig = table("effect_signatures.csv");
     for c in &m.candidates {
-        for (j, p) in c.signature.names.iter().enumerate() {
+        for (j, p) in c.effect.parameter_names().iter().enumerate() {
             let col: Vec<f64> = c.signature.matrix.column(j).iter().copied().collect();
             let d = rel_max_diff(&col, &sig.numbers(&format!("{}.{p}", c.effect)).unwrap());
             println!("{}.{p}: {d:.2e}", c.effect);

@@ -4,10 +4,11 @@
 use crate::gap_common::*;
 use nalgebra::DVector;
 use testpiece::assert_near;
-use testpiece::effects::{Effect, GapError};
+use testpiece::effects::GapError;
 use testpiece::gap::diagnose;
 use testpiece::gap::equivalence::cos_to_span;
 use testpiece::identify::solve::Factor;
+use testpiece::parameter::Effect;
 
 /// The examples are written with 6 decimals (0.5 µm rounding, ≈0.29 µm RMS): the residual RMS
 /// after the true effect is fitted agrees with the key's `achievable_rms_after` within 0.1 µm.

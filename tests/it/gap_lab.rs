@@ -196,7 +196,7 @@ fn other_layouts_are_diagnosed_and_described() {
 fn conditions_hold_their_floors_on_a_fixed_seed() {
     let part = SShape::iso();
     let model = ValidationModel::at(&part, &builtin_points(&part)).unwrap();
-    let exact = exact_machine_part(&model.baseline.names).unwrap();
+    let exact = exact_machine_part(&model.baseline.params).unwrap();
     // every condition but pairs (tests/it/gap_pairs.rs has their floor)
     let which: Vec<&str> = CONDITIONS.into_iter().filter(|c| *c != "pairs").collect();
     let r = run_conditions(&part, &model, exact.as_ref(), &which, 60, 1).unwrap();

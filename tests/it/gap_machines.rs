@@ -9,12 +9,12 @@ use testpiece::analysis::{analyse, diagnose_on_machine, AnalysisOptions};
 use testpiece::effects::builtin::{
     part_model, part_model_every_candidate, part_model_on, PartModel,
 };
-use testpiece::effects::Effect;
 use testpiece::gap::verdict::VerdictId;
 use testpiece::identify::solve::{rms, Factor};
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::AxisName;
 use testpiece::numerics::random::Sampler;
+use testpiece::parameter::Effect;
 use testpiece::part::SShape;
 use testpiece::sensitivity::SensitivityOptions;
 use testpiece::settings::MachineChoice;
@@ -68,7 +68,7 @@ fn the_tilting_table_model_is_its_own() {
         .all(|c| c.effect != Effect::CIndex));
     let tilt = every_candidate(MachineChoice::Paper002);
     let a = analyse_clean(MachineChoice::Paper002);
-    assert_eq!(tilt.baseline.names, a.identification.names());
+    assert_eq!(tilt.baseline.names(), a.identification.names());
     let p000 = part_model(&SShape::iso(), &builtin()).unwrap();
     assert!(tilt
         .candidates
@@ -118,7 +118,7 @@ fn a_tilting_table_part_is_diagnosed_on_its_own_axes() {
     let mut rng = Sampler::new(3);
     let x: Vec<f64> = m
         .baseline
-        .names
+        .names()
         .iter()
         .map(|n| if n == "EX0B" { 0.01 } else { 1e-4 } * rng.sign())
         .collect();
@@ -153,7 +153,7 @@ fn the_a_b_head_is_diagnosed_on_its_own_chain() {
     let d = a.diagnosis.into_report().unwrap();
     assert!(!d.summary.contains("Machine:"), "{}", d.summary);
     let m = model_of(MachineChoice::Paper001);
-    assert_eq!(m.baseline.names, a.identification.names());
+    assert_eq!(m.baseline.names(), a.identification.names());
     assert!(m
         .candidates
         .iter()
@@ -169,7 +169,7 @@ fn the_a_b_head_is_diagnosed_on_its_own_chain() {
     let mut rng = Sampler::new(5);
     let y: Vec<f64> = (0..sig.len())
         .map(|i| {
-            let loc: f64 = (0..m.baseline.names.len())
+            let loc: f64 = (0..m.baseline.names().len())
                 .map(|j| m.baseline.matrix[(i, j)] * 1e-4 * if j % 2 == 0 { 1.0 } else { -1.0 })
                 .sum();
             loc + b * sig[i] + sigma * rng.normal()

@@ -6,11 +6,12 @@ use crate::cli_common;
 
 use testpiece::analysis::{analyse, Analysis, AnalysisOptions};
 use testpiece::effects::builtin::builtin_model;
-use testpiece::effects::{Effect, GapInput};
+use testpiece::effects::GapInput;
 use testpiece::identify::monte_carlo::CmmMpe;
-use testpiece::machine::AxisName;
+use testpiece::machine::{AxisName, Unit};
 use testpiece::measurement::outliers::find_outliers;
 use testpiece::numerics::random::Sampler;
+use testpiece::parameter::Effect;
 use testpiece::part::SShape;
 use testpiece::settings::cmm_noise::noise_from_mpe;
 use testpiece::validate::{validate, ValidateOptions, ValidationModel};
@@ -124,10 +125,10 @@ fn simulated(seed: u64, effect: Option<(Effect, f64)>, sigma: f64) -> GapInput {
     let n = m.points.len();
     let xi: Vec<f64> = m
         .baseline
-        .names
+        .params
         .iter()
-        .map(|name| {
-            if name.starts_with("EX") {
+        .map(|p| {
+            if p.unit() == Unit::Mm {
                 rng.uniform(-0.03, 0.03)
             } else {
                 rng.uniform(-3e-4, 3e-4)

@@ -188,7 +188,7 @@ fn two_effects_file() -> String {
         let un = base.unabsorbed_vec(&s).norm() / 10.0;
         let v = 4.0 * 2.5 * SIGMA / un;
         y += s * v;
-        said.push(format!("{id} {} = {v:.4e}", c.signature.names[0]));
+        said.push(format!("{id} {} = {v:.4e}", c.effect.parameters()[0].0));
     }
     for v in y.iter_mut() {
         *v += SIGMA * rng.normal();

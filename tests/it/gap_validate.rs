@@ -126,7 +126,7 @@ fn verdicts_hold_on_the_exact_model() {
     let model = ValidationModel::at(&part, &testpiece::part::builtin_points(&part))
         .unwrap()
         .without_shapes();
-    let machine = exact_machine_part(&model.baseline.names).unwrap();
+    let machine = exact_machine_part(&model.baseline.params).unwrap();
     let o = ValidateOptions::default().with_cases(19).with_seed(1);
     let lin = validate(&model, &o).unwrap();
     let ex = validate_with(&model, &o, machine.as_ref()).unwrap();

@@ -15,8 +15,8 @@
 use crate::cli_common::{testpiece, testpiece_ok};
 use testpiece::analysis::AnalysisOptions;
 use testpiece::effects::builtin::location_equivalents_of;
-use testpiece::effects::Effect;
 use testpiece::machine::chain::PAPER000_L0;
+use testpiece::parameter::Effect;
 use testpiece::part::{builtin_points, SShape};
 use testpiece::sensitivity::SensitivityOptions;
 use testpiece::settings::MachineChoice;

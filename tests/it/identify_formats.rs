@@ -13,7 +13,7 @@ fn params(path: &std::path::Path) -> Vec<(String, f64)> {
         .parameters
         .0
         .iter()
-        .map(|p| (p.name.clone(), p.value))
+        .map(|p| (p.name().clone(), p.value))
         .collect()
 }
 

@@ -16,13 +16,13 @@ fn check_within(id: &Identification, key: &std::collections::BTreeMap<String, f6
             continue;
         }
         let sd = p.std.expect("std");
-        let z = (p.value - key[&p.name]) / sd;
+        let z = (p.value - key[&p.name()]) / sd;
         assert!(
             z.abs() <= k,
             "{}: {} vs key {} is {z:.2} std (std {sd})",
-            p.name,
+            p.name(),
             p.value,
-            key[&p.name]
+            key[&p.name()]
         );
     }
     for g in &id.groups {

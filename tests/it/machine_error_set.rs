@@ -203,7 +203,7 @@ fn tilting_table_parts_with_a_c_axis_offset_are_clean_and_the_offset_is_identifi
             .parameters
             .0
             .iter()
-            .find(|p| p.name == "EY0C")
+            .find(|p| p.name() == "EY0C")
             .unwrap();
         let z = (p.value - ey0c) / p.std.unwrap();
         println!(

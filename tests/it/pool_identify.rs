@@ -87,9 +87,9 @@ fn a_posteriori_std_shrinks_roughly_by_root_two() {
     let s_pool = pooled.identification.sigma.unwrap();
     assert!((s_pool / NOISE - 1.0).abs() < 0.2, "σ pooled {s_pool}");
     for p in &pooled.identification.parameters.0 {
-        if let (Some(s), Some(s1)) = (p.std, sa.parameters.get(&p.name).unwrap().std) {
+        if let (Some(s), Some(s1)) = (p.std, sa.parameters.get(&p.name()).unwrap().std) {
             let r = s / s1;
-            assert!((0.55..0.9).contains(&r), "{}: ratio {r}", p.name);
+            assert!((0.55..0.9).contains(&r), "{}: ratio {r}", p.name());
         }
     }
 }

@@ -5,6 +5,7 @@
 use crate::pool_common::{part_csv, NOISE, TRUTH};
 use testpiece::analysis::AnalysisOptions;
 use testpiece::identify::refine::ExactModel;
+use testpiece::machine::Unit;
 use testpiece::pool::{identify_pooled, pool_part, stack, PoolOptions, PooledExactModel};
 use testpiece::tolerance::FD_REL;
 
@@ -117,7 +118,7 @@ fn pooled_model_jacobian_matches_finite_differences() {
     x.extend([0.01, 2e-4, 0.005, -0.004, -0.02, -1e-4, 0.003, 0.002]);
     let j = m.jacobian(&x).unwrap();
     for c in 0..x.len() {
-        let h = if design.parameters()[c].unit == "rad" {
+        let h = if design.parameters()[c].unit() == Unit::Rad {
             1e-7
         } else {
             1e-5

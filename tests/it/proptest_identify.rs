@@ -26,8 +26,8 @@ proptest! {
     fn noiseless_simulated_parts_are_recovered(x in xi_strategy()) {
       for paper in [false, true] {
         let mode = if paper { Mode::Paper } else { Mode::Physical };
-        let errors: Vec<(String, f64)> =
-            NAMES.iter().zip(&x).map(|(n, v)| (n.to_string(), *v)).collect();
+        let errors: Vec<(testpiece::parameter::ParamId, f64)> =
+            NAMES.iter().zip(&x).map(|(n, v)| (n.parse().unwrap(), *v)).collect();
         let y = simulate_exact(mode, testpiece::machine::Branch::Signed, &errors, 0.0, 0).unwrap();
         let text = csv_of(&builtin(), &y);
         // The baseline identification (`--effects none`): a noiseless part is no test of the
@@ -61,10 +61,10 @@ proptest! {
         let size = (0..8).map(|j| x[j].abs() / typical(j)).fold(0.0, f64::max);
         let k = if paper { 1e-3 + 0.3 * size } else { 1e-5 };
         for (j, p) in id.parameters.0.iter().enumerate() {
-            prop_assert_eq!(&p.name, NAMES[j]);
+            prop_assert_eq!(&p.name(), NAMES[j]);
             if p.status != Status::NotSeparable {
                 let bias = (p.value - x[j]).abs() / typical(j);
-                prop_assert!(bias < k, "{} {}: {} vs {}", mode.name(), p.name, p.value, x[j]);
+                prop_assert!(bias < k, "{} {}: {} vs {}", mode.name(), p.name(), p.value, x[j]);
             }
         }
         if paper {

@@ -56,7 +56,7 @@ fn check_matrix(file: &str, mode: Mode, branch: Branch) {
         .with_branch(branch);
     let m = sensitivity_matrix(&part, &pts, &opts).unwrap();
     let (h, rows) = read(file);
-    assert_eq!(&h[2..], m.params.as_slice());
+    assert_eq!(&h[2..], m.names().as_slice());
     assert_eq!(rows.len(), m.values.nrows());
     let mut worst: f64 = 0.0;
     for k in 0..8 {
@@ -71,7 +71,7 @@ fn check_matrix(file: &str, mode: Mode, branch: Branch) {
                 rel <= SENSITIVITY_REL,
                 "{file} point {} {}: {} vs {want} (rel {rel:e})",
                 m.ids[i],
-                m.params[k],
+                m.names()[k],
                 m.values[(i, k)]
             );
         }

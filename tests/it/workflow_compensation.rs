@@ -12,6 +12,7 @@ use testpiece::analysis::{analyse, AnalysisOptions};
 use testpiece::compensation::compensation;
 use testpiece::machine::AxisName;
 use testpiece::machine::Branch;
+use testpiece::parameter::ParamId;
 use testpiece::sensitivity::Mode;
 use testpiece::simulate::simulate_exact;
 use testpiece::tolerance::COMPENSATED_PART_MM as AFTER_MM;
@@ -48,7 +49,7 @@ fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
         "the 8 location errors of paper 000's machine"
     );
     // The compensated machine keeps true − identified.
-    let residual_errors: Vec<(String, f64)> = c
+    let residual_errors: Vec<(ParamId, f64)> = c
         .entered
         .iter()
         .map(|e| {
@@ -56,10 +57,13 @@ fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
                 .iter()
                 .find(|(n, _)| *n == e.name)
                 .map_or(0.0, |t| t.1);
-            (e.name.clone(), t - e.value)
+            (e.name.parse().unwrap(), t - e.value)
         })
         .collect();
-    let true_errors: Vec<(String, f64)> = truth.iter().map(|(n, v)| (n.to_string(), *v)).collect();
+    let true_errors: Vec<(ParamId, f64)> = truth
+        .iter()
+        .map(|(n, v)| (n.parse().unwrap(), *v))
+        .collect();
     let exact_true = simulate_exact(Mode::Physical, Branch::Signed, &true_errors, 0.0, 0).unwrap();
     let exact_comp =
         simulate_exact(Mode::Physical, Branch::Signed, &residual_errors, 0.0, 0).unwrap();

@@ -63,7 +63,7 @@ fn predicted_std_equals_the_identification_on_a_part_measured_with_the_plan() {
         for (name, pred) in &p.parameters.0 {
             let got = id.parameters.get(name).unwrap();
             assert_eq!(got.status, pred.status, "{name}");
-            assert_eq!(got.unit, pred.unit, "{name}");
+            assert_eq!(got.unit(), pred.id.unit(), "{name}");
             match (got.std, pred.std) {
                 (Some(s), Some(q)) => {
                     assert!(

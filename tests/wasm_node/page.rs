@@ -84,6 +84,10 @@ fn curves_carry_each_parameter_with_its_unit() {
         };
         assert_eq!(units[k], unit, "{}", params[k]);
         assert_eq!(scales[k], scale, "{}", params[k]);
+        // Each parameter also crosses as its id: kind, name and unit.
+        let id = &get("parameters")[k];
+        assert_eq!(id["kind"], "location_error");
+        assert_eq!((&id["name"], &id["unit"]), (&params[k], &units[k]));
     }
     let path: serde_json::Value = serde_wasm_bindgen::from_value(
         js_sys::Reflect::get(&js, &JsValue::from_str("path")).unwrap(),

@@ -115,7 +115,7 @@ fn print_text(p: &Plan) {
         let status = serde_json::to_value(q.status).unwrap_or_default();
         println!(
             "{name:<8} {std:>14} {:>5}  {}",
-            q.unit,
+            q.id.unit(),
             status.as_str().unwrap_or("")
         );
     }

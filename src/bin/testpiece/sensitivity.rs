@@ -1,6 +1,7 @@
 //! `testpiece sensitivity [--mode physical|paper] [--branch signed|positive] [--json]`
 
 use testpiece::machine::Branch;
+use testpiece::parameter::ParamId;
 use testpiece::part::{builtin_points, SShape};
 use testpiece::sensitivity::{sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions};
 
@@ -42,32 +43,36 @@ pub fn run(a: Args) -> Result<(), String> {
     }
 }
 
-/// `{mode, branch, params, points: [{id, curve, <param>: value, ...}]}`.
+/// `{mode, branch, params, parameters: [{kind, name, unit}], points: [{id, curve, <param>:
+/// value, ...}]}`.
 fn json(m: &SensitivityMatrix, mode: Mode, branch: Branch) -> serde_json::Value {
+    let names = m.names();
     let rows: Vec<_> = (0..m.ids.len())
         .map(|i| {
             let mut o = serde_json::Map::new();
             o.insert("id".into(), m.ids[i].into());
             o.insert("curve".into(), m.curves[i].clone().into());
-            for (k, p) in m.params.iter().enumerate() {
+            for (k, p) in names.iter().enumerate() {
                 o.insert(p.clone(), m.values[(i, k)].into());
             }
             serde_json::Value::Object(o)
         })
         .collect();
+    let parameters: Vec<ParamId> = m.errors.iter().map(|e| ParamId::Machine(*e)).collect();
     serde_json::json!({
         "mode": mode.name(),
         "branch": branch_name(branch),
-        "params": m.params,
+        "params": names,
+        "parameters": parameters,
         "points": rows,
     })
 }
 
 /// `id,curve,<param>,...`, one row per point.
 fn print_csv(m: &SensitivityMatrix) {
-    println!("id,curve,{}", m.params.join(","));
+    println!("id,curve,{}", m.names().join(","));
     for i in 0..m.ids.len() {
-        let vals: Vec<String> = (0..m.params.len())
+        let vals: Vec<String> = (0..m.errors.len())
             .map(|k| m.values[(i, k)].to_string())
             .collect();
         println!("{},{},{}", m.ids[i], m.curves[i], vals.join(","));

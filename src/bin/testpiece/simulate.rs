@@ -2,10 +2,10 @@
 
 use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::effects::builtin::part_model_on;
-use testpiece::effects::Effect;
-use testpiece::identify::ISO_LOCATION_ERRORS;
 use testpiece::machine::chain::PAPER000_L0;
-use testpiece::machine::Branch;
+use testpiece::machine::location_errors::minimal_set;
+use testpiece::machine::{Branch, ErrorParam};
+use testpiece::parameter::{Effect, ParamId};
 use testpiece::part::{builtin_points, SShape};
 use testpiece::sensitivity::error_set::full_list;
 use testpiece::sensitivity::{Mode, SensitivityOptions};
@@ -99,8 +99,8 @@ pub fn run(a: Args) -> Result<(), String> {
         return Err("--errors is required, e.g. --errors EX0B=0.03,EA0B=3e-4".into());
     };
     let l0 = positive_l0(a.l0)?;
-    check_known(errs, a.machine, l0)?;
-    let dev = machine_part(&a, errs, l0)?;
+    let errs = ids_on(errs, a.machine, l0)?;
+    let dev = machine_part(&a, &errs, l0)?;
     let part = SShape::iso();
     let pts = builtin_points(&part);
     let dev: Vec<f64> = match &a.effect {
@@ -140,29 +140,44 @@ impl Args {
     }
 }
 
-/// Every error must be one of the chain's ISO 230-1 location errors or dR.
-fn check_known(errs: &[(String, f64)], machine: MachineChoice, l0: f64) -> Result<(), String> {
-    let full: Vec<String> = full_list(&machine.chain(l0))
+/// The errors' names read into ids: each must be one of the chain's ISO 230-1 location errors
+/// or dR.
+fn ids_on(
+    errs: &[(String, f64)],
+    machine: MachineChoice,
+    l0: f64,
+) -> Result<Vec<(ParamId, f64)>, String> {
+    let full: Vec<ParamId> = full_list(&machine.chain(l0))
         .iter()
-        .map(|(e, _)| e.name())
+        .map(|(e, _)| ParamId::Machine(ErrorParam::Location(*e)))
         .collect();
-    match errs.iter().find(|(n, _)| n != "dR" && !full.contains(n)) {
-        Some((name, _)) => Err(format!(
-            "--errors: unknown error `{name}` on {}; known: {}, dR",
-            machine.describe(),
-            full.join(", ")
-        )),
-        None => Ok(()),
-    }
+    errs.iter()
+        .map(|(name, v)| match ParamId::parse(name) {
+            Ok(id) if id == ParamId::ToolRadius || full.contains(&id) => Ok((id, *v)),
+            _ => Err(format!(
+                "--errors: unknown error `{name}` on {}; known: {}, dR",
+                machine.describe(),
+                full.iter()
+                    .map(ParamId::name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        })
+        .collect()
 }
 
 /// The machine's part: paper 000 with its eight errors keeps the design-based path (its parts
 /// bit for bit, exact or --linear); any other machine or error, the exact defect on the chain.
-fn machine_part(a: &Args, errs: &[(String, f64)], l0: f64) -> Result<Vec<f64>, String> {
+fn machine_part(a: &Args, errs: &[(ParamId, f64)], l0: f64) -> Result<Vec<f64>, String> {
+    let eight: Vec<ParamId> = minimal_set(&MachineChoice::Paper000.chain(l0))
+        .free()
+        .into_iter()
+        .map(|e| ParamId::Machine(ErrorParam::Location(e)))
+        .collect();
     let on_chain = a.machine != MachineChoice::Paper000
         || errs
             .iter()
-            .any(|(n, _)| n != "dR" && !ISO_LOCATION_ERRORS.contains(&n.as_str()));
+            .any(|(id, _)| *id != ParamId::ToolRadius && !eight.contains(id));
     let (mode, branch) = (a.mode, a.branch);
     if on_chain {
         if a.linear {
@@ -170,7 +185,7 @@ fn machine_part(a: &Args, errs: &[(String, f64)], l0: f64) -> Result<Vec<f64>, S
         }
         simulate_on(&a.chain_options(l0), errs, a.noise, a.seed)
     } else if a.linear {
-        let tool_radius = errs.iter().any(|(n, _)| n == "dR");
+        let tool_radius = errs.iter().any(|(id, _)| *id == ParamId::ToolRadius);
         let design = builtin_design(mode, branch, tool_radius).map_err(|e| e.to_string())?;
         simulate_deviation(&design, errs, a.noise, a.seed)
     } else {

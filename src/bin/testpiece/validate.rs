@@ -202,7 +202,7 @@ pub fn run(a: Args) -> Result<(), String> {
         ValidationModel::on(&part, &builtin_points(&part), &settings).map_err(|e| e.to_string())?;
     if let Some(Conditions(which)) = &a.conditions {
         let which: Vec<&str> = which.iter().map(String::as_str).collect();
-        let exact = exact_machine_part(&model.baseline.names).map_err(|e| e.to_string())?;
+        let exact = exact_machine_part(&model.baseline.params).map_err(|e| e.to_string())?;
         let r = run_conditions(&part, &model, exact.as_ref(), &which, cases, a.seed)
             .map_err(|e| e.to_string())?;
         return show(a.json, &r, conditions_table);
@@ -219,7 +219,7 @@ pub fn run(a: Args) -> Result<(), String> {
     }
     let r = if a.exact {
         let exact_part = if a.machine == MachineChoice::Paper000 {
-            exact_machine_part(&model.baseline.names)
+            exact_machine_part(&model.baseline.params)
         } else {
             exact_machine_part_on(&model, builtin_points(&part), &sens)
         }

@@ -16,7 +16,7 @@
 
 use serde::Serialize;
 
-use crate::effects::Effect;
+use crate::parameter::Effect;
 use crate::machine::AxisName;
 use crate::validate::physics::Physics;
 

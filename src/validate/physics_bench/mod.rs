@@ -28,7 +28,7 @@ use crate::machine::chain::PAPER000_L0;
 use crate::machine::ErrorParam;
 use crate::numerics::random::Sampler;
 use crate::part::{builtin_points, SShape};
-use crate::validate::physics::{Generator, Kind, PhysicsError, Workshop};
+use crate::validate::physics::{Generator, Kind, Workshop};
 use crate::validate::{ValidateError, ValidationModel};
 
 use expected::Catalogue;
@@ -71,12 +71,16 @@ impl PhysicsBench {
         let part = SShape::iso();
         let points = builtin_points(&part);
         let model = ValidationModel::at(&part, &points)?.without_shapes();
-        let location = model
+        // the baseline's columns are the machine's location errors
+        let location: Vec<ErrorParam> = model
             .baseline
-            .names
+            .params
             .iter()
-            .map(|n| ErrorParam::parse(n).map_err(PhysicsError::from))
-            .collect::<Result<Vec<_>, _>>()?;
+            .filter_map(|p| match p {
+                crate::parameter::ParamId::Machine(e) => Some(e.clone()),
+                _ => None,
+            })
+            .collect();
         Ok(Self {
             workshop: Workshop::new(&part, &points, PAPER000_L0, STEP_MM)?,
             model,

@@ -19,7 +19,7 @@ use serde::Serialize;
 
 use crate::analysis::{analyse_parts, fit_points, AnalysisOptions, Diagnosis};
 use crate::cmm::write::{canonical_csv, Precision};
-use crate::effects::Effect;
+use crate::parameter::Effect;
 use crate::gap::verdict::VerdictId;
 use crate::identify::solve::{hstack, rms, Factor};
 use crate::identify::{Design, Identification};
@@ -217,7 +217,7 @@ impl<'a> Scorer<'a> {
             .map(|(p, t)| {
                 a.answer
                     .parameters
-                    .get(&p.name)
+                    .get(&p.name())
                     .and_then(|e| e.std)
                     .map_or(f64::NAN, |s| s / t)
             })

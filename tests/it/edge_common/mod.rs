@@ -38,9 +38,9 @@ pub const TYPICAL: [(&str, f64); 8] = [
 ];
 
 /// `TYPICAL` scaled by `k`, as `(name, value)` pairs.
-pub fn typical(k: f64) -> Vec<(String, f64)> {
+pub fn typical(k: f64) -> Vec<(testpiece::parameter::ParamId, f64)> {
     TYPICAL
         .iter()
-        .map(|(n, v)| (n.to_string(), v * k))
+        .map(|(n, v)| (n.parse().unwrap(), v * k))
         .collect()
 }

@@ -8,6 +8,7 @@
 use nalgebra::DMatrix;
 
 use testpiece::effects::{Candidate, NamedColumns};
+use testpiece::parameter::ParamId;
 
 /// Why a table could not be read (test support: the message is what a failing test prints).
 pub type TableError = String;
@@ -87,8 +88,13 @@ impl Table {
             .collect::<Result<_, _>>()?;
         let n = self.rows.len();
         let m = DMatrix::from_fn(n, cols.len(), |i, j| cols[j][i]);
-        NamedColumns::try_new(names.iter().map(|s| s.to_string()).collect(), m)
-            .map_err(|e| e.to_string())
+        // The header's names are read into parameter ids (text that comes in).
+        let params = names
+            .iter()
+            .map(|s| s.parse::<ParamId>())
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| e.to_string())?;
+        NamedColumns::try_new(params, m).map_err(|e| e.to_string())
     }
 
     /// Candidates from every `<effect>.<param>` column, grouped by effect in header order.
@@ -108,8 +114,7 @@ impl Table {
             .map(|(effect, params)| {
                 let full: Vec<String> = params.iter().map(|p| format!("{effect}.{p}")).collect();
                 let refs: Vec<&str> = full.iter().map(String::as_str).collect();
-                let mut cols = self.columns(&refs)?;
-                cols.names = params;
+                let cols = self.columns(&refs)?;
                 Ok(Candidate {
                     effect: effect.parse().map_err(|e| format!("{e}"))?,
                     signature: cols,

@@ -90,3 +90,11 @@ pub fn xi_strategy() -> impl proptest::strategy::Strategy<Value = Vec<f64>> {
             .collect()
     })
 }
+
+/// `(name, value)` pairs as tests write them, read into parameter ids (the text that comes in).
+pub fn ids<S: AsRef<str>>(named: &[(S, f64)]) -> Vec<(testpiece::parameter::ParamId, f64)> {
+    named
+        .iter()
+        .map(|(n, v)| (n.as_ref().parse().unwrap(), *v))
+        .collect()
+}

@@ -24,7 +24,11 @@ pub const NOISE: f64 = 0.0015;
 /// A canonical CSV part (`id,curve,x,y,z,nx,ny,nz,deviation`, shortest round-trip numbers):
 /// exact eq. 12 for `errors` at the 100 built-in points plus N(0, NOISE²) noise with `seed`.
 pub fn part_csv(errors: &[(String, f64)], seed: u64) -> String {
-    let dev = simulate_exact(Mode::Physical, Branch::Signed, errors, NOISE, seed).unwrap();
+    let errors: Vec<(testpiece::parameter::ParamId, f64)> = errors
+        .iter()
+        .map(|(n, v)| (n.parse().unwrap(), *v))
+        .collect();
+    let dev = simulate_exact(Mode::Physical, Branch::Signed, &errors, NOISE, seed).unwrap();
     let points = builtin_points(&SShape::iso());
     canonical_csv(points.iter().zip(dev), Precision::Shortest, None)
 }

@@ -72,7 +72,13 @@ fn print_text(r: &PooledIdentification) {
     }
     for p in &id.parameters.0 {
         let std = p.std.map_or("-".to_string(), |s| format!("{s:.3e}"));
-        println!("{:<8} {:>14.6e} {:>12} {}", p.name, p.value, std, p.unit);
+        println!(
+            "{:<8} {:>14.6e} {:>12} {}",
+            p.name(),
+            p.value,
+            std,
+            p.unit()
+        );
     }
     for g in &id.groups {
         println!("group: {}", g.explanation);

@@ -60,7 +60,10 @@ fn parameters(id: &Identification) {
         };
         println!(
             "{:<6} {:>14.6e} {:>12} {:<4} {status}",
-            p.name, p.value, std, p.unit
+            p.name(),
+            p.value,
+            std,
+            p.unit()
         );
     }
 }
