@@ -16,8 +16,8 @@
 
 use serde::Serialize;
 
-use crate::parameter::Effect;
 use crate::machine::AxisName;
+use crate::parameter::Effect;
 use crate::validate::physics::Physics;
 
 /// An effect id of effects.md: a candidate of the product, or one it does not have yet.

@@ -19,10 +19,10 @@ use serde::Serialize;
 
 use crate::analysis::{analyse_parts, fit_points, AnalysisOptions, Diagnosis};
 use crate::cmm::write::{canonical_csv, Precision};
-use crate::parameter::Effect;
 use crate::gap::verdict::VerdictId;
 use crate::identify::solve::{hstack, rms, Factor};
 use crate::identify::{Design, Identification};
+use crate::parameter::Effect;
 use crate::validate::parameter_error::{answer_error, AnswerError};
 use crate::validate::physics::GeneratedPart;
 use crate::validate::{ValidateError, ValidationModel};
