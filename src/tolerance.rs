@@ -41,3 +41,8 @@ pub const GCODE_REPLAY_MM: f64 = 1e-6;
 /// The predicted part after compensation against the exact eq. 12 simulation of the
 /// compensated machine (mm): the exact and linear models differ by < 0.3 µm at |ξ| ≤ 3e-4 rad.
 pub const COMPENSATED_PART_MM: f64 = 5e-4;
+
+/// The physics generator's servo loops against the time-domain columns of
+/// `servo_signatures.csv` (mm): the reference README's own convergence of those columns
+/// ("halving the step changes the columns by ≤ 0.001 µm").
+pub const SERVO_COLUMNS_MM: f64 = 1e-6;

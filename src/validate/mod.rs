@@ -7,11 +7,15 @@
 //! - [`pairs`]: two effects at once (`validate --pairs`);
 //! - [`parameter_error`]: the identified location errors against the simulated truth;
 //! - [`shapes`]: the out-of-list shapes (waviness, bump, short wave, gouge, straightness, cyclic C);
-//! - [`conditions`]: one table of the lab's conditions (noise, spikes, layouts, shapes, ...).
+//! - [`conditions`]: one table of the lab's conditions (noise, spikes, layouts, shapes, ...);
+//! - [`physics`] and [`physics_bench`]: parts made by the physics of machining and measuring, not
+//!   by the fitter's signatures (`validate --generator physics`).
 
 pub mod conditions;
 pub mod pairs;
 pub mod parameter_error;
+pub mod physics;
+pub mod physics_bench;
 pub mod shapes;
 pub mod single;
 
@@ -31,6 +35,8 @@ pub enum ValidateError {
     Simulate(#[from] crate::simulate::SimulateError),
     #[error("no two candidates can be told apart on this part")]
     NoPairs,
+    #[error("physics part: {0}")]
+    Physics(#[from] physics::PhysicsError),
     #[error("unknown condition `{name}` (known: {})", CONDITIONS.join(", "))]
     UnknownCondition { name: String },
 }

@@ -70,6 +70,7 @@ mod sensitivity_frenet;
 mod sensitivity_gauge_block;
 mod sensitivity_reference;
 mod sensitivity_reversal;
+mod validate_physics;
 mod wasm_examples;
 mod workflow_compensation;
 mod workflow_plan;
