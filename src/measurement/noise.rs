@@ -99,9 +99,11 @@ impl Estimator {
 pub const NUGGET_DOF_PER_DIFFERENCE: f64 = 0.42;
 
 /// Largest point-to-point scatter (mm) a finished flank-milled wall adds to a CMM's: its
-/// roughness (Ra 0.4-1.6 µm, Rq ≈ 1.25 Ra) as a probe ball of 1-3 mm sees it, with the local
-/// form of the cut. With [`PLAUSIBLE_CMM_SIGMA_MM`] the two bound what noise can be.
-pub const PLAUSIBLE_PART_SCATTER_MM: f64 = 0.002;
+/// roughness at the rough end of a finishing pass (Ra 2 µm, Rq ≈ 1.25 Ra = 2.5 µm; a probe
+/// ball of 1-3 mm only filters it down) with the local form of the cut. Not below what the
+/// bound without a CMM figure leaves the wall ([`PLAUSIBLE_CMM_SIGMA_MM`] with a 1.5 µm CMM:
+/// √(3² − 1.5²) = 2.6 µm): knowing the CMM must not narrow the part's share.
+pub const PLAUSIBLE_PART_SCATTER_MM: f64 = 0.0025;
 
 /// Significance of the one-sided χ² tests of σ̂ against the CMM's floor (is there part
 /// scatter?) and against the plausibility ceiling (is σ̂ more than noise can be?).

@@ -184,7 +184,7 @@ fn repeats_on_the_command_line_and_their_refusals() {
 /// σ̂ above what a CMM and a finished flank give (3 µm without a CMM figure,
 /// `measurement::noise::PLAUSIBLE_CMM_SIGMA_MM`) is structure, never noise: white noise of
 /// σ = 5 µm is `unexplained`, and the report asks for the CMM's figure. With that figure given
-/// (5 µm: a coarse CMM), the bound is √(5² + 2²) µm and the same part is noise; 1.5 µm of noise
+/// (5 µm: a coarse CMM), the bound is √(5² + 2.5²) µm and the same part is noise; 1.5 µm of noise
 /// is noise without any figure.
 #[test]
 fn an_implausible_sigma_is_questioned() {
