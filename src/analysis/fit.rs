@@ -81,6 +81,7 @@ pub fn fit_points(
             points,
             model: modelled.model.as_ref(),
             verdict: diagnosis.report().map(|r| &r.verdict),
+            noise_sigma: diagnosis.report().map(|r| r.structure.noise.used),
             unavailable: &modelled.unavailable,
         },
         opts,
