@@ -141,7 +141,7 @@ mod tests {
             &["c".into(), "m".into()],
             &y,
             &used,
-            &[c.clone()],
+            std::slice::from_ref(&c),
             None,
             0.01,
         );
@@ -155,7 +155,7 @@ mod tests {
             &["c".into(), "m".into()],
             &y,
             &used,
-            &[c.clone()],
+            std::slice::from_ref(&c),
             Some(&c.signature.matrix),
             0.01,
         );
