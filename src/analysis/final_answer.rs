@@ -2,11 +2,13 @@
 
 use crate::effects::builtin::PartModel;
 use crate::final_fit::correct::{
-    correct, shifts, summary, Basis, Correction, CorrectionInput, Final,
+    correct, shifts, summary, Basis, Correction, CorrectionInput, EffectsChoice, Final,
 };
+use crate::final_fit::model_spread::model_spread;
 use crate::identify::correlated::{whiten, whitened_limit, Whitened, Whitener};
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{Design, Identification, IdentifyOptions, Observations};
+use crate::identify::{Status, NONZERO_T};
 use crate::parameter::Effect;
 use crate::part::MeasurementPoint;
 use crate::simulate::ExactDefectModel;
@@ -57,6 +59,8 @@ pub(super) struct FinalInput<'a> {
     pub(super) points: &'a [MeasurementPoint],
     pub(super) model: Option<&'a PartModel>,
     pub(super) verdict: Option<&'a crate::gap::verdict::Verdict>,
+    /// The part's noise σ of the diagnosis (mm).
+    pub(super) noise_sigma: Option<f64>,
     pub(super) unavailable: &'a [(Effect, String)],
 }
 
@@ -75,6 +79,7 @@ pub(super) fn final_answer(
         points: f.model.map_or(&no_points, |m| &m.points),
         candidates: f.model.map_or(&no_candidates, |m| &m.candidates),
         verdict: f.verdict,
+        noise_sigma: f.noise_sigma,
         unavailable: f.unavailable,
         options: iopts,
     };
@@ -106,5 +111,64 @@ pub(super) fn final_answer(
         }
         _ => None,
     };
+    if opts.effects == EffectsChoice::Auto {
+        if let (Some(m), Some(v)) = (f.model, f.verdict) {
+            widen_by_model_spread(&f, m, v, &design, &mut identification, &mut correction);
+        }
+    }
     Ok((design, identification, refinement, correction))
+}
+
+/// The location errors' std widened by what the choice among the candidate models can move
+/// them by ([`model_spread`]), about the chosen model's estimate.
+fn widen_by_model_spread(
+    f: &FinalInput,
+    m: &PartModel,
+    v: &crate::gap::verdict::Verdict,
+    design: &Design,
+    identification: &mut Identification,
+    correction: &mut Correction,
+) {
+    let obs = f.observations;
+    let used: Vec<usize> = (0..obs.len()).filter(|&i| obs.weight(i) > 0.0).collect();
+    let a = f.design.matrix();
+    let p = a.ncols();
+    let added = design.matrix().ncols().saturating_sub(p);
+    let chosen = (correction.basis == Basis::Effects && added > 0)
+        .then(|| design.matrix().columns(p, added).into_owned());
+    let spread = model_spread(
+        a,
+        &f.design.names(),
+        &obs.deviation,
+        &used,
+        &m.candidates,
+        chosen.as_ref(),
+        v.sigma,
+    );
+    let mut widened = 0;
+    for pe in identification.parameters.0.iter_mut() {
+        let (Some(std), Some(extra)) = (pe.std, spread.std.get(&pe.name())) else {
+            continue;
+        };
+        let new = std.hypot(*extra);
+        if new > std {
+            widened += 1;
+        }
+        pe.std = Some(new);
+        pe.t = Some(pe.value.abs() / new);
+        pe.nonzero = pe.status == Status::Identified && pe.t.is_some_and(|t| t >= NONZERO_T);
+    }
+    if widened > 0 {
+        let models: Vec<String> = spread
+            .weights
+            .iter()
+            .map(|(id, w)| format!("{id} {:.0} %", 100.0 * w))
+            .collect();
+        correction.notes.push(format!(
+            "The std include what the choice of model can move each location error by (the \
+             fits with each candidate effect, weighted by their evidence: {}).",
+            models.join(", ")
+        ));
+    }
+    correction.model_spread = Some(spread);
 }

@@ -36,7 +36,7 @@ pub struct PointsFit {
 /// points ([`design_at`]), the outlier test and the diagnosis ([`diagnose_on_machine`]), the
 /// baseline identification and its exact-model refinement, and the final answer fitted with
 /// what the diagnosis found. `deviations` (mm) and `ids` follow `points`; `opts.noise_sigma` is
-/// the σ to use (`None`: estimated), `opts.noise_mpe` is not read here.
+/// the CMM's share of σ, a floor (`None`: σ estimated), `opts.noise_mpe` is not read here.
 pub fn fit_points(
     part: &SShape,
     points: &[MeasurementPoint],
@@ -53,8 +53,14 @@ pub fn fit_points(
     )
     .excluding(&modelled.excluded);
     let mut iopts = IdentifyOptions::default();
+    // With the CMM's share given, the std use the total σ the diagnosis found: that share, or
+    // with the part's own scatter added ([`crate::measurement::noise::NoiseEstimate`]).
     if let Some(s) = opts.noise_sigma {
-        iopts = iopts.with_sigma(s);
+        let total = modelled
+            .diagnosis
+            .report()
+            .map_or(s, |r| r.structure.noise.used);
+        iopts = iopts.with_sigma(total);
     }
     let mut identification = identify(&design, &obs, &iopts)?;
     let refinement = if opts.refine {
@@ -75,6 +81,7 @@ pub fn fit_points(
             points,
             model: modelled.model.as_ref(),
             verdict: diagnosis.report().map(|r| &r.verdict),
+            noise_sigma: diagnosis.report().map(|r| r.structure.noise.used),
             unavailable: &modelled.unavailable,
         },
         opts,

@@ -73,9 +73,11 @@ pub fn analyse(
 }
 
 /// [`analyse`] of the mean of several measurements of one part (the first file, then its
-/// repeats: the same point ids measured again). The CMM noise is the pure error of their
-/// differences ([`crate::measurement::repeat`]), so neither σ nor an MPE may be given with them; the
-/// points, their order and the excluded rows are the first file's.
+/// repeats: the same point ids measured again). The CMM's share of the noise is the pure error
+/// of their differences ([`crate::measurement::repeat`]), so neither σ nor an MPE may be given
+/// with them; it is a floor, and the part's own scatter (which re-probing does not resample) is
+/// added from the data by the diagnosis. The points, their order and the excluded rows are the
+/// first file's.
 pub fn analyse_repeats(
     files: &[(&[u8], &str)],
     opts: &AnalysisOptions,

@@ -208,6 +208,10 @@ pub struct Correction {
     pub notes: Vec<String>,
     /// The plain-language account (the page's verdict box, the CLI).
     pub summary: String,
+    /// What the choice among the candidate models can move each location error by, included
+    /// in their std ([`crate::final_fit::model_spread`]); empty when not computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_spread: Option<crate::final_fit::model_spread::ModelSpread>,
 }
 
 /// Parameters as the list of their names.
@@ -257,6 +261,9 @@ pub struct CorrectionInput<'a> {
     pub candidates: &'a [Candidate],
     /// The diagnosis verdict, when it was made.
     pub verdict: Option<&'a Verdict>,
+    /// The part's noise σ of the diagnosis (mm), when it was made: the white noise under a
+    /// structure the named effect leaves.
+    pub noise_sigma: Option<f64>,
     /// Why effects of the verdict cannot be fitted here (e.g. the diagnosis used another
     /// machine): effect and reason.
     pub unavailable: &'a [(Effect, String)],
@@ -400,7 +407,22 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
             let (d, added, n) = with_effects(input.design, input.candidates, &effects)?;
             notes.extend(n);
             let id = identify(&d, input.observations, input.options)?;
-            (d, id, added, None, None)
+            match left_structured(&id, input.noise_sigma) {
+                // the effect leaves structure beyond the part's noise (its shape is not quite
+                // the part's): that structure as a correlated error, as for `unexplained`
+                Some(sigma) => match fit_with_structure(input, &d, sigma) {
+                    Ok((sid, w, s)) if s.amplitude > 0.0 => {
+                        notes.push(format!(
+                            "The named effect leaves structure beyond the noise (residual {:.1} µm RMS, σ = {:.1} µm): it is fitted as a correlated error with the effect, and the std include it.",
+                            id.residual.rms * 1e3,
+                            sigma * 1e3
+                        ));
+                        (d, sid, added, Some(w), Some(s))
+                    }
+                    _ => (d, id, added, None, None),
+                },
+                None => (d, id, added, None, None),
+            }
         }
         Basis::Structure => {
             let sigma = input
@@ -408,72 +430,8 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
                 .sigma
                 .or(input.verdict.map(|v| v.sigma))
                 .unwrap_or(0.0);
-            // Points of weight 0 (outliers) take no part in the structure's estimate and are
-            // not correlated with the others.
-            let obs = input.observations;
-            let used: Vec<usize> = (0..obs.len()).filter(|&i| obs.weight(i) > 0.0).collect();
-            let used_points: Vec<PointMeta> =
-                used.iter().map(|&i| input.points[i].clone()).collect();
-            let used_y: Vec<f64> = used.iter().map(|&i| obs.deviation[i]).collect();
-            let s = structure::estimate(
-                &used_points,
-                &input.design.matrix().select_rows(&used),
-                &used_y,
-                sigma,
-            )
-            .ok_or(GapError::StructureNotEstimated {
-                sigma,
-                points: used.len(),
-            })?;
-            let n = obs.len();
-            let c = match &s.form {
-                CovarianceForm::Dense(m) => {
-                    let mut full = DMatrix::<f64>::identity(n, n) * s.white_sigma.powi(2);
-                    for (a, &i) in used.iter().enumerate() {
-                        for (b, &j) in used.iter().enumerate() {
-                            full[(i, j)] = m[(a, b)];
-                        }
-                    }
-                    identify_correlated(
-                        input.design,
-                        input.observations,
-                        &full,
-                        s.white_sigma,
-                        input.options,
-                    )?
-                }
-                // A large part: Σ^{-½} in closed form on the groups, an excluded point in none.
-                CovarianceForm::Grouped { group, scale, v, d } => {
-                    let s2 = s.white_sigma.powi(2);
-                    let mut of_point = vec![None; n];
-                    for (a, &i) in used.iter().enumerate() {
-                        of_point[i] = Some(group[a]);
-                    }
-                    let w = Whitener::LowRank(GroupedLowRank {
-                        white_variance: s2,
-                        group: of_point,
-                        scale: scale.clone(),
-                        v: v.clone(),
-                        g: d.iter()
-                            .map(|dk| 1.0 / (1.0 + dk / s2).sqrt() - 1.0)
-                            .collect(),
-                    });
-                    identify_whitened(
-                        input.design,
-                        input.observations,
-                        w,
-                        s.white_sigma,
-                        input.options,
-                    )?
-                }
-            };
-            (
-                input.design.clone(),
-                c.identification,
-                Vec::new(),
-                Some(c.whitener),
-                Some(s),
-            )
+            let (id, w, s) = fit_with_structure(input, input.design, sigma)?;
+            (input.design.clone(), id, Vec::new(), Some(w), Some(s))
         }
     };
     let shift = shifts(input.baseline, &identification);
@@ -501,6 +459,7 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
         structure,
         notes,
         summary: String::new(),
+        model_spread: None,
     };
     correction.summary = summary(&correction, input.baseline, &identification);
     Ok(Final {
@@ -509,6 +468,86 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
         whitener,
         correction,
     })
+}
+
+/// The part's noise σ when the residual of `id` is significantly above it (χ² on its degrees of
+/// freedom, one-sided at 1 %).
+fn left_structured(id: &Identification, noise: Option<f64>) -> Option<f64> {
+    let sigma = noise.filter(|s| *s > 0.0 && s.is_finite())?;
+    let dof = id.dof as f64;
+    let rss = id.residual.rms.powi(2) * id.points_used as f64;
+    (dof > 0.0 && crate::numerics::stats::chi2_sf(rss / (sigma * sigma), dof) < 0.01)
+        .then_some(sigma)
+}
+
+/// The location errors (and the columns of `design`) fitted by generalised least squares with
+/// the residual's structure as a correlated error along the tool path (REML,
+/// [`crate::final_fit::structure`]) on white noise `sigma`.
+fn fit_with_structure(
+    input: &CorrectionInput,
+    design: &Design,
+    sigma: f64,
+) -> Result<
+    (
+        Identification,
+        crate::identify::correlated::Whitener,
+        StructureCovariance,
+    ),
+    GapError,
+> {
+    // Points of weight 0 (outliers) take no part in the structure's estimate and are
+    // not correlated with the others.
+    let obs = input.observations;
+    let used: Vec<usize> = (0..obs.len()).filter(|&i| obs.weight(i) > 0.0).collect();
+    let used_points: Vec<PointMeta> = used.iter().map(|&i| input.points[i].clone()).collect();
+    let used_y: Vec<f64> = used.iter().map(|&i| obs.deviation[i]).collect();
+    let s = structure::estimate(
+        &used_points,
+        &design.matrix().select_rows(&used),
+        &used_y,
+        sigma,
+    )
+    .ok_or(GapError::StructureNotEstimated {
+        sigma,
+        points: used.len(),
+    })?;
+    let n = obs.len();
+    let c = match &s.form {
+        CovarianceForm::Dense(m) => {
+            let mut full = DMatrix::<f64>::identity(n, n) * s.white_sigma.powi(2);
+            for (a, &i) in used.iter().enumerate() {
+                for (b, &j) in used.iter().enumerate() {
+                    full[(i, j)] = m[(a, b)];
+                }
+            }
+            identify_correlated(
+                design,
+                input.observations,
+                &full,
+                s.white_sigma,
+                input.options,
+            )?
+        }
+        // A large part: Σ^{-½} in closed form on the groups, an excluded point in none.
+        CovarianceForm::Grouped { group, scale, v, d } => {
+            let s2 = s.white_sigma.powi(2);
+            let mut of_point = vec![None; n];
+            for (a, &i) in used.iter().enumerate() {
+                of_point[i] = Some(group[a]);
+            }
+            let w = Whitener::LowRank(GroupedLowRank {
+                white_variance: s2,
+                group: of_point,
+                scale: scale.clone(),
+                v: v.clone(),
+                g: d.iter()
+                    .map(|dk| 1.0 / (1.0 + dk / s2).sqrt() - 1.0)
+                    .collect(),
+            });
+            identify_whitened(design, input.observations, w, s.white_sigma, input.options)?
+        }
+    };
+    Ok((c.identification, c.whitener, s))
 }
 
 /// The final fit with each equivalent of the named effect in its place.

@@ -17,10 +17,12 @@ use crate::gap::which::{
 };
 use crate::identify::solve::{max_abs, rms, Factor};
 use crate::measurement::layout::curve_degree;
+use crate::measurement::noise::NoiseInputs;
 use crate::measurement::noise::{
     periodogram_sigma, projected_whiteness, second_difference_sigma, sinusoid_free_sigma,
     SmoothResidual, LJUNG_BOX_LAGS, NOT_WHITE_P,
 };
+use crate::measurement::ruling_pairs::pair_sigma;
 use crate::measurement::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
 
 /// Options of a diagnosis (defaults: α = 0.05 family-wise, 2.5 σ).
@@ -40,6 +42,13 @@ impl Default for DiagnoseOptions {
             detect_factor: DETECT_FACTOR,
         }
     }
+}
+
+/// Whether every candidate is judged with the part's σ: with the CMM's floor (the total σ,
+/// that floor or with the part's own scatter added). Else each candidate's own residual gives
+/// its σ: the right candidate's residual is the most precise estimate of the noise there is.
+fn noise_fixed(n: &crate::measurement::noise::NoiseEstimate) -> bool {
+    n.given.is_some()
 }
 
 /// Diagnoses the sim-to-real gap of one measured part with the default options.
@@ -105,7 +114,9 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
             .then(|| sinusoid_free_sigma(&curves, &s_path, &sfactor.basis, &sresid))
             .flatten(),
         whiteness_p,
+        dof: sdof,
     };
+    let pairs = pair_sigma(&input.points, residual.as_slice(), &factor.basis);
     let smooth = SmoothFit {
         factor: sfactor,
         residual: sresid,
@@ -114,8 +125,11 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         &r0,
         &input.points,
         p,
-        input.noise_sigma,
-        Some(smooth_residual),
+        NoiseInputs {
+            floor: input.noise_sigma,
+            smooth: Some(smooth_residual),
+            pairs,
+        },
         &input.reversals,
         opts.detect_factor,
     );
@@ -136,7 +150,8 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         points: &input.points,
         baseline: &baseline,
         folds: &folds,
-        given_sigma: input.noise_sigma,
+        // the part's σ for every candidate with a CMM floor; else each candidate's own
+        given_sigma: noise_fixed(&structure.noise).then_some(sigma),
         smooth: &smooth,
         tries,
         alpha: opts.alpha,
@@ -167,6 +182,10 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         baseline_cv_score: base_cv_score,
         baseline_structured: structure.structured,
         baseline_structure_rms: structure.structure_rms,
+        implausible_noise: structure
+            .noise
+            .implausible
+            .then_some((structure.noise.estimated, structure.noise.ceiling)),
         sigma,
         detect_factor: opts.detect_factor,
         rms_before: (rss / nf).sqrt(),

@@ -2,10 +2,12 @@
 //! reversals, and as trends against contact height, machining order and tool-path length; and
 //! whether it is noise or structure.
 //!
-//! Structure test: with `σ` the noise (given, or the smallest of the structure-insensitive
-//! estimates of [`crate::measurement::noise`]: smooth basis, variogram nugget), the excess of the residual variance over noise is
-//! `structure_rms = √max(0, RSS/(n − rank) − σ²)`; the residual is *structured* when
-//! `structure_rms > 2.5 σ` (the decision rule of effects.md). With σ estimated from differences,
+//! Structure test: with `σ` the noise of [`crate::measurement::noise::NoiseEstimate`] (one
+//! estimator that structure cannot inflate, the CMM's share as a floor), the excess of the
+//! residual variance over noise is `structure_rms = √max(0, RSS/(n − rank) − σ²)`; the residual
+//! is *structured* when `structure_rms > 2.5 σ` (the decision rule of effects.md), or when σ̂
+//! itself is more than noise can plausibly be (`implausible`: then the point-to-point variation
+//! is structure, whatever its size against σ̂). With σ estimated from differences,
 //! this is a variance-ratio test of the von Neumann kind (white noise has `Var r = γ(1)`); the
 //! runs / lag-1 / Ljung–Box tests (independent of σ) and `χ² = RSS/σ²` are reported as supporting
 //! evidence. The factor `k` (2.5) is [`crate::gap::DiagnoseOptions::detect_factor`].
@@ -219,14 +221,13 @@ fn trend(against: &str, x: &[f64], r: &[f64]) -> Trend {
     }
 }
 
-/// Locates the residual `r` (mm) of a fit with `rank` parameters on the part; the residual is
-/// structured beyond `detect_factor · σ`.
+/// Locates the residual `r` (mm) of a fit with `rank` parameters on the part, its noise
+/// estimated from `inputs` as well; the residual is structured beyond `detect_factor · σ`.
 pub fn locate(
     r: &[f64],
     points: &[PointMeta],
     rank: usize,
-    given_sigma: Option<f64>,
-    smooth_sigma: Option<noise::SmoothResidual>,
+    inputs: noise::NoiseInputs,
     reversals: &[Reversal],
     detect_factor: f64,
 ) -> WhereReport {
@@ -305,7 +306,7 @@ pub fn locate(
         .iter()
         .map(|(_, idx)| idx.iter().map(|&i| r[i]).collect())
         .collect();
-    let noise = noise::estimate_noise(&seq_vals, given_sigma, smooth_sigma);
+    let noise = noise::estimate_noise(&seq_vals, inputs.floor, inputs.smooth, inputs.pairs);
     let randomness_per_curve = seqs
         .iter()
         .zip(&seq_vals)
@@ -317,6 +318,7 @@ pub fn locate(
     let dof = r.len().saturating_sub(rank).max(1);
     let chi2 = total_ss / (sigma * sigma);
     let structure_rms = (total_ss / dof as f64 - sigma * sigma).max(0.0).sqrt();
+    let report_implausible = noise.implausible;
     let concentrated_entry = entries
         .iter()
         .enumerate()
@@ -338,9 +340,8 @@ pub fn locate(
         chi2_dof: dof,
         chi2_p: stats::chi2_sf(chi2, dof as f64),
         structure_rms,
-        // (σ is the periodogram's when the smooth-basis residual is not white, so a short wave
-        // that the difference-based estimates took for noise shows here as structure)
-        structured: structure_rms > detect_factor * sigma,
+        // (a σ̂ more than noise can plausibly be is structure, whatever its size against σ̂)
+        structured: structure_rms > detect_factor * sigma || report_implausible,
     };
     // No verdict yet: a reversal is marked when the residual is concentrated near it.
     report.mark_verdict_axes(&[]);
@@ -388,7 +389,17 @@ mod tests {
             axis: AxisName::C,
             s: 62.0,
         }];
-        let mut w = locate(&r, &pts, 0, Some(0.001), None, &rev, DETECT_FACTOR);
+        let mut w = locate(
+            &r,
+            &pts,
+            0,
+            noise::NoiseInputs {
+                floor: Some(0.001),
+                ..Default::default()
+            },
+            &rev,
+            DETECT_FACTOR,
+        );
         // Each group's ids are exactly its points (closed form: the rules of regions.rs).
         for e in &w.entries {
             let expect: Vec<u32> = pts

@@ -11,6 +11,7 @@ use crate::gap::pairs::PairFit;
 use crate::gap::verdict::{Finding, Verdict};
 use crate::gap::which::{CandidateFit, Estimate};
 use crate::measurement::layout::{sentence as layout_sentence, Layout};
+use crate::measurement::noise::NoiseEstimate;
 use crate::parameter::Effect;
 
 /// The baseline fit (location errors only).
@@ -74,6 +75,51 @@ pub fn verdict_line(v: &Verdict) -> String {
     s
 }
 
+/// How σ was reached, in words: the estimator, the CMM's floor and the part's own scatter, the
+/// detection limit, and a σ̂ more than noise can be.
+fn noise_sentence(n: &NoiseEstimate, sigma: f64, limit: f64) -> String {
+    let how = match (n.given, n.part_scatter) {
+        (Some(cmm), None) => format!(
+            "the CMM's {}; the data's σ̂ = {} ({}) is not significantly above it",
+            um(cmm),
+            um(n.estimated),
+            n.estimator.words()
+        ),
+        (Some(cmm), Some(part)) => format!(
+            "the CMM's {} and the part's own scatter {} together: σ̂ from the data ({})",
+            um(cmm),
+            um(part),
+            n.estimator.words()
+        ),
+        (None, _) if (sigma - n.used).abs() > 1e-9 * n.used.max(1e-12) => format!(
+            "the residual once the named effect is fitted; the part's σ̂ before it is {}, from {}",
+            um(n.used),
+            n.estimator.words()
+        ),
+        (None, _) => format!("estimated from the data: {}", n.estimator.words()),
+    };
+    let mut s = format!(
+        "Noise: σ = {} ({how}); detection limit {} RMS of an effect's visible part.\n",
+        um(sigma),
+        um(limit)
+    );
+    if n.implausible {
+        s += &format!(
+            "Check: σ̂ = {} is more than noise can be on a part like this one (at most {}: {}): \
+             the point-to-point variation of the residual holds structure, and the part is \
+             not called noise.{}\n",
+            um(n.estimated),
+            um(n.ceiling),
+            match n.given {
+                Some(_) => "the CMM's figure and a finished flank's scatter",
+                None => "a CMM and a finished flank together; give the CMM's figure (--sigma or --mpe) for a closer bound",
+            },
+            " The decisions use that bound as σ."
+        );
+    }
+    s
+}
+
 /// The plain-language summary of a report (first line: the verdict).
 pub fn summary(r: &DiagnosisReport) -> String {
     let v = &r.verdict;
@@ -104,28 +150,7 @@ pub fn summary(r: &DiagnosisReport) -> String {
         um(v.max_before),
         um(v.max_after)
     );
-    s += &format!(
-        "Noise: σ = {} ({}); detection limit {} RMS of an effect's visible part.\n",
-        um(v.sigma),
-        if r.structure.noise.given.is_some() {
-            "given to the diagnosis"
-        } else {
-            "estimated from the data: residual of the fit plus a smooth basis per curve"
-        },
-        um(v.detection_limit)
-    );
-    if r.structure.noise.given.is_none()
-        && v.sigma > crate::measurement::noise::PLAUSIBLE_CMM_SIGMA_MM
-    {
-        s += &format!(
-            "Check: an estimated σ of {} is more than a CMM's usual {} on a part like this one: \
-             it may hold structure that looks like noise (a short waviness) and then hides \
-             effects. Give the CMM's figure (--sigma or --mpe) or measure the part again \
-             (--repeat) so that σ is measured, not estimated.\n",
-            um(v.sigma),
-            um(crate::measurement::noise::PLAUSIBLE_CMM_SIGMA_MM)
-        );
-    }
+    s += &noise_sentence(&r.structure.noise, v.sigma, v.detection_limit);
     s += &format!(
         "Where: baseline residual {} RMS, {} of it beyond noise ({}){}.\n",
         um(r.baseline.rms),

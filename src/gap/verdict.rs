@@ -250,6 +250,9 @@ pub struct DecisionInput<'a> {
     pub baseline_cv_score: f64,
     pub baseline_structured: bool,
     pub baseline_structure_rms: f64,
+    /// `(σ̂, ceiling)` (mm) when σ̂ is more than noise can plausibly be
+    /// ([`crate::measurement::noise::NoiseEstimate::implausible`]).
+    pub implausible_noise: Option<(f64, f64)>,
     pub sigma: f64,
     pub detect_factor: f64,
     pub rms_before: f64,
@@ -295,7 +298,16 @@ pub fn decide(d: &DecisionInput) -> Verdict {
         reason,
     };
     let Some(w) = winner else {
-        return if d.baseline_structured {
+        return if let Some((estimated, ceiling)) = d.implausible_noise {
+            unchanged(
+                Finding::Unexplained { partial: None },
+                format!(
+                    "the point-to-point scatter of the residual, σ̂ = {:.1} µm, is more than a CMM and a finished flank give (at most {:.1} µm): it is structure at the spacing of the points, and no candidate explains it",
+                    estimated * 1e3,
+                    ceiling * 1e3
+                ),
+            )
+        } else if d.baseline_structured {
             unchanged(
                 Finding::Unexplained { partial: None },
                 format!(

@@ -41,12 +41,14 @@
 
 use serde::Serialize;
 
+use crate::measurement::ruling_pairs::PairSigma;
 use crate::numerics::stats;
 use crate::toolpath::envelope::golden_min;
 
-/// Largest σ (mm) an estimate may have before the report questions it: a CMM measuring a
-/// flank-milled wall repeats within 1-2 µm (paper 000 §6: R0 = 3 µm over 3 repeats, σ ≈ 1.8 µm);
-/// an estimate above 3 µm more likely holds a structure the estimators took for noise.
+/// The most noise can plausibly be (mm) without a CMM figure: a CMM measuring a flank-milled
+/// wall repeats within 1-2 µm (paper 000 §6: R0 = 3 µm over 3 repeats, σ ≈ 1.8 µm) and the
+/// wall adds at most [`PLAUSIBLE_PART_SCATTER_MM`]; a σ̂ significantly above 3 µm holds
+/// structure at the spacing of the points, and the part is not called noise.
 pub const PLAUSIBLE_CMM_SIGMA_MM: f64 = 0.003;
 
 /// Lags of the Ljung–Box test (≈ 100 mm of tool path at the built-in 25 mm spacing).
@@ -57,38 +59,114 @@ pub const KEEP_FRACTION: f64 = 0.9;
 /// `E[X | X ≤ q₀.₉]` for `X ~ χ²₁`: `P(χ²₃ ≤ 2.705543)/0.9 = 0.560714/0.9`.
 pub const TRIMMED_CHI2_1: f64 = 0.623_015_5;
 
-/// Noise estimates from a residual.
+/// The estimator σ̂ rests on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Estimator {
+    /// The two heights of each ruling ([`crate::measurement::ruling_pairs`]).
+    RulingPairs,
+    /// The nugget of the residual's robust variogram along the curves.
+    VariogramNugget,
+    /// The residual of the baseline plus a smooth basis per curve.
+    SmoothResidual,
+    /// The lower quartile of the smooth-basis residual's periodogram (residual not white).
+    Periodogram,
+    /// The smooth-basis residual with each curve's strongest sinusoid removed (residual not white).
+    SinusoidFree,
+    /// The ruling pairs and the residual's own estimate together, when they agree.
+    Pooled,
+}
+
+impl Estimator {
+    /// The estimator in words, for the reports.
+    pub fn words(self) -> &'static str {
+        match self {
+            Estimator::RulingPairs => "differences of the two heights of each ruling",
+            Estimator::VariogramNugget => "nugget of the residual's variogram along the curves",
+            Estimator::SmoothResidual => "residual of the fit plus a smooth basis per curve",
+            Estimator::Periodogram => "lower quartile of the residual's periodogram",
+            Estimator::SinusoidFree => "residual once each curve's strongest wave is removed",
+            Estimator::Pooled => {
+                "differences of the two heights of each ruling and the residual's variogram nugget, which agree"
+            }
+        }
+    }
+}
+
+/// Effective degrees of freedom of the variogram nugget per lag-1 difference (its relative
+/// spread `1/√(2ν)` measured 0.108-0.114 with the built-in layout's 96 differences on clean
+/// parts: `ν ≈ 40`).
+pub const NUGGET_DOF_PER_DIFFERENCE: f64 = 0.42;
+
+/// Largest point-to-point scatter (mm) a finished flank-milled wall adds to a CMM's: its
+/// roughness at the rough end of a finishing pass (Ra 2 µm, Rq ≈ 1.25 Ra = 2.5 µm; a probe
+/// ball of 1-3 mm only filters it down) with the local form of the cut. Not below what the
+/// bound without a CMM figure leaves the wall ([`PLAUSIBLE_CMM_SIGMA_MM`] with a 1.5 µm CMM:
+/// √(3² − 1.5²) = 2.6 µm): knowing the CMM must not narrow the part's share.
+pub const PLAUSIBLE_PART_SCATTER_MM: f64 = 0.0025;
+
+/// Significance of the one-sided χ² tests of σ̂ against the CMM's floor (is there part
+/// scatter?) and against the plausibility ceiling (is σ̂ more than noise can be?).
+pub const NOISE_TEST_ALPHA: f64 = 0.05;
+
+/// The noise σ of a part and how it was reached.
+///
+/// `estimated` rests on two estimators that structure inflates in different ways and never
+/// deflates: the robust variogram nugget of the baseline residual (structure smooth at the point
+/// spacing cannot inflate it; replaced by the periodogram or sinusoid-free estimate when smaller
+/// and the smooth-basis residual is not white: a short waviness, issue 18), and, when the part
+/// has two heights on a surface, the ruling pairs (structure along the path cannot inflate
+/// them; structure that differs between the heights at the point spacing, an overcut or a tilt
+/// step, can). Pooled when they agree, else the smaller ([`combine`]). Each is unbiased for white
+/// noise (mean σ̂/σ 0.98-1.02 on clean parts of 48 to 400 points).
+///
+/// `given` is the CMM's share (`--sigma`, an MPE, or the repeatability of repeats divided by
+/// √k): a floor, never the whole σ. When σ̂ exceeds it significantly ([`NOISE_TEST_ALPHA`], χ²
+/// on σ̂'s `dof`), the excess is the part's own scatter and `used` is σ̂; else `used` is the
+/// floor. `ceiling` is the most noise can plausibly be: the floor and
+/// [`PLAUSIBLE_PART_SCATTER_MM`] combined, or [`PLAUSIBLE_CMM_SIGMA_MM`] without a CMM figure;
+/// σ̂ significantly above it is `implausible`: the point-to-point variation is more than a CMM
+/// and a finished flank give, the residual is structured, the verdict is never `none`, and
+/// `used` is the ceiling (the most the noise can be).
 #[derive(Debug, Clone, Serialize)]
 pub struct NoiseEstimate {
-    /// Given CMM repeatability (mm), if any.
+    /// The CMM's share of σ (mm), given or measured by repeats: a floor.
     pub given: Option<f64>,
-    /// Pooled von Neumann successive-difference estimate (mm).
+    /// Pooled von Neumann successive-difference estimate (mm), reported only.
     pub von_neumann: f64,
-    /// Robust second-difference estimate (mm).
+    /// Robust second-difference estimate (mm), reported only.
     pub second_difference: f64,
     /// Residual σ of the baseline plus a smooth basis per curve ([`crate::measurement::smooth_noise`]) (mm).
     pub smooth: Option<f64>,
-    /// Its robust (median) version (mm).
+    /// Its robust (median) version (mm), reported only.
     pub smooth_robust: Option<f64>,
-    /// Robust second-difference estimate of that smooth-basis residual (mm): what is left of a
-    /// waviness the smooth basis could not follow is damped by the differencing, a step or a bump
-    /// is ignored by the median.
+    /// Robust second-difference estimate of that smooth-basis residual (mm), reported only.
     pub smooth_second_difference: Option<f64>,
     /// Nugget of the robust variogram along the curves (mm); `None` with too few points or a
     /// negative extrapolation.
     pub variogram_nugget: Option<f64>,
     /// Periodogram σ of the smooth-basis residual ([`periodogram_sigma`], mm).
     pub periodogram: Option<f64>,
+    /// σ from the two heights of each ruling, when the layout has them.
+    pub pairs: Option<PairSigma>,
     /// Ljung–Box p-value of the smooth-basis residual's whiteness.
     pub smooth_whiteness_p: Option<f64>,
-    /// Whether the smooth-basis residual failed whiteness (p < [`NOT_WHITE_P`]) and σ is the
-    /// periodogram's.
+    /// Whether the smooth-basis residual failed whiteness (p < [`NOT_WHITE_P`]).
     pub not_white: bool,
-    /// The σ the decisions use (mm): the given value, else the smallest of the smooth-basis
-    /// estimates and the variogram nugget (each is consistent for white noise and inflated by a
-    /// different kind of structure: waves shorter than the smooth basis follows, a few large
-    /// points, short waves) and, when the smooth-basis residual is not white, the sinusoid-free
-    /// and periodogram estimates; else the second-difference estimate of the residual itself.
+    /// The estimator `estimated` comes from.
+    pub estimator: Estimator,
+    /// σ̂ from the data (mm): CMM and part together.
+    pub estimated: f64,
+    /// Effective degrees of freedom of σ̂².
+    pub dof: f64,
+    /// The part's own scatter (mm), `√(σ̂² − given²)`, when σ̂ exceeds the CMM's floor
+    /// significantly.
+    pub part_scatter: Option<f64>,
+    /// The most noise can plausibly be (mm).
+    pub ceiling: f64,
+    /// σ̂ is significantly above `ceiling`: structure (or a surface) no CMM noise explains.
+    pub implausible: bool,
+    /// The σ the decisions use (mm).
     pub used: f64,
 }
 
@@ -248,6 +326,12 @@ pub fn ljung_box(seqs: &[Vec<f64>], lags: usize) -> LjungBox {
 /// or a reversal step touches, at a much smaller loss of efficiency than a median. `None`
 /// without any pair.
 pub fn robust_semivariogram(seqs: &[Vec<f64>], h: usize) -> Option<f64> {
+    trimmed_semivariogram(seqs, h, KEEP_FRACTION, TRIMMED_CHI2_1)
+}
+
+/// The semivariogram at index lag `h` from the smallest fraction `keep` of the squared
+/// differences, `c = E[X | X ≤ q_keep]` for `X ~ χ²₁` making it `σ²` for white noise.
+pub fn trimmed_semivariogram(seqs: &[Vec<f64>], h: usize, keep: f64, c: f64) -> Option<f64> {
     let mut d: Vec<f64> = seqs
         .iter()
         .filter(|s| s.len() > h)
@@ -257,9 +341,9 @@ pub fn robust_semivariogram(seqs: &[Vec<f64>], h: usize) -> Option<f64> {
         return None;
     }
     d.sort_by(f64::total_cmp);
-    let keep = ((KEEP_FRACTION * d.len() as f64).round() as usize).clamp(1, d.len());
-    let mean = d[..keep].iter().sum::<f64>() / keep as f64;
-    Some(mean / (2.0 * TRIMMED_CHI2_1))
+    let kept = ((keep * d.len() as f64).round() as usize).clamp(1, d.len());
+    let mean = d[..kept].iter().sum::<f64>() / kept as f64;
+    Some(mean / (2.0 * c))
 }
 
 /// Noise σ as the nugget of the robust variogram: `√((4 γ̂(1) − γ̂(2)) / 3)` (mm), `None` when
@@ -618,6 +702,8 @@ pub struct SmoothResidual {
     /// computed when the residual is not white (`whiteness_p < NOT_WHITE_P`), the one case it is read.
     pub sinusoid_free: Option<f64>,
     pub whiteness_p: f64,
+    /// Degrees of freedom of `sigma` (`n − rank` of the smooth-basis fit).
+    pub dof: usize,
 }
 
 /// Ljung–Box p-value below which the smooth-basis residual is taken as not white: a structure
@@ -625,12 +711,59 @@ pub struct SmoothResidual {
 /// count it as noise; the periodogram estimate, which ignores a few strong frequencies, is used.
 pub const NOT_WHITE_P: f64 = 1e-4;
 
-/// Noise σ from sequences along the curves; `given` overrides the one used for decisions;
-/// `smooth` = (σ, robust σ, second-difference σ) of the smooth-basis residual.
+/// Two estimates of σ, each inflated by a different kind of structure and neither deflated by
+/// any: pooled (`σ² = (ν₁σ₁² + ν₂σ₂²)/(ν₁ + ν₂)`, the estimator [`Estimator::Pooled`]) when
+/// they agree (the two-sided F test of `σ₁²/σ₂²` on `(ν₁, ν₂)` at [`NOISE_TEST_ALPHA`]), else the
+/// smaller: the other holds structure.
+fn combine(a: (Estimator, f64, f64), b: (Estimator, f64, f64)) -> (Estimator, f64, f64) {
+    let (x, y) = (a.1 * a.1, b.1 * b.1);
+    if !(x > 0.0 && y > 0.0) {
+        return if a.1 <= b.1 { a } else { b };
+    }
+    let p = stats::f_sf(x / y, a.2, b.2);
+    if 2.0 * p.min(1.0 - p) >= NOISE_TEST_ALPHA {
+        let pooled = ((a.2 * x + b.2 * y) / (a.2 + b.2)).sqrt();
+        (Estimator::Pooled, pooled, a.2 + b.2)
+    } else if a.1 <= b.1 {
+        a
+    } else {
+        b
+    }
+}
+
+/// What the noise of a part is estimated from besides its residual: the CMM's share (a floor),
+/// the smooth-basis residual and the ruling pairs.
+#[derive(Debug, Clone, Default)]
+pub struct NoiseInputs {
+    pub floor: Option<f64>,
+    pub smooth: Option<SmoothResidual>,
+    pub pairs: Option<PairSigma>,
+}
+
+/// Whether an estimate σ̂ with `dof` effective degrees of freedom is significantly above `s`:
+/// the one-sided χ² test `dof·σ̂²/s² > χ²_dof(1 − α)`, α = [`NOISE_TEST_ALPHA`].
+pub fn significantly_above(estimate: f64, s: f64, dof: f64) -> bool {
+    s > 0.0 && stats::chi2_sf(dof * (estimate / s).powi(2), dof.max(1.0)) < NOISE_TEST_ALPHA
+}
+
+/// The total σ from the CMM's share `floor` (if known) and an estimate σ̂ of CMM and part
+/// together: σ̂ when it is significantly above the floor (the part's own scatter adds to the
+/// CMM's), else the floor; σ̂ without a floor.
+pub fn total_sigma(floor: Option<f64>, estimate: f64, dof: f64) -> f64 {
+    match floor {
+        Some(f) if !significantly_above(estimate, f, dof) => f,
+        _ => estimate,
+    }
+}
+
+/// The noise σ of a part (see [`NoiseEstimate`]) from the baseline residual's sequences along
+/// the curves, the CMM's share `floor` (if known), the smooth-basis residual and the ruling
+/// pairs (if the layout has them).
 pub fn estimate_noise(
     seqs: &[Vec<f64>],
-    given: Option<f64>,
+    floor: Option<f64>,
     smooth: Option<SmoothResidual>,
+    pairs: Option<PairSigma>,
 ) -> NoiseEstimate {
     let (mut num, mut den) = (0.0, 0usize);
     let mut d2 = Vec::new();
@@ -654,22 +787,45 @@ pub fn estimate_noise(
         1.482_6 * stats::median(&mut d2) / 6f64.sqrt()
     };
     let variogram_nugget = variogram_nugget_sigma(seqs);
-    let estimated = smooth.map_or(second_difference, |s| {
-        s.sigma.min(s.robust).min(s.second_difference)
-    });
-    let estimated = variogram_nugget.map_or(estimated, |v| estimated.min(v));
     let not_white = smooth.is_some_and(|s| s.whiteness_p < NOT_WHITE_P);
-    let estimated = if not_white {
-        let s = smooth.expect("not_white needs the smooth residual");
-        [s.periodogram, s.sinusoid_free]
-            .into_iter()
-            .flatten()
-            .fold(estimated, f64::min)
-    } else {
-        estimated
+    let nugget_dof = NUGGET_DOF_PER_DIFFERENCE * den as f64;
+    // the residual's own estimate: the nugget (smooth structure cannot inflate it), the
+    // short-wave estimates when the smooth-basis residual is not white
+    let (mut e, mut v, dof) = match (variogram_nugget, smooth) {
+        (Some(v), _) => (Estimator::VariogramNugget, v, nugget_dof),
+        (None, Some(s)) => (Estimator::SmoothResidual, s.sigma, s.dof as f64),
+        (None, None) => (Estimator::VariogramNugget, second_difference, nugget_dof),
+    };
+    if let (true, Some(s)) = (not_white, smooth) {
+        for (k, x) in [
+            (Estimator::Periodogram, s.periodogram),
+            (Estimator::SinusoidFree, s.sinusoid_free),
+        ] {
+            if let Some(x) = x.filter(|x| *x < v) {
+                (e, v) = (k, x);
+            }
+        }
+    }
+    let (estimator, estimated, dof) = match &pairs {
+        Some(p) => combine((Estimator::RulingPairs, p.sigma, p.dof), (e, v, dof)),
+        None => (e, v, dof),
+    };
+    let dof = dof.max(1.0);
+    let above = |s: f64| significantly_above(estimated, s, dof);
+    let part_scatter = floor
+        .filter(|&f| above(f))
+        .map(|f| (estimated * estimated - f * f).max(0.0).sqrt());
+    let ceiling = floor.map_or(PLAUSIBLE_CMM_SIGMA_MM, |f| {
+        f.hypot(PLAUSIBLE_PART_SCATTER_MM)
+    });
+    let implausible = above(ceiling);
+    let used = match floor {
+        _ if implausible => ceiling,
+        Some(f) if part_scatter.is_none() => f,
+        _ => estimated,
     };
     NoiseEstimate {
-        given,
+        given: floor,
         von_neumann,
         second_difference,
         smooth: smooth.map(|s| s.sigma),
@@ -677,9 +833,16 @@ pub fn estimate_noise(
         smooth_second_difference: smooth.map(|s| s.second_difference),
         variogram_nugget,
         periodogram: smooth.and_then(|s| s.periodogram),
+        pairs,
         smooth_whiteness_p: smooth.map(|s| s.whiteness_p),
         not_white,
-        used: given.unwrap_or(estimated),
+        estimator,
+        estimated,
+        dof,
+        part_scatter,
+        ceiling,
+        implausible,
+        used,
     }
 }
 
@@ -708,7 +871,7 @@ mod tests {
     #[test]
     fn second_difference_ignores_a_linear_trend() {
         let s: Vec<f64> = (0..25).map(|i| 0.01 * i as f64).collect();
-        let e = estimate_noise(&[s], None, None);
+        let e = estimate_noise(&[s], None, None, None);
         assert!(e.second_difference < 1e-12, "{}", e.second_difference);
         // von Neumann sees the trend's slope: σ² = 0.01²/2.
         assert!((e.von_neumann - 0.01 / 2f64.sqrt()).abs() < 1e-12);
@@ -742,11 +905,15 @@ mod tests {
                     .collect()
             })
             .collect();
-        let e = estimate_noise(&wavy, None, None);
+        let e = estimate_noise(&wavy, None, None, None);
         let nug = e.variogram_nugget.unwrap();
         assert!(e.von_neumann > 2.5, "{}", e.von_neumann);
         assert!(nug < 2.1 && nug > 0.9, "{nug}");
-        assert!((e.used - nug.min(e.second_difference)).abs() < 1e-15);
+        // the one estimator without ruling pairs: the nugget (σ = 1 "mm" is far above a CMM's:
+        // implausible, and the decisions use the ceiling)
+        assert_eq!(e.estimator, Estimator::VariogramNugget);
+        assert!((e.estimated - nug).abs() < 1e-15);
+        assert!(e.implausible && e.used == PLAUSIBLE_CMM_SIGMA_MM);
     }
 
     #[test]

@@ -50,6 +50,7 @@ use serde::Serialize;
 use crate::effects::data::curve_sequences;
 use crate::effects::data::GapInput;
 use crate::identify::solve::{hstack, Factor};
+use crate::measurement::noise::total_sigma;
 use crate::measurement::smooth_noise::{smooth_basis, SMOOTH_DEGREE};
 use crate::numerics::stats;
 
@@ -100,7 +101,8 @@ pub struct OutlierTest {
     pub threshold: f64,
     /// σ̂ of the first round (mm).
     pub sigma: f64,
-    /// Where σ̂ came from: `given` or `robust`.
+    /// Where σ̂ came from: `given` (the CMM's share) or `robust` (the data's: without a CMM
+    /// figure, or significantly above it).
     pub sigma_source: String,
     /// Points over the bound that the guards kept as structure (ids).
     pub structured: Vec<String>,
@@ -276,9 +278,9 @@ pub fn find_outliers(input: &GapInput) -> OutlierTest {
         if dof < 2 {
             break;
         }
-        let sigma = input
-            .noise_sigma
-            .unwrap_or_else(|| robust_sigma(&r, &h, &keep));
+        // the total σ: the CMM's share (given, or the repeats') is a floor, the part's own
+        // scatter adds to it when the robust estimate is significantly above it
+        let sigma = total_sigma(input.noise_sigma, robust_sigma(&r, &h, &keep), dof as f64);
         let tested = keep.iter().filter(|&&i| testable[i]).count().max(1);
         let crit = t_two_sided_quantile(OUTLIER_ALPHA / tested as f64, dof as f64);
         first.get_or_insert((crit, sigma));
@@ -322,7 +324,7 @@ pub fn find_outliers(input: &GapInput) -> OutlierTest {
              along the curve shares over {:.0} % of the excursion) that no candidate effect \
              explains; at most {MAX_OUTLIERS}, one per round",
             if input.noise_sigma.is_some() {
-                "given"
+                "the CMM's given share, or the robust estimate when significantly above it (the part's own scatter added)"
             } else {
                 "robust (MAD of e/√(1−h), then the RMS within 2.5 MAD scales)"
             },
@@ -331,7 +333,7 @@ pub fn find_outliers(input: &GapInput) -> OutlierTest {
         alpha: OUTLIER_ALPHA,
         threshold,
         sigma,
-        sigma_source: if input.noise_sigma.is_some() {
+        sigma_source: if input.noise_sigma == Some(sigma) {
             "given".into()
         } else {
             "robust".into()

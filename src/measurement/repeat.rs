@@ -10,7 +10,14 @@
 //! - the analysis fits the means `ȳ_i`, whose noise has `σ_mean = σ̂ / √k`;
 //! - lack of fit: with `RSS` the residual sum of squares of a fit of `p` (rank) columns to the
 //!   means, `F = (RSS / (n − p)) / σ̂²_mean` against `F(n − p, n(k − 1))`; a small p-value says
-//!   the residual holds structure beyond the measured noise.
+//!   the residual holds more than the CMM's repeatability.
+//!
+//! Re-probing the same points does not resample the part's own point-to-point scatter (its
+//! roughness and local form at each point are measured again, identically), so the pure error
+//! is the CMM's share only, a lower bound of the noise of a mean: `σ² = σ²_part + σ²_CMM / k`.
+//! The analysis passes `σ̂_mean` to the diagnosis as the CMM's floor, and the diagnosis
+//! estimates the total from the means' residual ([`crate::measurement::noise`]); the lack of
+//! fit against the pure error alone then rejects on any real part and is reported as such.
 //!
 //! Points are paired by their id in the files; every file must hold the same ids (a point
 //! measured in some files only is refused, naming it: it cannot enter the pure error, and a
@@ -253,8 +260,10 @@ pub fn lack_of_fit(pe: &PureError, rss: f64, n: usize, rank: usize) -> LackOfFit
 /// One sentence on the pure error and the lack of fit of the baseline (location errors alone).
 pub fn sentence(pe: &PureError, l: &LackOfFit) -> String {
     let mut s = format!(
-        "Noise: σ = {:.2} µm from {} repeat measurements of the {} points (pure error, {} degrees \
-         of freedom; no estimator): {:.2} µm for their mean, which is analysed.",
+        "Noise: the CMM's repeatability σ = {:.2} µm from {} repeat measurements of the {} points \
+         (pure error, {} degrees of freedom): {:.2} µm for their mean, which is analysed. \
+         Probing again does not resample the part's own point-to-point scatter, so this is a \
+         lower bound of the noise: the diagnosis adds the part's scatter, estimated from the data.",
         pe.sigma * 1e3,
         pe.repeats,
         pe.points,
@@ -271,15 +280,17 @@ pub fn sentence(pe: &PureError, l: &LackOfFit) -> String {
         );
     }
     s += &format!(
-        " Lack of fit of the location errors: F = {:.2} on ({}, {}) dof, p = {:.2e}: {}.",
+        " Lack of fit of the location errors against the pure error alone: F = {:.2} on ({}, {}) \
+         dof, p = {:.2e}: {}.",
         l.f,
         l.dof_fit,
         l.dof_pure,
         l.p_value,
         if l.p_value < 0.05 {
-            "the residual holds structure beyond the measured noise"
+            "the residual holds more than the CMM's repeatability (structure, or the part's own \
+             scatter: the diagnosis tells which)"
         } else {
-            "the residual is consistent with the measured noise"
+            "the residual is consistent with the CMM's repeatability"
         }
     );
     s

@@ -37,6 +37,7 @@ mod gap_effects;
 mod gap_examples;
 mod gap_lab;
 mod gap_machines;
+mod gap_noise;
 mod gap_outliers;
 mod gap_pairs;
 mod gap_validate;

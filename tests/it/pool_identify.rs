@@ -11,9 +11,12 @@ fn part(seed: u64, extra: &[(&str, f64)]) -> String {
     part_csv(&errs, seed)
 }
 
+/// One part's least-squares identification (the baseline: the pooled fit is the same least
+/// squares on both parts; the final answer's std also hold the model spread of its diagnosis).
 fn single(text: &str, opts: &AnalysisOptions) -> testpiece::identify::Identification {
     analyse(text.as_bytes(), "part.csv", opts)
         .unwrap()
+        .baseline
         .identification
 }
 
