@@ -77,7 +77,7 @@ impl PhysicsBench {
             .params
             .iter()
             .filter_map(|p| match p {
-                crate::parameter::ParamId::Machine(e) => Some(e.clone()),
+                crate::parameter::ParamId::Machine(e) => Some(*e),
                 _ => None,
             })
             .collect();
