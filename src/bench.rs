@@ -26,7 +26,8 @@ use crate::analysis::{analyse, AnalysisOptions};
 use crate::cmm::write::{canonical_csv, Precision};
 use crate::identify::{identify, Design, IdentifyOptions, Observations};
 use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
-use crate::sensitivity::path::solve_path;
+use crate::sensitivity::defect::axis_values;
+use crate::sensitivity::path::machine_path;
 use crate::sensitivity::{sensitivity_matrix, SensitivityOptions};
 
 /// The stage names, in table order.
@@ -82,7 +83,8 @@ pub fn cmm_text_with(rows: usize, offset: usize) -> String {
 pub fn identify_input(rows: usize) -> Result<(Design, Observations), BenchError> {
     let part = SShape::iso();
     let pts = builtin_points(&part);
-    let m = sensitivity_matrix(&part, &pts, &SensitivityOptions::default())?;
+    let opts = SensitivityOptions::default();
+    let m = sensitivity_matrix(&part, &pts, &axis_values(&part, &pts, &opts)?, &opts)?;
     let tiled = DMatrix::from_fn(rows, m.values.ncols(), |i, j| m.values[(i % pts.len(), j)]);
     let names: Vec<&str> = m.params.iter().map(String::as_str).collect();
     let design = Design::from_column_major(&names, rows, tiled.as_slice())
@@ -259,15 +261,15 @@ impl Stage {
                         .filter(|p| p.surface == surf)
                         .map(|p| p.u)
                         .collect();
-                    let path = solve_path(part, &o.chain, surf, o.branch, &us)?;
+                    let path = machine_path(part, &o.chain, surf, o.branch, &us)?;
                     s += path.len() as f64;
                 }
                 s
             }
             Stage::Matrix(part, pts) => {
-                // the kernel, not the points' kept axis values
-                crate::sensitivity::path::clear_kept();
-                sensitivity_matrix(part, pts, &SensitivityOptions::default())?.values[(0, 0)]
+                // the kernel: the points' axis values, then their Jacobians
+                let o = SensitivityOptions::default();
+                sensitivity_matrix(part, pts, &axis_values(part, pts, &o)?, &o)?.values[(0, 0)]
             }
             Stage::Read(text) => crate::cmm::read_cmm(text.as_bytes(), "bench.csv")?
                 .points

@@ -18,7 +18,7 @@ use crate::identify::refine::ModelError;
 use crate::identify::{Design, IdentifyError, TOOL_RADIUS};
 use crate::machine::{Branch, ErrorParam, MachineErrors};
 use crate::part::{builtin_points, SShape};
-use crate::sensitivity::defect::DefectPoses;
+use crate::sensitivity::defect::{axis_values, DefectPoses};
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
 
 /// What can go wrong when simulating a part.
@@ -64,7 +64,9 @@ pub fn builtin_design(
 ) -> Result<Design, SimulateError> {
     let opts = sensitivity_options(mode, branch);
     let part = SShape::iso();
-    let m = sensitivity_matrix(&part, &builtin_points(&part), &opts)?;
+    let points = builtin_points(&part);
+    let q = axis_values(&part, &points, &opts)?;
+    let m = sensitivity_matrix(&part, &points, &q, &opts)?;
     let d = Design::from_sensitivity(&m)?;
     Ok(if tool_radius {
         d.with_tool_radius()?
@@ -131,7 +133,9 @@ impl ExactDefectModel {
                 _ => 1e-5,
             })
             .collect();
-        let poses = DefectPoses::new(&SShape::iso(), &points, &opts);
+        let part = SShape::iso();
+        let poses = axis_values(&part, &points, &opts)
+            .and_then(|q| DefectPoses::new(&part, &points, &q, &opts));
         Ok(ExactDefectModel {
             poses,
             points: points.len(),

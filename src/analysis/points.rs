@@ -83,7 +83,9 @@ pub fn design_at(
         return Err(AnalysisError::BadL0(opts.l0));
     }
     effects_on_machine(opts).map_err(AnalysisError::Correction)?;
-    let m = sensitivity_matrix(part, points, &sensitivity_options(opts))?;
+    let sopts = sensitivity_options(opts);
+    let q = crate::sensitivity::defect::axis_values(part, points, &sopts)?;
+    let m = sensitivity_matrix(part, points, &q, &sopts)?;
     let n = points.len();
     let mut params: Vec<Parameter> = m.errors.iter().map(Parameter::of_error).collect();
     let mut matrix = m.values;

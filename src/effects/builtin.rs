@@ -208,7 +208,9 @@ fn compute_model(
     use crate::effects::machine::{
         backlash_columns, c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
-    let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)?;
+    // The points' poses, solved once for the baseline and every effect family.
+    let q = crate::sensitivity::defect::axis_values(part, points, opts)?;
+    let sens = crate::sensitivity::sensitivity_matrix(part, points, &q, opts)?;
     let baseline = NamedColumns::try_new(sens.params.clone(), sens.values.clone())?;
     let path = crate::effects::cache::path_model(part, opts)?;
     let eps = effect_points_on(part, points, path.lengths());
@@ -220,11 +222,11 @@ fn compute_model(
     let model = SignatureModel {
         s_total: path.s_total(),
         envelope,
-        backlash: backlash_columns(&path.lags, part, points, opts)?,
-        scale: scale_signatures(part, points, opts)?,
-        machine_z: machine_z_columns(part, points, opts)?,
+        backlash: backlash_columns(&path.lags, part, points, &q, opts)?,
+        scale: scale_signatures(part, points, &q, opts)?,
+        machine_z: machine_z_columns(&q, opts),
         c_table_sign: c_table_sign(&opts.chain),
-        index: index_signatures(part, points, opts)?,
+        index: index_signatures(points, &q, opts)?,
         points: eps,
     };
     let mut candidates = Effect::on_chain(&opts.chain)

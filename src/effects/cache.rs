@@ -120,11 +120,9 @@ pub fn clear() {
     clear_part_models();
 }
 
-/// Forgets the part models of this thread (and the axis values of [`crate::sensitivity::path`],
-/// which belong to the points), keeps the path models (the benchmark of a further file with the
-/// same settings).
+/// Forgets the part models of this thread, keeps the path models (the benchmark of a further
+/// file with the same settings).
 pub fn clear_part_models() {
-    crate::sensitivity::path::clear_kept();
     MODELS.with_borrow_mut(Memo::clear);
 }
 

@@ -51,7 +51,7 @@ use crate::numerics::memo::Memo;
 use crate::numerics::terms::{dominant, magnitude_text, Term};
 use crate::part::{builtin_points, SShape};
 
-use crate::sensitivity::defect::{jacobian_displacements, Mode, SensitivityOptions};
+use crate::sensitivity::defect::{axis_values, jacobian_displacements, Mode, SensitivityOptions};
 use crate::sensitivity::SensitivityError;
 
 /// A column is kept when at least this fraction of its RMS is left after projection on the
@@ -214,7 +214,8 @@ pub fn derive(
     let opts = opts.clone().with_mode(Mode::Physical);
     let list = full_list(&opts.chain);
     let params: Vec<ErrorParam> = list.iter().map(|(e, _)| ErrorParam::Location(*e)).collect();
-    let disp = jacobian_displacements(part, points, &opts, &params)?;
+    let q = axis_values(part, points, &opts)?;
+    let disp = jacobian_displacements(part, points, &q, &opts, &params)?;
     let n = points.len();
     let rms = |v: &DVector<f64>| (v.norm_squared() / n.max(1) as f64).sqrt();
     // Columns in typical units (mm of deviation per typical size).

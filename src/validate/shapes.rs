@@ -99,7 +99,8 @@ impl ShapeColumns {
                     })
             })
             .collect();
-        let m = jacobian_rows(part, points, opts, &params)?;
+        let q = axis_values(part, points, opts)?;
+        let m = jacobian_rows(part, points, &q, opts, &params)?;
         let straightness = params
             .iter()
             .enumerate()
@@ -108,11 +109,8 @@ impl ShapeColumns {
             .collect();
         let cyclic_c = if opts.chain.axis(AxisName::C).is_some() {
             let ecc = ErrorParam::axis_value(AxisName::C);
-            let col = jacobian_rows(part, points, opts, &[ecc])?;
-            let c: Vec<f64> = axis_values(part, points, opts)?
-                .iter()
-                .map(|q| q.c)
-                .collect();
+            let col = jacobian_rows(part, points, &q, opts, &[ecc])?;
+            let c: Vec<f64> = q.iter().map(|q| q.c).collect();
             let n = points.len();
             Some([
                 DVector::from_iterator(n, (0..n).map(|i| col[(i, 0)] * (2.0 * c[i]).sin())),

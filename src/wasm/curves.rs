@@ -19,7 +19,7 @@ use crate::machine::{AxisKind, Branch, Chain, ErrorParam};
 use crate::part::{builtin_points, SShape, Surface};
 use crate::sensitivity::cone_frustum::ConeFrustum;
 use crate::sensitivity::frenet::{coefficients, cone_frames, flank_frames, Coefficients, Cutting};
-use crate::sensitivity::{sensitivity_matrix, SensitivityMatrix};
+use crate::sensitivity::{axis_values, sensitivity_matrix, SensitivityMatrix};
 
 /// A cone frustum of paper 002 §4 by name.
 type NamedCone = (&'static str, fn() -> ConeFrustum);
@@ -147,7 +147,9 @@ pub fn curves_for(options_js: JsValue, surface: &str, samples: usize) -> Result<
     let sopts = sensitivity_options(&opts);
     let params = sopts.params().map_err(|e| JsError::new(&e.to_string()))?;
     let part = SShape::iso();
-    let m = sensitivity_matrix(&part, &builtin_points(&part), &sopts)
+    let points = builtin_points(&part);
+    let m = axis_values(&part, &points, &sopts)
+        .and_then(|q| sensitivity_matrix(&part, &points, &q, &sopts))
         .map_err(|e| JsError::new(&e.to_string()))?;
     let samples = samples.clamp(2, 2000);
     let frames = flank_frames(&part, s, &sopts, samples, cutting)

@@ -138,7 +138,13 @@ fn points_on_the_vertical_zone() {
                 .enumerate()
                 .map(|(k, &u)| MeasurementPoint::at(&part, k + 1, curve, u, curve.v()))
                 .collect();
-            let m = sensitivity_matrix(&part, &pts, &opts).unwrap();
+            let m = sensitivity_matrix(
+                &part,
+                &pts,
+                &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
+                &opts,
+            )
+            .unwrap();
             assert!(m.values.iter().all(|v| v.is_finite()));
             for c in 0..m.values.ncols() {
                 for r in [0, 2] {

@@ -27,7 +27,14 @@ fn columns(m: MachineChoice, branch: Branch) -> (Vec<LocationError>, Vec<DVector
     let opts = SensitivityOptions::default()
         .with_chain(chain)
         .with_branch(branch);
-    let j = jacobian_rows(&part, &pts, &opts, &params).unwrap();
+    let j = jacobian_rows(
+        &part,
+        &pts,
+        &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
+        &opts,
+        &params,
+    )
+    .unwrap();
     let cols = list
         .iter()
         .enumerate()

@@ -54,7 +54,13 @@ fn check_matrix(file: &str, mode: Mode, branch: Branch) {
     let opts = SensitivityOptions::default()
         .with_mode(mode)
         .with_branch(branch);
-    let m = sensitivity_matrix(&part, &pts, &opts).unwrap();
+    let m = sensitivity_matrix(
+        &part,
+        &pts,
+        &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
+        &opts,
+    )
+    .unwrap();
     let (h, rows) = read(file);
     assert_eq!(&h[2..], m.params.as_slice());
     assert_eq!(rows.len(), m.values.nrows());
@@ -146,7 +152,13 @@ fn exact_and_linear_defect_agree_to_first_order_in_both_modes() {
     for mode in [Mode::Physical, Mode::Paper] {
         let opts = SensitivityOptions::default().with_mode(mode);
         let exact = testpiece::sensitivity::defect_xi(&part, &pts, &xi, &opts).unwrap();
-        let m = sensitivity_matrix(&part, &pts, &opts).unwrap();
+        let m = sensitivity_matrix(
+            &part,
+            &pts,
+            &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
+            &opts,
+        )
+        .unwrap();
         let lin = &m.values * nalgebra::DVector::from_row_slice(&xi);
         let worst = exact
             .iter()

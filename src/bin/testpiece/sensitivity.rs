@@ -2,7 +2,9 @@
 
 use testpiece::machine::Branch;
 use testpiece::part::{builtin_points, SShape};
-use testpiece::sensitivity::{sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions};
+use testpiece::sensitivity::{
+    axis_values, sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions,
+};
 
 use crate::common::{branch, branch_name, mode, print_json};
 
@@ -33,7 +35,9 @@ pub fn run(a: Args) -> Result<(), String> {
     let opts = SensitivityOptions::default()
         .with_mode(a.mode)
         .with_branch(a.branch);
-    let m = sensitivity_matrix(&part, &points, &opts).map_err(|e| e.to_string())?;
+    let m = axis_values(&part, &points, &opts)
+        .and_then(|q| sensitivity_matrix(&part, &points, &q, &opts))
+        .map_err(|e| e.to_string())?;
     if a.json {
         print_json(&json(&m, a.mode, a.branch))
     } else {
