@@ -1,6 +1,7 @@
 //! The final answer, refined with the exact model like the baseline.
 
 use crate::effects::builtin::PartModel;
+use crate::effects::prepared::Prepared;
 use crate::effects::Effect;
 use crate::final_fit::correct::{
     correct, shifts, summary, Basis, Correction, CorrectionInput, Final,
@@ -8,24 +9,30 @@ use crate::final_fit::correct::{
 use crate::identify::correlated::{whiten, whitened_limit, Whitened, Whitener};
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{Design, Identification, IdentifyOptions, Observations};
-use crate::part::MeasurementPoint;
 use crate::simulate::ExactDefectModel;
 
 use super::error::AnalysisError;
 use super::options::AnalysisOptions;
-use super::points::sensitivity_options;
+use super::session::PointsModel;
 
-/// The exact-model refinement of a fit of `design` (plain, or whitened by `whitener`).
+/// The exact-model refinement of a fit of `design` (plain, or whitened by `whitener`) at the
+/// points of `at`, on the prepared settings (their chain, branch and mode).
 pub(super) fn refine_with(
+    prepared: &Prepared,
+    at: &PointsModel,
     design: &Design,
     obs: &Observations,
     linear: &Identification,
-    points: &[MeasurementPoint],
-    opts: &AnalysisOptions,
     iopts: &IdentifyOptions,
     whitener: Option<&Whitener>,
 ) -> Result<RefineReport, AnalysisError> {
-    let model = ExactDefectModel::at_points(design, points.to_vec(), sensitivity_options(opts))?;
+    let model = ExactDefectModel::at_points(
+        design,
+        prepared.part(),
+        at.points(),
+        at.axis_values()?,
+        prepared.options(),
+    )?;
     let r = match whitener {
         None => refine(design, obs, linear, model, &RefineOptions::default(), iopts),
         Some(w) => {
@@ -54,7 +61,6 @@ pub(super) struct FinalInput<'a> {
     pub(super) observations: &'a Observations,
     pub(super) baseline: &'a Identification,
     pub(super) baseline_refinement: Option<&'a RefineReport>,
-    pub(super) points: &'a [MeasurementPoint],
     pub(super) model: Option<&'a PartModel>,
     pub(super) verdict: Option<&'a crate::gap::verdict::Verdict>,
     pub(super) unavailable: &'a [(Effect, String)],
@@ -63,6 +69,8 @@ pub(super) struct FinalInput<'a> {
 /// The final answer ([`crate::final_fit::correct`]), refined with the exact model like the baseline.
 pub(super) fn final_answer(
     f: FinalInput,
+    prepared: &Prepared,
+    at: &PointsModel,
     opts: &AnalysisOptions,
     iopts: &IdentifyOptions,
 ) -> Result<(Design, Identification, Option<RefineReport>, Correction), AnalysisError> {
@@ -77,6 +85,7 @@ pub(super) fn final_answer(
         verdict: f.verdict,
         unavailable: f.unavailable,
         options: iopts,
+        decompositions: at.decompositions(),
     };
     let fin = correct(&input, &opts.effects).map_err(AnalysisError::Correction)?;
     let Final {
@@ -89,11 +98,11 @@ pub(super) fn final_answer(
         Basis::Baseline => f.baseline_refinement.cloned(),
         _ if opts.refine => {
             let r = refine_with(
+                prepared,
+                at,
                 &design,
                 f.observations,
                 &identification,
-                f.points,
-                opts,
                 iopts,
                 whitener.as_ref(),
             )?;

@@ -81,11 +81,6 @@ impl SensitivityOptions {
         self.chain = chain;
         self
     }
-    /// The location errors of the chain the part is identified with (the matrix columns):
-    /// derived from what the part sees ([`super::error_set`]; paper 000: Table 3's eight).
-    pub fn params(&self) -> Result<Vec<ErrorParam>, SensitivityError> {
-        Ok(super::error_set::error_set(&self.chain, self.branch)?.params())
-    }
 }
 
 /// Per point: axis values, tool-point height and normal used by the mode.
@@ -162,14 +157,17 @@ pub struct SensitivityMatrix {
 }
 
 /// The sensitivity matrix of the points (linear eq. 14 per unit error, mode of `opts`), at
-/// their axis values `q` ([`axis_values`] with the same `opts`).
+/// their axis values `q` ([`axis_values`] with the same `opts`), one column per error of
+/// `errors`: the location errors of the chain's set ([`super::error_set::ErrorSet::params`];
+/// paper 000: Table 3's eight).
 pub fn sensitivity_matrix(
     part: &SShape,
     points: &[MeasurementPoint],
     q: &[AxisValues],
     opts: &SensitivityOptions,
+    errors: &[ErrorParam],
 ) -> Result<SensitivityMatrix, SensitivityError> {
-    let params = opts.params()?;
+    let params = errors.to_vec();
     let values = jacobian_rows(part, points, q, opts, &params)?;
     Ok(SensitivityMatrix {
         ids: points.iter().map(|p| p.id).collect(),
@@ -352,21 +350,21 @@ pub fn linear_defect(
         .collect())
 }
 
-/// [`defect`] for a vector `xi` of the minimal-set errors of `opts.chain`, in the order of
-/// [`SensitivityOptions::params`] (paper 000: EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B, EA0B, EC0B;
-/// rad, EX0B in mm). Exact eq. 12.
+/// [`defect`] for a vector `xi` of the errors `params`, in their order (the chain's set,
+/// [`super::error_set::ErrorSet::params`]; paper 000: EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B, EA0B,
+/// EC0B; rad, EX0B in mm). Exact eq. 12.
 pub fn defect_xi(
     part: &SShape,
     points: &[MeasurementPoint],
     xi: &[f64],
+    params: &[ErrorParam],
     opts: &SensitivityOptions,
 ) -> Result<Vec<f64>, SensitivityError> {
-    let params = opts.params()?;
     if xi.len() != params.len() {
         return Err(SensitivityError::ErrorCount {
             values: xi.len(),
             params: params.len(),
         });
     }
-    defect(part, points, &MachineErrors::from_pairs(&params, xi), opts)
+    defect(part, points, &MachineErrors::from_pairs(params, xi), opts)
 }

@@ -34,11 +34,9 @@
 //!
 //! The set is derived on the design of the part's 100 built-in points (s-shape.md: 25 per curve
 //! at equal arc length), so that a machine has one set whatever the file; a file's own points
-//! then decide rank and groups in the identification, as before. It is computed once per chain
-//! and branch and kept for the process ([`error_set`]).
-
-use std::cell::RefCell;
-use std::rc::Rc;
+//! then decide rank and groups in the identification, as before. [`error_set`] derives it at
+//! each call: a caller that needs it again keeps the value (the prepared settings,
+//! [`crate::effects::prepared::Prepared`], hold their machine's set).
 
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -47,7 +45,6 @@ use crate::machine::chain::{AxisKind, AxisName, Chain, Side};
 use crate::machine::location_errors::{minimal_set, LocationError, LocationStatus};
 use crate::machine::location_errors::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
 use crate::machine::{Branch, ErrorParam};
-use crate::numerics::memo::Memo;
 use crate::numerics::terms::{dominant, magnitude_text, Term};
 use crate::part::{builtin_points, SShape};
 
@@ -181,28 +178,17 @@ fn typical(e: &LocationError) -> (f64, &'static str) {
     }
 }
 
-/// The set of `chain` on the built-in design with `branch` (computed once per chain and branch
-/// and kept by the thread, as the other settings-only results are: [`crate::numerics::memo`]).
-pub fn error_set(chain: &Chain, branch: Branch) -> Result<Rc<ErrorSet>, SensitivityError> {
-    thread_local! {
-        static SETS: RefCell<Memo<(Chain, Branch), ErrorSet>> = const { RefCell::new(Memo::new(KEPT)) };
-    }
-    if let Some(s) = SETS.with_borrow_mut(|m| m.find(|(c, b)| c == chain && *b == branch)) {
-        return Ok(s);
-    }
+/// The set of `chain` with `branch`, derived on the built-in design of [`SShape::iso`]
+/// ([`derive`] at its 100 built-in points).
+pub fn error_set(chain: &Chain, branch: Branch) -> Result<ErrorSet, SensitivityError> {
     let part = SShape::iso();
     let points = builtin_points(&part);
     let opts = SensitivityOptions::default()
         .with_chain(chain.clone())
         .with_branch(branch)
         .with_mode(Mode::Physical);
-    let set = Rc::new(derive(&part, &points, &opts)?);
-    SETS.with_borrow_mut(|m| m.insert((chain.clone(), branch), Rc::clone(&set)));
-    Ok(set)
+    derive(&part, &points, &opts)
 }
-
-/// Machines (chain and branch) whose sets a thread keeps.
-const KEPT: usize = 8;
 
 /// The rule of the module docs on the design of `points` (any points of the part; `opts.mode`
 /// is taken as `physical`).

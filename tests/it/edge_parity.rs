@@ -21,7 +21,7 @@ use testpiece::sensitivity::Mode;
 
 use crate::parity_common::*;
 use serde_json::Value;
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::cmm::{read_and_match, ReadOptions};
 use testpiece::identify::monte_carlo::{monte_carlo, MonteCarloOptions, Noise};
 use testpiece::identify::{identify, IdentifyOptions, Observations};
@@ -87,7 +87,7 @@ fn examples_value() -> Value {
     let mut m = serde_json::Map::new();
     for name in EXAMPLES {
         let bytes = std::fs::read(root().join("tests/data/reference/examples").join(name)).unwrap();
-        let a = analyse(&bytes, name, &AnalysisOptions::default()).unwrap();
+        let a = analyse_once(&bytes, name, &AnalysisOptions::default()).unwrap();
         m.insert(name.to_string(), analysis_value(&a));
     }
     Value::Object(m)
@@ -110,7 +110,7 @@ fn analysis_on_the_tilting_table() {
         machine: MachineChoice::Paper002,
         ..AnalysisOptions::default()
     };
-    let a = analyse(&bytes, name, &opts).unwrap();
+    let a = analyse_once(&bytes, name, &opts).unwrap();
     let names: Vec<&str> = a.design.params.iter().map(String::as_str).collect();
     assert_eq!(
         names,
@@ -132,7 +132,7 @@ fn analysis_on_the_tilting_table() {
 /// (tests/wasm_node/parity.rs).
 #[test]
 fn a_structured_scan_of_600_points() {
-    let a = analyse(
+    let a = analyse_once(
         structured_scan().as_bytes(),
         "scan.csv",
         &AnalysisOptions::default(),
@@ -148,10 +148,12 @@ fn a_structured_scan_of_600_points() {
 fn deterministic_for_a_given_seed() {
     let bytes =
         std::fs::read(root().join("tests/data/reference/examples/example_backlash_c.csv")).unwrap();
-    let a = serde_json::to_string(&analyse(&bytes, "b.csv", &AnalysisOptions::default()).unwrap())
-        .unwrap();
-    let b = serde_json::to_string(&analyse(&bytes, "b.csv", &AnalysisOptions::default()).unwrap())
-        .unwrap();
+    let a =
+        serde_json::to_string(&analyse_once(&bytes, "b.csv", &AnalysisOptions::default()).unwrap())
+            .unwrap();
+    let b =
+        serde_json::to_string(&analyse_once(&bytes, "b.csv", &AnalysisOptions::default()).unwrap())
+            .unwrap();
     assert_eq!(a, b);
 
     let errors = vec![("EX0B".to_string(), 0.02), ("EA0B".to_string(), 1e-4)];

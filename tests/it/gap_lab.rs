@@ -4,7 +4,7 @@
 
 use crate::cli_common;
 
-use testpiece::analysis::{analyse, analyse_repeats, AnalysisOptions, Diagnosis};
+use testpiece::analysis::{analyse_once, analyse_repeats, AnalysisOptions, Diagnosis, Session};
 use testpiece::part::{builtin_points, SShape};
 use testpiece::validate::conditions::layout_points;
 use testpiece::validate::{exact_machine_part, run_conditions, ValidationModel, CONDITIONS};
@@ -49,7 +49,8 @@ fn repeats_give_sigma_from_their_differences() {
         .zip(["a.csv", "b.csv", "c.csv"])
         .map(|(p, n)| (p.as_bytes(), n))
         .collect();
-    let a = analyse_repeats(&files, &AnalysisOptions::default()).unwrap();
+    let o = AnalysisOptions::default();
+    let a = analyse_repeats(&Session::new(&o).unwrap(), &files, &o).unwrap();
     let r = a.repeat.as_ref().expect("a repeat report");
     assert_eq!((r.pure_error.repeats, r.pure_error.dof), (3, 200));
     assert!(
@@ -72,7 +73,8 @@ fn repeats_give_sigma_from_their_differences() {
         .zip(["a.csv", "b.csv"])
         .map(|(p, n)| (p.as_bytes(), n))
         .collect();
-    let a = analyse_repeats(&files, &AnalysisOptions::default()).unwrap();
+    let o = AnalysisOptions::default();
+    let a = analyse_repeats(&Session::new(&o).unwrap(), &files, &o).unwrap();
     assert!(a.repeat.as_ref().unwrap().lack_of_fit.p_value > 0.01);
     assert_eq!(verdict(&a), "none");
 }
@@ -120,7 +122,7 @@ fn repeats_on_the_command_line_and_their_refusals() {
 #[test]
 fn an_implausible_sigma_is_questioned() {
     let noisy = simulate(&["--errors", ERRORS, "--noise", "0.005", "--seed", "3"]);
-    let a = analyse(noisy.as_bytes(), "noisy.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(noisy.as_bytes(), "noisy.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };
@@ -131,7 +133,7 @@ fn an_implausible_sigma_is_questioned() {
         report.summary
     );
     let clean = simulate(&["--errors", ERRORS, "--noise", "0.0015", "--seed", "3"]);
-    let a = analyse(clean.as_bytes(), "clean.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(clean.as_bytes(), "clean.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };
@@ -156,7 +158,7 @@ fn other_layouts_are_diagnosed_and_described() {
         .collect();
     every_third.reverse();
     let text = format!("{header}\n{}\n", every_third.join("\n"));
-    let a = analyse(text.as_bytes(), "third.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(text.as_bytes(), "third.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };
@@ -176,13 +178,13 @@ fn other_layouts_are_diagnosed_and_described() {
         .filter(|l| !l.contains("B_Z25"))
         .collect();
     let text = format!("{header}\n{}\n", three.join("\n"));
-    let a = analyse(text.as_bytes(), "three.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(text.as_bytes(), "three.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };
     assert_eq!(report.layout.not_measured, vec!["B_Z25".to_string()]);
     // the built-in layout is full and says nothing
-    let a = analyse(full.as_bytes(), "full.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(full.as_bytes(), "full.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };

@@ -88,6 +88,9 @@ fn identifiability_figures_of_the_spec() {
             &pts,
             &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
             &opts,
+            &testpiece::sensitivity::error_set::error_set(&opts.chain, opts.branch)
+                .unwrap()
+                .params(),
         )
         .unwrap()
         .values;

@@ -18,7 +18,10 @@ fn sensitivity_matrix_matches_reference_under_wasm() {
     let points = builtin_points(&part);
     let opts = SensitivityOptions::default();
     let q = testpiece::sensitivity::axis_values(&part, &points, &opts).expect("axis values");
-    let m = sensitivity_matrix(&part, &points, &q, &opts).expect("sensitivity");
+    let errors = testpiece::sensitivity::error_set::error_set(&opts.chain, opts.branch)
+        .expect("error set")
+        .params();
+    let m = sensitivity_matrix(&part, &points, &q, &opts, &errors).expect("sensitivity");
     let rows: Vec<Vec<f64>> = REFERENCE
         .lines()
         .skip(1)

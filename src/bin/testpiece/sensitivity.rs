@@ -2,6 +2,7 @@
 
 use testpiece::machine::Branch;
 use testpiece::part::{builtin_points, SShape};
+use testpiece::sensitivity::error_set::error_set;
 use testpiece::sensitivity::{
     axis_values, sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions,
 };
@@ -35,8 +36,11 @@ pub fn run(a: Args) -> Result<(), String> {
     let opts = SensitivityOptions::default()
         .with_mode(a.mode)
         .with_branch(a.branch);
-    let m = axis_values(&part, &points, &opts)
-        .and_then(|q| sensitivity_matrix(&part, &points, &q, &opts))
+    let m = error_set(&opts.chain, opts.branch)
+        .and_then(|set| {
+            let q = axis_values(&part, &points, &opts)?;
+            sensitivity_matrix(&part, &points, &q, &opts, &set.params())
+        })
         .map_err(|e| e.to_string())?;
     if a.json {
         print_json(&json(&m, a.mode, a.branch))
