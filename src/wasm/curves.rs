@@ -14,11 +14,9 @@ use wasm_bindgen::prelude::*;
 
 use super::prepared::PreparedSettings;
 use super::to_js;
-use crate::analysis::{sensitivity_options, AnalysisOptions};
-use crate::machine::location_errors::{TYPICAL_ANGLE_RAD, TYPICAL_LENGTH_MM};
-use crate::machine::{AxisKind, Branch, Chain, ErrorParam, Unit};
+use crate::machine::{Branch, Chain, ErrorParam, Unit};
 use crate::parameter::ParamId;
-use crate::part::{builtin_points, SShape, Surface};
+use crate::part::{builtin_points, Surface};
 use crate::sensitivity::cone_frustum::ConeFrustum;
 use crate::sensitivity::frenet::{coefficients, cone_frames, flank_frames, Coefficients, Cutting};
 use crate::sensitivity::SensitivityMatrix;

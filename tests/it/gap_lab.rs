@@ -16,6 +16,18 @@ fn simulate(args: &[&str]) -> String {
 
 const ERRORS: &str = "EX0B=0.02,EA0B=2e-4,EB0C=1e-4,EC0Y=-1e-4";
 
+/// The repeats `texts` (a.csv, b.csv, ...) analysed together with the default options.
+fn analyse_texts(texts: &[String]) -> testpiece::analysis::Analysis {
+    let names = ["a.csv", "b.csv", "c.csv", "d.csv", "e.csv"];
+    let files: Vec<(&[u8], &str)> = texts
+        .iter()
+        .zip(names)
+        .map(|(p, n)| (p.as_bytes(), n))
+        .collect();
+    let o = AnalysisOptions::default();
+    analyse_repeats(&Session::new(&o).unwrap(), &files, &o).unwrap()
+}
+
 fn verdict(a: &testpiece::analysis::Analysis) -> String {
     match &a.diagnosis {
         Diagnosis::Made { report, .. } => report.verdict.id().to_string(),
@@ -44,13 +56,7 @@ fn repeats_give_sigma_from_their_differences() {
             ])
         })
         .collect();
-    let files: Vec<(&[u8], &str)> = parts
-        .iter()
-        .zip(["a.csv", "b.csv", "c.csv"])
-        .map(|(p, n)| (p.as_bytes(), n))
-        .collect();
-    let o = AnalysisOptions::default();
-    let a = analyse_repeats(&Session::new(&o).unwrap(), &files, &o).unwrap();
+    let a = analyse_texts(&parts);
     let r = a.repeat.as_ref().expect("a repeat report");
     assert_eq!((r.pure_error.repeats, r.pure_error.dof), (3, 200));
     assert!(
@@ -68,13 +74,7 @@ fn repeats_give_sigma_from_their_differences() {
         .iter()
         .map(|seed| simulate(&["--errors", ERRORS, "--noise", "0.0015", "--seed", seed]))
         .collect();
-    let files: Vec<(&[u8], &str)> = clean
-        .iter()
-        .zip(["a.csv", "b.csv"])
-        .map(|(p, n)| (p.as_bytes(), n))
-        .collect();
-    let o = AnalysisOptions::default();
-    let a = analyse_repeats(&Session::new(&o).unwrap(), &files, &o).unwrap();
+    let a = analyse_texts(&clean);
     assert!(a.repeat.as_ref().unwrap().lack_of_fit.p_value > 0.01);
     assert_eq!(verdict(&a), "none");
 }
@@ -118,13 +118,7 @@ fn repeats_of_a_scattered_part_add_its_scatter_to_the_cmm() {
                 out
             })
             .collect();
-        let files: Vec<(&[u8], &str)> = measured
-            .iter()
-            .zip(["a.csv", "b.csv", "c.csv"])
-            .map(|(p, n)| (p.as_bytes(), n))
-            .collect();
-        let o = AnalysisOptions::default();
-        let a = analyse_repeats(&Session::new(&o).unwrap(), &files, &o).unwrap();
+        let a = analyse_texts(&measured);
         let r = a.repeat.as_ref().unwrap();
         assert!(r.pure_error.sigma < 0.0008, "{}", r.pure_error.sigma);
         assert!(r.lack_of_fit.p_value < 1e-6, "{:?}", r.lack_of_fit);
