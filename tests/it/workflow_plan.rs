@@ -7,9 +7,10 @@
 use crate::cli_common;
 
 use crate::cli_common::testpiece_ok;
-use testpiece::analysis::{analyse, design_at, Session};
+use testpiece::analysis::{analyse, design_at};
 use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::identify::Status;
+use testpiece::part::SShape;
 use testpiece::plan::{plan, read_dmis_points, PlanOptions};
 use testpiece::tolerance::{PLAN_STD_REL as STD_REL, POINTS_MM};
 
@@ -29,17 +30,14 @@ fn predicted_std_equals_the_identification_on_a_part_measured_with_the_plan() {
             tool_radius: true,
             ..PlanOptions::default()
         };
-        let prepared = opts.prepare().unwrap();
-        let p = plan(&prepared, &opts).unwrap();
+        let p = plan(&opts).unwrap();
+        let part = SShape::iso();
         let settings = testpiece::analysis::AnalysisOptions {
             keep_outliers: true,
             refine: false,
             ..opts.analysis(0.002)
         };
-        let q = prepared.axis_values(&p.points).unwrap();
-        let (design, _) = design_at(&prepared, &p.points, &q, &settings).unwrap();
-        // The identification of the planned part on the same prepared settings.
-        let session = Session::of(prepared);
+        let (design, _) = design_at(&part, &p.points, &settings).unwrap();
         let truth: Vec<f64> = (0..design.cols())
             .map(|j| if j % 2 == 0 { 1e-5 } else { -2e-3 })
             .collect();
@@ -50,7 +48,7 @@ fn predicted_std_equals_the_identification_on_a_part_measured_with_the_plan() {
             .map(|(i, d)| d + 0.0015 * (i as f64 * 1.7).sin())
             .collect();
         let csv = canonical_csv(p.points.iter().zip(dev), Precision::Shortest, None);
-        let a = analyse(&session, csv.as_bytes(), "planned.csv", &settings).unwrap();
+        let a = analyse(csv.as_bytes(), "planned.csv", &settings).unwrap();
         assert_eq!(a.points.len(), p.points.len());
         let id = &a.identification;
         assert_eq!(
