@@ -70,6 +70,7 @@ pub fn model_spread(
     let mut models: Vec<(String, DVector<f64>, f64)> = Vec::new();
     let (b, rss) = fit(&au, &yu, p);
     models.push(("baseline".into(), b, rss / (sigma * sigma)));
+    let base_rank = Factor::new(&au, None).rank;
     for c in candidates {
         let s = c.signature.matrix.select_rows(used);
         let x = hstack(&au, &s);
@@ -77,9 +78,7 @@ pub fn model_spread(
             continue;
         }
         let (b, rss) = fit(&x, &yu, p);
-        let added = Factor::new(&x, None)
-            .rank
-            .saturating_sub(Factor::new(&au, None).rank);
+        let added = Factor::new(&x, None).rank.saturating_sub(base_rank);
         models.push((
             c.effect.id().to_string(),
             b,

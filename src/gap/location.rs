@@ -306,7 +306,7 @@ pub fn locate(
         .iter()
         .map(|(_, idx)| idx.iter().map(|&i| r[i]).collect())
         .collect();
-    let noise = noise::estimate_noise(&seq_vals, inputs.floor, inputs.smooth, inputs.pairs);
+    let noise = noise::estimate_noise(&seq_vals, inputs);
     let randomness_per_curve = seqs
         .iter()
         .zip(&seq_vals)

@@ -757,14 +757,14 @@ pub fn total_sigma(floor: Option<f64>, estimate: f64, dof: f64) -> f64 {
 }
 
 /// The noise σ of a part (see [`NoiseEstimate`]) from the baseline residual's sequences along
-/// the curves, the CMM's share `floor` (if known), the smooth-basis residual and the ruling
-/// pairs (if the layout has them).
-pub fn estimate_noise(
-    seqs: &[Vec<f64>],
-    floor: Option<f64>,
-    smooth: Option<SmoothResidual>,
-    pairs: Option<PairSigma>,
-) -> NoiseEstimate {
+/// the curves and `inputs`: the CMM's share (if known), the smooth-basis residual and the
+/// ruling pairs (if the layout has them).
+pub fn estimate_noise(seqs: &[Vec<f64>], inputs: NoiseInputs) -> NoiseEstimate {
+    let NoiseInputs {
+        floor,
+        smooth,
+        pairs,
+    } = inputs;
     let (mut num, mut den) = (0.0, 0usize);
     let mut d2 = Vec::new();
     for s in seqs {
@@ -819,10 +819,10 @@ pub fn estimate_noise(
         f.hypot(PLAUSIBLE_PART_SCATTER_MM)
     });
     let implausible = above(ceiling);
-    let used = match floor {
-        _ if implausible => ceiling,
-        Some(f) if part_scatter.is_none() => f,
-        _ => estimated,
+    let used = if implausible {
+        ceiling
+    } else {
+        total_sigma(floor, estimated, dof)
     };
     NoiseEstimate {
         given: floor,
@@ -871,7 +871,7 @@ mod tests {
     #[test]
     fn second_difference_ignores_a_linear_trend() {
         let s: Vec<f64> = (0..25).map(|i| 0.01 * i as f64).collect();
-        let e = estimate_noise(&[s], None, None, None);
+        let e = estimate_noise(&[s], NoiseInputs::default());
         assert!(e.second_difference < 1e-12, "{}", e.second_difference);
         // von Neumann sees the trend's slope: σ² = 0.01²/2.
         assert!((e.von_neumann - 0.01 / 2f64.sqrt()).abs() < 1e-12);
@@ -905,7 +905,7 @@ mod tests {
                     .collect()
             })
             .collect();
-        let e = estimate_noise(&wavy, None, None, None);
+        let e = estimate_noise(&wavy, NoiseInputs::default());
         let nug = e.variogram_nugget.unwrap();
         assert!(e.von_neumann > 2.5, "{}", e.von_neumann);
         assert!(nug < 2.1 && nug > 0.9, "{nug}");
