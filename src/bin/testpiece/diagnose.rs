@@ -34,21 +34,22 @@ pub struct Args {
     files: Vec<String>,
     /// the same part measured again (the same point ids; give it once per repeat)
     ///
-    /// σ is the pure error of the measurements' differences (no estimator), their mean is
-    /// diagnosed with σ/√k, and the lack of fit of the location errors (F against the pure
-    /// error) is reported: `repeat` {pure_error {sigma, dof, sigma_mean, largest},
-    /// lack_of_fit {f, dof_fit, dof_pure, p_value}, summary}. Not with --sigma or --mpe.
+    /// The pure error of the measurements' differences is the CMM's repeatability; their mean
+    /// is diagnosed with σ/√k as the CMM's share, a floor to which the part's own scatter
+    /// (which probing again does not resample) is added from the data, and the lack of fit of
+    /// the location errors against the pure error alone is reported: `repeat` {pure_error
+    /// {sigma, dof, sigma_mean, largest}, lack_of_fit {f, dof_fit, dof_pure, p_value}, summary}.
+    /// Not with --sigma or --mpe.
     #[arg(long, value_name = "FILE2", verbatim_doc_comment)]
     repeat: Vec<String>,
-    /// CMM repeatability (1σ, mm); default: estimated from the data
+    /// CMM repeatability (1σ, mm): the CMM's share of σ, a floor; default: σ estimated
     ///
-    /// The smallest of estimates each blind to another kind of structure (fit plus a smooth
-    /// basis per curve, its robust and second-difference versions, the variogram nugget) and,
-    /// when that fit's residual is not white (a test calibrated for the fit, p < 1e-4), with each
-    /// curve's strongest sinusoid along the tool path removed and from a tapered periodogram, so
-    /// a short waviness is structure, not noise (JSON structure.noise: every estimate,
-    /// smooth_whiteness_p, not_white). An estimate above 3 µm is questioned in the report: give
-    /// the CMM's figure or a repeat.
+    /// From the data: the differences of the two heights of each ruling (structure along the
+    /// tool path cancels in them) pooled with the variogram nugget of the residual, or the
+    /// smaller when they disagree; with --sigma the part's own scatter is added when σ̂ is
+    /// significantly above it. A σ̂ significantly above what a CMM and a finished flank give
+    /// (3 µm, or √(σ² + 2.5²) µm with --sigma) is structure, never noise (JSON structure.noise:
+    /// estimator, estimated, part_scatter, ceiling, implausible, used and every estimate).
     #[arg(long, value_name = "MM", value_parser = mm, allow_negative_numbers = true, verbatim_doc_comment)]
     sigma: Option<f64>,
     /// the CMM's MPE_E = A + L/K µm (L = distance from the part origin, mm; R0 the

@@ -88,12 +88,14 @@ pub struct Args {
     export: Option<Export>,
     /// the same part measured again (same point ids; once per repeat)
     ///
-    /// The mean of the measurements is identified with σ = the pure error of their differences /
-    /// √k, and the JSON's `repeat` gives the pure error and the lack of fit of the location
-    /// errors. Not with --sigma, --mpe or a pool.
+    /// The mean of the measurements is identified; the pure error of their differences / √k is
+    /// the CMM's share of its σ, a floor to which the part's own scatter is added from the data,
+    /// and the JSON's `repeat` gives the pure error and the lack of fit of the location errors
+    /// against it. Not with --sigma, --mpe or a pool.
     #[arg(long, value_name = "FILE2", verbatim_doc_comment)]
     repeat: Vec<String>,
-    /// a priori σ of the deviations instead of the residual's (mm)
+    /// the CMM's σ of the deviations (mm): a floor; the part's own scatter is added when the
+    /// data show it significantly
     #[arg(long, value_name = "MM", value_parser = mm, allow_negative_numbers = true)]
     sigma: Option<f64>,
     /// the CMM's MPE_E = A + L/K µm and optionally its repeatability range R0 (µm)
