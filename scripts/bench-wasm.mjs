@@ -43,8 +43,9 @@ console.log('| stage | native median | wasm median | wasm / native |');
 console.log('|---|---|---|---|');
 for (const name of STAGES) {
   if (filter && !name.includes(filter)) continue;
-  core.benchPrepare(name);
-  const w = median(() => core.benchRun(name));
+  const stage = new core.BenchStage(name);
+  const w = median(() => stage.run());
+  stage.free();
   const n = native[name];
   const ratio = n > 0 ? (w / n).toFixed(2) : '—';
   console.log(`| ${name} | ${n > 0 ? fmt(n) : '—'} | ${fmt(w)} | ${ratio} |`);

@@ -31,10 +31,12 @@ function fold(name, code) {
   return `const __m_${name.replace(/\W/g, '_')} = (() => {\n${code}\nreturn { ${exported.join(', ')} };\n})();\n`;
 }
 
-/** The wasm-bindgen glue (--target web) as a module-free block exposing initSync and the exports. */
+/** The wasm-bindgen glue (--target web) as a module-free block exposing initSync and the exports
+ * (its functions and its classes, e.g. `Prepared`). */
 function foldGlue(code) {
-  const names = [...code.matchAll(/^export function (\w+)/gm)].map((m) => m[1]);
+  const names = [...code.matchAll(/^export (?:function|class) (\w+)/gm)].map((m) => m[1]);
   code = code.replace(/^export function /gm, 'function ')
+    .replace(/^export class /gm, 'class ')
     .replace(/^export\s*\{[^}]*\};?\s*$/gm, '')
     .replace(/^export default \w+;?\s*$/gm, '');
   if (/^export\s/m.test(code) || /^import\s/m.test(code)) throw new Error('unexpected module syntax in the wasm glue');

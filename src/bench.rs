@@ -13,20 +13,24 @@
 //! `identify_100000` (the Figure-19 design with `dR`, the rows repeated, synthetic deviations),
 //! `analyse_100` (read, match, identify, refine and the full gap diagnosis of a 100-row file),
 //! `diagnose_100` (the gap diagnosis alone: part model with all candidates, cross-validation).
-//! Those two are the *first file*: the models kept by [`crate::effects::cache`] are
-//! forgotten before each call. `analyse_100_further` and `diagnose_100_further` are a *further
-//! file with the same settings* (other deviations, so other matched points): the settings' path
-//! model is kept, the part model of the points is not. `analyse_100_again` and
-//! `diagnose_100_again` are the same points again (a re-analysis after a change of σ, outliers
-//! or effects; several parts of one design): the whole part model is kept.
+//! Those two are the *first file*: each call prepares its settings ([`Session::new`]: the error
+//! set, the path model, the built-in points' model and the location equivalents). `analyse_100_further`
+//! and `diagnose_100_further` are a *further file with the same settings* (other deviations, so
+//! other matched points): the stage holds one [`Session`] and forgets its point models before
+//! each call. `analyse_100_again` and `diagnose_100_again` are the same points again (a
+//! re-analysis after a change of σ, outliers or effects; several parts of one design): the
+//! session keeps the points' model.
 
 use nalgebra::{DMatrix, Vector3};
 
-use crate::analysis::{analyse, AnalysisOptions};
+use crate::analysis::{analyse, AnalysisOptions, Session};
 use crate::cmm::write::{canonical_csv, Precision};
 use crate::identify::{identify, Design, IdentifyOptions, Observations, Parameter};
+use crate::machine::ErrorParam;
 use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
-use crate::sensitivity::path::solve_path;
+use crate::sensitivity::defect::axis_values;
+use crate::sensitivity::error_set::error_set;
+use crate::sensitivity::path::machine_path;
 use crate::sensitivity::{sensitivity_matrix, SensitivityOptions};
 
 /// The stage names, in table order.
@@ -82,7 +86,15 @@ pub fn cmm_text_with(rows: usize, offset: usize) -> String {
 pub fn identify_input(rows: usize) -> Result<(Design, Observations), BenchError> {
     let part = SShape::iso();
     let pts = builtin_points(&part);
-    let m = sensitivity_matrix(&part, &pts, &SensitivityOptions::default())?;
+    let opts = SensitivityOptions::default();
+    let errors = error_set(&opts.chain, opts.branch)?.params();
+    let m = sensitivity_matrix(
+        &part,
+        &pts,
+        &axis_values(&part, &pts, &opts)?,
+        &opts,
+        &errors,
+    )?;
     let tiled = DMatrix::from_fn(rows, m.values.ncols(), |i, j| m.values[(i % pts.len(), j)]);
     let params = m.errors.iter().map(Parameter::of_error).collect();
     let design = Design::try_new(params, tiled).and_then(Design::with_tool_radius)?;
@@ -104,41 +116,44 @@ pub enum Stage {
     Envelope(SShape, Vec<MeasurementPoint>),
     SurfaceMax(SShape),
     Path(SShape, Vec<MeasurementPoint>),
-    Matrix(SShape, Vec<MeasurementPoint>),
+    Matrix(SShape, Vec<MeasurementPoint>, Vec<ErrorParam>),
     Read(String),
     Identify(Design, Observations),
-    Analyse(String, Kept),
-    Diagnose(SShape, Vec<MeasurementPoint>, Vec<f64>, Kept),
+    Analyse(String, Kept, Session),
+    Diagnose(Vec<MeasurementPoint>, Vec<f64>, Kept, Session),
 }
 
-/// What a stage keeps of [`crate::effects::cache`] between its calls.
+/// What a stage keeps of its [`Session`] between its calls.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Kept {
     /// Nothing: every call is a first file.
     Nothing,
-    /// The path models of the settings, not the part models of the points: a further file.
+    /// The prepared settings (path model, error set, …), not the model of the points: a further
+    /// file.
     Paths,
     /// Everything: the same points again.
     Everything,
 }
 
 impl Kept {
-    fn apply(self) {
-        use crate::effects::cache;
-        // The decompositions of the final fit's structure belong to the points, like the part
-        // models.
-        match self {
-            Kept::Nothing => {
-                cache::clear();
-                crate::final_fit::structure::clear_kept();
-            }
+    /// The session a call runs on: a new one (a first file), the stage's own without its point
+    /// models (a further file; the decompositions of the final fit's structure belong to the
+    /// points, like the part models), or the stage's own as it is.
+    fn session(self, held: &Session) -> Result<Option<Session>, BenchError> {
+        Ok(match self {
+            Kept::Nothing => Some(Session::new(&AnalysisOptions::default())?),
             Kept::Paths => {
-                cache::clear_part_models();
-                crate::final_fit::structure::clear_kept();
+                held.forget_points();
+                None
             }
-            Kept::Everything => {}
-        }
+            Kept::Everything => None,
+        })
     }
+}
+
+/// The session of the default settings a stage holds.
+fn session() -> Result<Session, BenchError> {
+    Ok(Session::new(&AnalysisOptions::default())?)
 }
 
 /// The deviations of a CMM text and the points matched to them (as `analyse` finds them).
@@ -188,7 +203,11 @@ impl Stage {
             "envelope_100" => Stage::Envelope(part, pts),
             "surface_max_overcut" => Stage::SurfaceMax(part),
             "inverse_kinematics_path" => Stage::Path(part, pts),
-            "figure19_matrix" => Stage::Matrix(part, pts),
+            "figure19_matrix" => {
+                let o = SensitivityOptions::default();
+                let errors = error_set(&o.chain, o.branch)?.params();
+                Stage::Matrix(part, pts, errors)
+            }
             "read_cmm_100" => Stage::Read(cmm_text(100)),
             "read_cmm_100000" => Stage::Read(cmm_text(100_000)),
             "identify_100" => {
@@ -199,24 +218,26 @@ impl Stage {
                 let (d, o) = identify_input(100_000)?;
                 Stage::Identify(d, o)
             }
-            "analyse_100" => Stage::Analyse(cmm_text(100), Kept::Nothing),
-            "analyse_100_further" => Stage::Analyse(cmm_text_with(100, 5), Kept::Paths),
-            "analyse_100_again" => Stage::Analyse(cmm_text_with(100, 5), Kept::Everything),
+            "analyse_100" => Stage::Analyse(cmm_text(100), Kept::Nothing, session()?),
+            "analyse_100_further" => Stage::Analyse(cmm_text_with(100, 5), Kept::Paths, session()?),
+            "analyse_100_again" => {
+                Stage::Analyse(cmm_text_with(100, 5), Kept::Everything, session()?)
+            }
             "diagnose_100" => {
                 let devs = crate::cmm::read_cmm(cmm_text(100).as_bytes(), "bench.csv")?
                     .points
                     .iter()
                     .map(|p| p.deviation.unwrap_or(0.0))
                     .collect();
-                Stage::Diagnose(part, pts, devs, Kept::Nothing)
+                Stage::Diagnose(pts, devs, Kept::Nothing, session()?)
             }
             "diagnose_100_further" => {
                 let (pts, devs) = matched(&part, &cmm_text_with(100, 5))?;
-                Stage::Diagnose(part, pts, devs, Kept::Paths)
+                Stage::Diagnose(pts, devs, Kept::Paths, session()?)
             }
             "diagnose_100_again" => {
                 let (pts, devs) = matched(&part, &cmm_text_with(100, 5))?;
-                Stage::Diagnose(part, pts, devs, Kept::Everything)
+                Stage::Diagnose(pts, devs, Kept::Everything, session()?)
             }
             _ => {
                 return Err(BenchError::UnknownStage {
@@ -258,28 +279,37 @@ impl Stage {
                         .filter(|p| p.surface == surf)
                         .map(|p| p.u)
                         .collect();
-                    let path = solve_path(part, &o.chain, surf, o.branch, &us)?;
+                    let path = machine_path(part, &o.chain, surf, o.branch, &us)?;
                     s += path.len() as f64;
                 }
                 s
             }
-            Stage::Matrix(part, pts) => {
-                // the kernel, not the points' kept axis values
-                crate::sensitivity::path::clear_kept();
-                sensitivity_matrix(part, pts, &SensitivityOptions::default())?.values[(0, 0)]
+            Stage::Matrix(part, pts, errors) => {
+                // the kernel: the points' axis values, then their Jacobians
+                let o = SensitivityOptions::default();
+                let q = axis_values(part, pts, &o)?;
+                sensitivity_matrix(part, pts, &q, &o, errors)?.values[(0, 0)]
             }
             Stage::Read(text) => crate::cmm::read_cmm(text.as_bytes(), "bench.csv")?
                 .points
                 .len() as f64,
             Stage::Identify(d, o) => identify(d, o, &IdentifyOptions::default())?.rank as f64,
-            Stage::Analyse(text, kept) => {
-                kept.apply();
-                analyse(text.as_bytes(), "bench.csv", &AnalysisOptions::default())?;
+            Stage::Analyse(text, kept, held) => {
+                let fresh = kept.session(held)?;
+                let session = fresh.as_ref().unwrap_or(held);
+                analyse(
+                    session,
+                    text.as_bytes(),
+                    "bench.csv",
+                    &AnalysisOptions::default(),
+                )?;
                 1.0
             }
-            Stage::Diagnose(part, pts, devs, kept) => {
-                kept.apply();
-                crate::analysis::diagnose_points(part, pts, devs, None)?
+            Stage::Diagnose(pts, devs, kept, held) => {
+                let fresh = kept.session(held)?;
+                let session = fresh.as_ref().unwrap_or(held);
+                let at = session.points_model(pts);
+                crate::analysis::diagnose_points(&at, devs, None)?
                     .baseline
                     .rms
             }

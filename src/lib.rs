@@ -7,7 +7,11 @@
 //! and envelope ([`toolpath`]) → machine kinematics and error models ([`machine`]) → machined
 //! defect per error ([`sensitivity`]) → CMM files ([`cmm`]) → least-squares identification
 //! ([`identify`]) → sim-to-real gap diagnosis ([`gap`]). Every stage is a plain function from data
-//! to data; `wasm` (compiled for `wasm32` only) is the only module that knows about the browser.
+//! to data; what the settings alone determine (the machine's error set, the path model, the
+//! built-in points' model) is a value the caller builds once and passes
+//! ([`effects::prepared::Prepared`], kept with the last point sets' models by an
+//! [`analysis::Session`]), never a cache behind its back. `wasm` (compiled for `wasm32` only) is
+//! the only module that knows about the browser.
 //!
 //! Units: mm and rad everywhere (degrees only where a file says so). Sign convention
 //! (`shared/spec/s-shape.md`): a deviation is `(machined or measured − nominal) · N` with `N` the

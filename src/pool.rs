@@ -51,12 +51,14 @@ use crate::analysis::{
     design_at, measurement_points, sensitivity_options, AnalysisError, AnalysisOptions,
 };
 use crate::cmm::{read_and_match, ReadOptions};
+use crate::effects::prepared::Prepared;
 use crate::identify::refine::{
     apply_refinement, refine, ExactModel, ModelError, RefineOptions, RefineReport,
 };
 use crate::identify::{
     identify, Design, Identification, IdentifyError, IdentifyOptions, Observations, Parameter,
 };
+use crate::machine::AxisValues;
 use crate::parameter::{ParamId, PartTerm};
 use crate::part::{MeasurementPoint, SShape};
 use crate::simulate::ExactDefectModel;
@@ -116,6 +118,9 @@ pub struct PoolPart {
     /// The measurement points (surface, `u`, `v`, contact height) of the design rows, for the
     /// exact model of the refinement.
     pub points: Vec<MeasurementPoint>,
+    /// Their axis values on the pool's machine (solved once, for the design and the exact
+    /// model).
+    pub axis_values: Vec<AxisValues>,
     /// Rows the reader excluded at the caller's request.
     pub excluded_rows: usize,
 }
@@ -164,14 +169,16 @@ impl PooledExactModel {
     /// The model for `parts` stacked as `design` (from [`stack`]).
     pub fn new(parts: &[PoolPart], design: &Design, opts: &PoolOptions) -> Result<Self, PoolError> {
         let sopts = sensitivity_options(&opts.analysis);
+        let part = SShape::iso();
         let mut row = 0;
         let mut models = Vec::new();
         for p in parts {
-            let m = ExactDefectModel::at_points(&p.design, p.points.clone(), sopts.clone())
-                .map_err(|source| PoolError::ExactModel {
-                    part: p.name.clone(),
-                    source,
-                })?;
+            let m =
+                ExactDefectModel::at_points(&p.design, &part, &p.points, &p.axis_values, &sopts)
+                    .map_err(|source| PoolError::ExactModel {
+                        part: p.name.clone(),
+                        source,
+                    })?;
             models.push((m, row));
             row += p.design.rows();
         }
@@ -219,21 +226,26 @@ impl ExactModel for PooledExactModel {
 }
 
 /// Reads and matches one file and builds its design (the first stages of
-/// [`crate::analysis::analyse`]).
-pub fn pool_part(bytes: &[u8], name: &str, opts: &AnalysisOptions) -> Result<PoolPart, PoolError> {
+/// [`crate::analysis::analyse`]) on the prepared settings of `opts` ([`crate::analysis::prepare`]).
+pub fn pool_part(
+    prepared: &Prepared,
+    bytes: &[u8],
+    name: &str,
+    opts: &AnalysisOptions,
+) -> Result<PoolPart, PoolError> {
     let wrap = |source: AnalysisError| PoolError::Part {
         name: name.to_string(),
         source,
     };
-    let part = SShape::iso();
     let ropts = ReadOptions::default().with_exclude_bad_rows(opts.exclude_bad_rows);
     let matched = read_and_match(bytes, name, &ropts).map_err(|e| wrap(e.into()))?;
-    let points = measurement_points(&part, &matched);
+    let points = measurement_points(prepared.part(), &matched);
     let plain = AnalysisOptions {
         tool_radius: false,
         ..opts.clone()
     };
-    let (design, _) = design_at(&part, &points, &plain).map_err(wrap)?;
+    let axis_values = prepared.axis_values(&points).map_err(|e| wrap(e.into()))?;
+    let (design, _) = design_at(prepared, &points, &axis_values, &plain).map_err(wrap)?;
     let observations = Observations::new(
         matched.points.iter().map(|p| p.file.id.clone()).collect(),
         points.iter().map(|p| p.curve.name().to_string()).collect(),
@@ -250,6 +262,7 @@ pub fn pool_part(bytes: &[u8], name: &str, opts: &AnalysisOptions) -> Result<Poo
         observations,
         feet,
         points,
+        axis_values,
         excluded_rows: matched.excluded.len(),
     })
 }
@@ -404,8 +417,10 @@ pub fn identify_parts(
     })
 }
 
-/// Reads, matches and identifies one machine from several CMM files `(bytes, name)`.
+/// Reads, matches and identifies one machine from several CMM files `(bytes, name)` on the
+/// prepared settings of `opts.analysis` ([`crate::analysis::prepare`]).
 pub fn identify_pooled(
+    prepared: &Prepared,
     files: &[(&[u8], &str)],
     opts: &PoolOptions,
 ) -> Result<PooledIdentification, PoolError> {
@@ -417,7 +432,7 @@ pub fn identify_pooled(
     }
     let parts = files
         .iter()
-        .map(|(b, n)| pool_part(b, n, &opts.analysis))
+        .map(|(b, n)| pool_part(prepared, b, n, &opts.analysis))
         .collect::<Result<Vec<_>, _>>()?;
     identify_parts(&parts, opts)
 }

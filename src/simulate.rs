@@ -16,10 +16,11 @@ use nalgebra::DMatrix;
 
 use crate::identify::refine::ModelError;
 use crate::identify::{Design, IdentifyError};
-use crate::machine::{Branch, ErrorParam, MachineErrors};
+use crate::machine::{AxisValues, Branch, ErrorParam, MachineErrors};
 use crate::parameter::ParamId;
-use crate::part::{builtin_points, SShape};
-use crate::sensitivity::defect::DefectPoses;
+use crate::part::{builtin_points, MeasurementPoint, SShape};
+use crate::sensitivity::defect::{axis_values, DefectPoses};
+use crate::sensitivity::error_set::error_set;
 use crate::sensitivity::{sensitivity_matrix, Mode, SensitivityError, SensitivityOptions};
 
 /// What can go wrong when simulating a part.
@@ -61,7 +62,8 @@ pub fn sensitivity_options(mode: Mode, branch: Branch) -> SensitivityOptions {
 }
 
 /// The design of the 100 built-in points (s-shape.md) for a mode and branch: the Figure-19
-/// sensitivity matrix (paper 000 eq. 14), with the tool-radius column `dR` if asked.
+/// sensitivity matrix (paper 000 eq. 14) of paper 000's location errors (its error set, derived
+/// here), with the tool-radius column `dR` if asked.
 pub fn builtin_design(
     mode: Mode,
     branch: Branch,
@@ -69,7 +71,10 @@ pub fn builtin_design(
 ) -> Result<Design, SimulateError> {
     let opts = sensitivity_options(mode, branch);
     let part = SShape::iso();
-    let m = sensitivity_matrix(&part, &builtin_points(&part), &opts)?;
+    let points = builtin_points(&part);
+    let errors = error_set(&opts.chain, opts.branch)?.params();
+    let q = axis_values(&part, &points, &opts)?;
+    let m = sensitivity_matrix(&part, &points, &q, &opts, &errors)?;
     let d = Design::from_sensitivity(&m)?;
     Ok(if tool_radius {
         d.with_tool_radius()?
@@ -107,14 +112,20 @@ impl ExactDefectModel {
     pub fn new(design: &Design, mode: Mode, branch: Branch) -> Result<Self, SimulateError> {
         let part = SShape::iso();
         let points = builtin_points(&part);
-        Self::at_points(design, points, sensitivity_options(mode, branch))
+        let opts = sensitivity_options(mode, branch);
+        let q = axis_values(&part, &points, &opts)?;
+        Self::at_points(design, &part, &points, &q, &opts)
     }
 
-    /// The model at any measurement points (e.g. those of a CMM file, matched by projection).
+    /// The model at any measurement points of `part` (e.g. those of a CMM file, matched by
+    /// projection) whose axis values `q` are solved ([`crate::sensitivity::axis_values`] with
+    /// the same `opts`).
     pub fn at_points(
         design: &Design,
-        points: Vec<crate::part::MeasurementPoint>,
-        opts: SensitivityOptions,
+        part: &SShape,
+        points: &[MeasurementPoint],
+        q: &[AxisValues],
+        opts: &SensitivityOptions,
     ) -> Result<Self, SimulateError> {
         let mut params = Vec::new();
         for (j, p) in design.parameters().iter().enumerate() {
@@ -132,7 +143,7 @@ impl ExactDefectModel {
                 _ => 1e-5,
             })
             .collect();
-        let poses = DefectPoses::new(&SShape::iso(), &points, &opts);
+        let poses = DefectPoses::new(part, points, q, opts);
         Ok(ExactDefectModel {
             poses,
             points: points.len(),

@@ -1,7 +1,7 @@
 // The page: settings and files in, the core's results out. All computation is in the core
 // (WebAssembly, in a Web Worker: a module worker when served, a Blob-URL one in the single-file
 // build), one call per user action (src/wasm/mod.rs lists them); each view draws in its own file.
-import { startCore, call, cancel, Cancelled } from './core.js';
+import { startCore, call, callPrepared, cancel, Cancelled } from './core.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
 import { h, core, machineName, fittedWith } from './ui.js';
@@ -92,9 +92,9 @@ async function analyseFile(f) {
   try {
     f.analysis = f.repeats
       // the mean of repeat measurements: σ comes from their differences, not from the settings
-      ? await withProgress(`Analysing ${f.name}…`, () => call('analyseRepeats', f.repeats,
+      ? await withProgress(`Analysing ${f.name}…`, () => callPrepared(st.settings, 'analyseRepeats', f.repeats,
         { ...st.settings, noise_sigma: null, noise_mpe: undefined }))
-      : await withProgress(`Analysing ${f.name}…`, () => call('analyse', f.bytes, f.name, st.settings));
+      : await withProgress(`Analysing ${f.name}…`, () => callPrepared(st.settings, 'analyse', f.bytes, f.name, st.settings));
   } catch (e) {
     f.analysis = null;
     f.error = e instanceof Cancelled ? CANCELLED : e.message;
@@ -123,7 +123,7 @@ async function runPool() {
   st.pool.result = null; st.pool.error = null;
   if (files.length < 2) { st.pool.error = 'Check at least two analysed parts to pool.'; return; }
   try {
-    st.pool.result = await withProgress(`Pooling ${files.length} parts…`, () => call('analysePooled',
+    st.pool.result = await withProgress(`Pooling ${files.length} parts…`, () => callPrepared(st.settings, 'analysePooled',
       files.map((f) => ({ name: f.name, bytes: f.bytes })), { ...st.settings, setup_per_part: st.setupPerPart }));
   } catch (e) { st.pool.error = e.message; }
 }
@@ -170,7 +170,7 @@ async function severalParts() {
 async function loadCurves() {
   const path = st.curves.path;
   try {
-    const r = await withProgress('Computing the sensitivity curves…', () => call('curvesFor', st.settings, path.surface, 200));
+    const r = await withProgress('Computing the sensitivity curves…', () => callPrepared(st.settings, 'curvesFor', path.surface, 200));
     st.sensitivity = r.sensitivity;
     path.data = r.path;
     path.error = null;
@@ -312,10 +312,10 @@ function setupInputs() {
 async function main() {
   setupTabs();
   setupInputs();
-  setupBudget($('view-budget'), { call, st, withProgress }); // issue 10
-  setupPlan($('view-plan'), { call, st }); // issue 19
+  setupBudget($('view-budget'), { callPrepared, st, withProgress }); // issue 10
+  setupPlan($('view-plan'), { callPrepared, st }); // issue 19
   setupProgram($('view-program'), { call, st, withProgress }); // issue 19
-  setupCompensation($('view-compensation'), { call, st, withProgress }); // issue 19
+  setupCompensation($('view-compensation'), { callPrepared, st, withProgress }); // issue 19
   readSettings();
   const runner = await coreStarted;
   $('runner').textContent = runner;

@@ -46,12 +46,12 @@ export function setupBudget(root, ctx) {
     const f = bst.cmm || ctx.st.files[ctx.st.current];
     if (!f) { bst.error = 'Load a measured part first (left).'; show(); return; }
     if (!bst.cl) { bst.error = 'Load a CAM cutter-location file first.'; show(); return; }
-    await compute(() => ctx.call('budget', f.bytes, f.name,
+    await compute(() => ctx.callPrepared(options().analysis, 'budget', f.bytes, f.name,
       bst.cl.bytes, bst.cl.name, bst.trace ? bst.trace.bytes : undefined, bst.trace ? bst.trace.name : undefined, options(), undefined));
   };
   // The example files (measured part, CL, trace) and their budget in one call.
   const example = () => compute(async () => {
-    const r = await ctx.call('budgetExample', options());
+    const r = await ctx.callPrepared(options().analysis, 'budgetExample', options());
     const utf8 = new TextEncoder();
     for (const e of r.files) bst[e.role] = { name: e.name, bytes: utf8.encode(e.text) };
     return r.budget;

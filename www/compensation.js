@@ -26,7 +26,7 @@ export function setupCompensation(root, ctx) {
     if (k === key) return;
     key = k;
     try {
-      const c = await ctx.withProgress('Computing the correction…', () => ctx.call('compensate', f.bytes, f.name, ctx.st.settings));
+      const c = await ctx.withProgress('Computing the correction…', () => ctx.callPrepared(ctx.st.settings, 'compensate', f.bytes, f.name, ctx.st.settings));
       render(out, c, f.name);
     } catch (e) {
       key = null;

@@ -56,13 +56,24 @@ export async function startCore(inline) {
   return inline ? 'web worker (single file, Blob URL)' : 'web worker';
 }
 
-/** Calls the core's export `op` with `args`. */
-export function call(op, ...args) {
+function post(message) {
   const id = ++seq;
   return new Promise((resolve, reject) => {
     pending.set(id, { resolve, reject });
-    worker.postMessage({ id, op, args });
+    worker.postMessage({ id, ...message });
   });
+}
+
+/** Calls the core's export `op` with `args`. */
+export function call(op, ...args) {
+  return post({ op, args });
+}
+
+/** Calls the core's export `op` with the prepared settings of `settings` (an analysis settings
+ * object: its machine, L0, branch and mode) as first argument, then `args`. The worker holds the
+ * core's `Prepared` value and builds another only when those settings change (worker.js). */
+export function callPrepared(settings, op, ...args) {
+  return post({ op, args, prepare: settings });
 }
 
 /** Stops the running computation (the worker is replaced; pending calls are rejected). */

@@ -40,7 +40,7 @@ export function setupPlan(root, ctx) {
     else if (Number.isFinite(a) && Number.isFinite(k)) options.mpe = { a_um: a, k_mm: k, r0_um: Number.isFinite(r0) ? r0 : 0 };
     const mine = ++seq;
     try {
-      const r = await ctx.call('measurementPlan', options);
+      const r = await ctx.callPrepared(options, 'measurementPlan', options);
       if (mine !== seq) return;
       last = r;
       render(out, r.plan);

@@ -3,27 +3,27 @@
 
 use serde::Serialize;
 
-use crate::effects::builtin::{part_model, part_model_on, PartModel};
+use crate::effects::builtin::PartModel;
+use crate::effects::prepared::Prepared;
 use crate::effects::{GapError, GapInput};
 use crate::gap::verdict::VerdictId;
 use crate::gap::{diagnose, DiagnosisReport};
 use crate::measurement::outliers::{find_outliers, without_rows, OutlierTest};
 use crate::parameter::Effect;
-use crate::part::{MeasurementPoint, SShape};
 use crate::settings::MachineChoice;
 
 use super::error::AnalysisError;
 use super::options::AnalysisOptions;
-use super::points::sensitivity_options;
+use super::session::PointsModel;
 
-/// The gap diagnosis (effects.md) of deviations at `points`, on paper 000's machine.
+/// The gap diagnosis (effects.md) of deviations at the points of `at`, on the settings its model
+/// was built on, with every point (no outlier test).
 pub fn diagnose_points(
-    part: &SShape,
-    points: &[MeasurementPoint],
+    at: &PointsModel,
     deviations: &[f64],
     noise_sigma: Option<f64>,
 ) -> Result<DiagnosisReport, GapError> {
-    diagnose_model(&part_model(part, points)?, deviations, noise_sigma)
+    diagnose_model(at.part_model()?, deviations, noise_sigma)
 }
 
 /// The gap diagnosis of an analysis, or why it could not be made (JSON: `status` = `made` or
@@ -67,21 +67,22 @@ impl Diagnosis {
 
 /// The gap diagnosis on the machine the analysis identifies: its own location errors as the
 /// baseline, its own candidates ([`Effect::on_chain`]) with their signatures derived from its
-/// chain, its own axes for backlash, scale and reversals.
+/// chain, its own axes for backlash, scale and reversals (`prepared`: its settings, `at`: the
+/// points' model on them).
 pub fn diagnose_on_machine(
-    part: &SShape,
-    points: &[MeasurementPoint],
+    prepared: &Prepared,
+    at: &PointsModel,
     deviations: &[f64],
     opts: &AnalysisOptions,
 ) -> Diagnosis {
-    diagnose_modelled(part, points, deviations, opts).diagnosis
+    diagnose_modelled(prepared, at, deviations, opts).diagnosis
 }
 
 /// A diagnosis with the part model it used, for the final identification.
-pub(super) struct Modelled {
+pub(super) struct Modelled<'a> {
     pub(super) diagnosis: Diagnosis,
     /// The part model (points, candidates' signatures), when it could be built.
-    pub(super) model: Option<PartModel>,
+    pub(super) model: Option<&'a PartModel>,
     /// Effects the machine does not have ([`Effect::left_out`]), and why.
     pub(super) unavailable: Vec<(Effect, String)>,
     /// The outlier test (when the model could be built) and the rows left out.
@@ -91,12 +92,12 @@ pub(super) struct Modelled {
     pub(super) verdict_all_points: Option<VerdictId>,
 }
 
-pub(super) fn diagnose_modelled(
-    part: &SShape,
-    points: &[MeasurementPoint],
+pub(super) fn diagnose_modelled<'a>(
+    prepared: &Prepared,
+    at: &'a PointsModel,
     deviations: &[f64],
     opts: &AnalysisOptions,
-) -> Modelled {
+) -> Modelled<'a> {
     let mut outliers = None;
     let mut excluded = Vec::new();
     let mut verdict_all_points = None;
@@ -120,14 +121,11 @@ pub(super) fn diagnose_modelled(
         excluded = drop;
         Ok(report)
     };
-    let made = part_model_on(part, points, &sensitivity_options(opts))
-        .and_then(|m| run(&m).map(|report| (report, m)));
+    let made = at
+        .part_model()
+        .and_then(|m| run(m).map(|report| (report, m)));
     let mut unavailable = Effect::left_out(&opts.machine.chain(opts.l0));
-    if let Ok(same) =
-        crate::effects::builtin::location_equivalents_of(part, &sensitivity_options(opts))
-    {
-        unavailable.extend(same);
-    }
+    unavailable.extend(prepared.location_equivalents().iter().cloned());
     match made {
         Ok((report, model)) => Modelled {
             diagnosis: Diagnosis::Made {

@@ -41,4 +41,8 @@ pub enum AnalysisError {
     },
     #[error("no diagnosis: {reason}")]
     NotDiagnosed { reason: GapError },
+    #[error(
+        "the settings were prepared for {prepared}, the analysis asks for {asked}: prepare its own"
+    )]
+    OtherSettings { prepared: String, asked: String },
 }

@@ -1,6 +1,7 @@
 //! The final answer, refined with the exact model like the baseline.
 
 use crate::effects::builtin::PartModel;
+use crate::effects::prepared::Prepared;
 use crate::final_fit::correct::{
     correct, shifts, summary, Basis, Correction, CorrectionInput, EffectsChoice, Final,
 };
@@ -10,24 +11,30 @@ use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineRep
 use crate::identify::{Design, Identification, IdentifyOptions, Observations};
 use crate::identify::{Status, NONZERO_T};
 use crate::parameter::Effect;
-use crate::part::MeasurementPoint;
 use crate::simulate::ExactDefectModel;
 
 use super::error::AnalysisError;
 use super::options::AnalysisOptions;
-use super::points::sensitivity_options;
+use super::session::PointsModel;
 
-/// The exact-model refinement of a fit of `design` (plain, or whitened by `whitener`).
+/// The exact-model refinement of a fit of `design` (plain, or whitened by `whitener`) at the
+/// points of `at`, on the prepared settings (their chain, branch and mode).
 pub(super) fn refine_with(
+    prepared: &Prepared,
+    at: &PointsModel,
     design: &Design,
     obs: &Observations,
     linear: &Identification,
-    points: &[MeasurementPoint],
-    opts: &AnalysisOptions,
     iopts: &IdentifyOptions,
     whitener: Option<&Whitener>,
 ) -> Result<RefineReport, AnalysisError> {
-    let model = ExactDefectModel::at_points(design, points.to_vec(), sensitivity_options(opts))?;
+    let model = ExactDefectModel::at_points(
+        design,
+        prepared.part(),
+        at.points(),
+        at.axis_values()?,
+        prepared.options(),
+    )?;
     let r = match whitener {
         None => refine(design, obs, linear, model, &RefineOptions::default(), iopts),
         Some(w) => {
@@ -56,7 +63,6 @@ pub(super) struct FinalInput<'a> {
     pub(super) observations: &'a Observations,
     pub(super) baseline: &'a Identification,
     pub(super) baseline_refinement: Option<&'a RefineReport>,
-    pub(super) points: &'a [MeasurementPoint],
     pub(super) model: Option<&'a PartModel>,
     pub(super) verdict: Option<&'a crate::gap::verdict::Verdict>,
     /// The part's noise σ of the diagnosis (mm).
@@ -67,6 +73,8 @@ pub(super) struct FinalInput<'a> {
 /// The final answer ([`crate::final_fit::correct`]), refined with the exact model like the baseline.
 pub(super) fn final_answer(
     f: FinalInput,
+    prepared: &Prepared,
+    at: &PointsModel,
     opts: &AnalysisOptions,
     iopts: &IdentifyOptions,
 ) -> Result<(Design, Identification, Option<RefineReport>, Correction), AnalysisError> {
@@ -82,6 +90,7 @@ pub(super) fn final_answer(
         noise_sigma: f.noise_sigma,
         unavailable: f.unavailable,
         options: iopts,
+        decompositions: at.decompositions(),
     };
     let fin = correct(&input, &opts.effects).map_err(AnalysisError::Correction)?;
     let Final {
@@ -94,11 +103,11 @@ pub(super) fn final_answer(
         Basis::Baseline => f.baseline_refinement.cloned(),
         _ if opts.refine => {
             let r = refine_with(
+                prepared,
+                at,
                 &design,
                 f.observations,
                 &identification,
-                f.points,
-                opts,
                 iopts,
                 whitener.as_ref(),
             )?;

@@ -1,10 +1,10 @@
 //! One part through the stages after its points are known: what the CLI, the page and
 //! `validate` all run.
 
+use crate::effects::prepared::Prepared;
 use crate::final_fit::correct::Correction;
 use crate::identify::refine::{apply_refinement, RefineReport};
 use crate::identify::{identify, Design, Identification, IdentifyOptions, Observations};
-use crate::part::{MeasurementPoint, SShape};
 
 use super::diagnosis::{diagnose_modelled, Diagnosis};
 use super::error::AnalysisError;
@@ -13,6 +13,7 @@ use super::options::AnalysisOptions;
 use super::outliers::outliers_of;
 use super::points::design_at;
 use super::report::{BaselineFit, Outliers};
+use super::session::PointsModel;
 
 /// What one part's points and deviations give through the stages after the reading: the
 /// outliers, the diagnosis, the baseline and the final answer ([`fit_points`]).
@@ -35,17 +36,22 @@ pub struct PointsFit {
 /// benchmark of the diagnosis (`validate`) all run it: the design of the location errors at the
 /// points ([`design_at`]), the outlier test and the diagnosis ([`diagnose_on_machine`]), the
 /// baseline identification and its exact-model refinement, and the final answer fitted with
-/// what the diagnosis found. `deviations` (mm) and `ids` follow `points`; `opts.noise_sigma` is
-/// the CMM's share of σ, a floor (`None`: σ estimated), `opts.noise_mpe` is not read here.
+/// what the diagnosis found. `prepared` are the settings of `opts` (machine, L0, branch, mode),
+/// `at` the model of the points on them ([`PointsModel`]); `deviations` (mm) and `ids` follow
+/// its points; `opts.noise_sigma` is the CMM's share of σ, a floor (`None`: σ estimated),
+/// `opts.noise_mpe` is not read here.
+///
+/// [`diagnose_on_machine`]: super::diagnose_on_machine
 pub fn fit_points(
-    part: &SShape,
-    points: &[MeasurementPoint],
+    prepared: &Prepared,
+    at: &PointsModel,
     deviations: &[f64],
     ids: &[String],
     opts: &AnalysisOptions,
 ) -> Result<PointsFit, AnalysisError> {
-    let (design, columns) = design_at(part, points, opts)?;
-    let modelled = diagnose_modelled(part, points, deviations, opts);
+    let points = at.points();
+    let (design, columns) = design_at(prepared, points, at.axis_values()?, opts)?;
+    let modelled = diagnose_modelled(prepared, at, deviations, opts);
     let obs = Observations::new(
         ids.to_vec(),
         points.iter().map(|p| p.curve.name().to_string()).collect(),
@@ -64,7 +70,7 @@ pub fn fit_points(
     }
     let mut identification = identify(&design, &obs, &iopts)?;
     let refinement = if opts.refine {
-        let r = refine_with(&design, &obs, &identification, points, opts, &iopts, None)?;
+        let r = refine_with(prepared, at, &design, &obs, &identification, &iopts, None)?;
         apply_refinement(&mut identification, &r, "");
         Some(r)
     } else {
@@ -78,12 +84,13 @@ pub fn fit_points(
             observations: &obs,
             baseline: &identification,
             baseline_refinement: refinement.as_ref(),
-            points,
-            model: modelled.model.as_ref(),
+            model: modelled.model,
             verdict: diagnosis.report().map(|r| &r.verdict),
             noise_sigma: diagnosis.report().map(|r| r.structure.noise.used),
             unavailable: &modelled.unavailable,
         },
+        prepared,
+        at,
         opts,
         &iopts,
     )?;

@@ -40,6 +40,7 @@ mod options;
 mod outliers;
 mod points;
 mod report;
+mod session;
 
 pub use diagnosis::{diagnose_on_machine, diagnose_points, Diagnosis};
 pub use error::AnalysisError;
@@ -53,23 +54,37 @@ use report::diagnosis_summary;
 pub use report::{
     Analysis, BaselineFit, DesignColumns, Fitted, NoiseSource, Outliers, RepeatReport,
 };
+pub use session::{prepare, PointsModel, Session, KEPT_MAX_POINTS, KEPT_POINT_SETS};
 
 use crate::cmm::{read_and_match, MatchedPart, ReadOptions};
 use crate::measurement::repeat::{self, Measurement, PureError};
-use crate::part::SShape;
 use crate::settings::{NoiseError, NoiseKind};
 
 use known::{known_note, minus_known};
 use noise::noise_source;
 use outliers::name_outliers;
 
-/// Reads, matches, identifies and diagnoses one CMM file.
-pub fn analyse(
+/// [`analyse`] of one file on settings prepared for it alone: the plain function from the file
+/// and its settings to the analysis. A caller analysing several files (or the same file again)
+/// with the same machine, L0, branch and mode holds one [`Session`] instead.
+pub fn analyse_once(
     bytes: &[u8],
     name: &str,
     opts: &AnalysisOptions,
 ) -> Result<Analysis, AnalysisError> {
-    analyse_fitted(bytes, name, opts).map(|(a, _)| a)
+    analyse(&Session::new(opts)?, bytes, name, opts)
+}
+
+/// Reads, matches, identifies and diagnoses one CMM file, on the session of its settings
+/// ([`Session::new`] with the same `opts`, or any session whose machine, L0, branch and mode
+/// are those of `opts`).
+pub fn analyse(
+    session: &Session,
+    bytes: &[u8],
+    name: &str,
+    opts: &AnalysisOptions,
+) -> Result<Analysis, AnalysisError> {
+    analyse_fitted(session, bytes, name, opts).map(|(a, _)| a)
 }
 
 /// [`analyse`] of the mean of several measurements of one part (the first file, then its
@@ -79,19 +94,21 @@ pub fn analyse(
 /// added from the data by the diagnosis. The points, their order and the excluded rows are the
 /// first file's.
 pub fn analyse_repeats(
+    session: &Session,
     files: &[(&[u8], &str)],
     opts: &AnalysisOptions,
 ) -> Result<Analysis, AnalysisError> {
-    analyse_parts(files, opts).map(|(a, _)| a)
+    analyse_parts(session, files, opts).map(|(a, _)| a)
 }
 
 /// [`analyse`], and what it fitted.
 pub fn analyse_fitted(
+    session: &Session,
     bytes: &[u8],
     name: &str,
     opts: &AnalysisOptions,
 ) -> Result<(Analysis, Fitted), AnalysisError> {
-    analyse_parts(&[(bytes, name)], opts)
+    analyse_parts(session, &[(bytes, name)], opts)
 }
 
 /// The files read, matched and combined: the first file, its deviations replaced by the mean of
@@ -145,6 +162,7 @@ pub(super) fn read_parts(
 
 /// [`analyse_repeats`], and what it fitted: one file (`files.len() == 1`) is [`analyse_fitted`].
 pub fn analyse_parts(
+    session: &Session,
     files: &[(&[u8], &str)],
     opts: &AnalysisOptions,
 ) -> Result<(Analysis, Fitted), AnalysisError> {
@@ -153,9 +171,9 @@ pub fn analyse_parts(
             return Err(NoiseError::BadSigma(s).into());
         }
     }
-    let part = SShape::iso();
+    let prepared = session.prepared();
     let (matched, pure) = read_parts(files, opts)?;
-    let points = measurement_points(&part, &matched);
+    let points = measurement_points(prepared.part(), &matched);
     let mut noise = match &pure {
         Some(pe) => NoiseSource {
             source: NoiseKind::Repeat,
@@ -187,7 +205,13 @@ pub fn analyse_parts(
         refinement: final_refinement,
         correction,
         observations: obs,
-    } = fit_points(&part, &points, &deviations, &ids, opts)?;
+    } = fit_points(
+        prepared,
+        &session.points_model(&points),
+        &deviations,
+        &ids,
+        opts,
+    )?;
     let repeat = pure.map(|pe| {
         let baseline = &baseline.identification;
         let used: Vec<f64> = baseline
@@ -247,13 +271,14 @@ pub fn analyse_parts(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::part::SShape;
     use crate::settings::MachineChoice;
 
     const CLEAN: &str = include_str!("../../tests/data/reference/examples/example_clean.csv");
 
     #[test]
     fn the_clean_example_matches_the_builtin_points_and_their_design() {
-        let a = analyse(
+        let a = analyse_once(
             CLEAN.as_bytes(),
             "example_clean.csv",
             &AnalysisOptions::default(),
@@ -285,7 +310,7 @@ mod tests {
             tool_radius: true,
             ..Default::default()
         };
-        let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
+        let a = analyse_once(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
         assert_eq!(
             a.design.parameters.last(),
             Some(&crate::parameter::ParamId::ToolRadius)
@@ -309,7 +334,7 @@ mod tests {
                 &["backlash_c"][..],
             ),
         ] {
-            let a = analyse(text.as_bytes(), file, &AnalysisOptions::default()).unwrap();
+            let a = analyse_once(text.as_bytes(), file, &AnalysisOptions::default()).unwrap();
             let d = a.diagnosis.report().unwrap();
             assert!(
                 accept.contains(&d.verdict.id().as_str()),
@@ -333,7 +358,7 @@ mod tests {
                 machine: m,
                 ..Default::default()
             };
-            let a = analyse(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
+            let a = analyse_once(CLEAN.as_bytes(), "example_clean.csv", &o).unwrap();
             let set = crate::sensitivity::error_set::error_set(&m.chain(o.l0), o.branch).unwrap();
             assert_eq!(a.design.names(), set.kept, "{m:?}");
             assert_eq!(a.identification.points_used, 100);
@@ -345,7 +370,7 @@ mod tests {
     fn a_known_deviation_is_subtracted_before_identification() {
         // Subtracting the measured deviation itself leaves nothing for the machine: every
         // fitted value and residual is 0, and the reports say what was subtracted.
-        let base = analyse(CLEAN.as_bytes(), "c.csv", &AnalysisOptions::default()).unwrap();
+        let base = analyse_once(CLEAN.as_bytes(), "c.csv", &AnalysisOptions::default()).unwrap();
         let o = AnalysisOptions {
             known: Some(KnownDeviation {
                 source: "test path".into(),
@@ -353,7 +378,7 @@ mod tests {
             }),
             ..Default::default()
         };
-        let a = analyse(CLEAN.as_bytes(), "c.csv", &o).unwrap();
+        let a = analyse_once(CLEAN.as_bytes(), "c.csv", &o).unwrap();
         assert!(a
             .identification
             .points
@@ -374,7 +399,7 @@ mod tests {
             refine: false,
             ..Default::default()
         };
-        let b = analyse(CLEAN.as_bytes(), "c.csv", &o).unwrap();
+        let b = analyse_once(CLEAN.as_bytes(), "c.csv", &o).unwrap();
         for (p, q) in b
             .identification
             .points
@@ -390,7 +415,7 @@ mod tests {
             }),
             ..Default::default()
         };
-        let e = analyse(CLEAN.as_bytes(), "c.csv", &bad).unwrap_err();
+        let e = analyse_once(CLEAN.as_bytes(), "c.csv", &bad).unwrap_err();
         assert!(
             e.to_string().contains("3 values for 100 matched points"),
             "{e}"
@@ -403,7 +428,7 @@ mod tests {
             l0: -1.0,
             ..Default::default()
         };
-        let e = analyse(CLEAN.as_bytes(), "x.csv", &o).unwrap_err();
+        let e = analyse_once(CLEAN.as_bytes(), "x.csv", &o).unwrap_err();
         assert_eq!(e.to_string(), "L0 = -1 mm is not a positive finite length");
     }
 }

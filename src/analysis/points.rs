@@ -3,15 +3,18 @@
 use nalgebra::DMatrix;
 
 use crate::cmm::MatchedPart;
+use crate::effects::prepared::Prepared;
 use crate::effects::GapError;
 use crate::final_fit::correct::EffectsChoice;
 use crate::identify::{Design, Parameter};
+use crate::machine::AxisValues;
 use crate::part::{Curve, MeasurementPoint, SShape, Surface};
-use crate::sensitivity::{sensitivity_matrix, SensitivityOptions};
+use crate::sensitivity::SensitivityOptions;
 
 use super::error::AnalysisError;
 use super::options::AnalysisOptions;
 use super::report::DesignColumns;
+use super::session::check_prepared;
 
 /// The measurement curve (Z = 11 or 25 mm) nearer to height `z` on surface `s`.
 pub fn nearest_curve(s: Surface, z: f64) -> Curve {
@@ -47,16 +50,15 @@ pub fn sensitivity_options(opts: &AnalysisOptions) -> SensitivityOptions {
 }
 
 /// The effects given to fit (`--effects ID[,ID]`) must exist on the chosen machine
-/// ([`Effect::absent_from`]): otherwise [`GapError::NotOnMachine`], naming the machine and why.
-pub fn effects_on_machine(opts: &AnalysisOptions) -> Result<(), GapError> {
+/// ([`Effect::absent_from`], and not be one of its location errors under another name,
+/// [`Prepared::location_equivalents`]): otherwise [`GapError::NotOnMachine`], naming the machine
+/// and why.
+pub fn effects_on_machine(prepared: &Prepared, opts: &AnalysisOptions) -> Result<(), GapError> {
     let EffectsChoice::Given(effects) = &opts.effects else {
         return Ok(());
     };
     let chain = opts.machine.chain(opts.l0);
-    let same = crate::effects::builtin::location_equivalents_of(
-        &SShape::iso(),
-        &sensitivity_options(opts),
-    )?;
+    let same = prepared.location_equivalents();
     for &effect in effects {
         let located = same
             .iter()
@@ -73,17 +75,20 @@ pub fn effects_on_machine(opts: &AnalysisOptions) -> Result<(), GapError> {
     Ok(())
 }
 
-/// The sensitivity design at `points` for `opts` (plus the `dR` column when asked).
+/// The sensitivity design at `points` (axis values `q`, [`Prepared::axis_values`]) for `opts`
+/// on its prepared settings (plus the `dR` column when asked).
 pub fn design_at(
-    part: &SShape,
+    prepared: &Prepared,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &AnalysisOptions,
 ) -> Result<(Design, DesignColumns), AnalysisError> {
     if !(opts.l0.is_finite() && opts.l0 > 0.0) {
         return Err(AnalysisError::BadL0(opts.l0));
     }
-    effects_on_machine(opts).map_err(AnalysisError::Correction)?;
-    let m = sensitivity_matrix(part, points, &sensitivity_options(opts))?;
+    check_prepared(prepared, opts)?;
+    effects_on_machine(prepared, opts).map_err(AnalysisError::Correction)?;
+    let m = prepared.sensitivity_matrix(points, q)?;
     let n = points.len();
     let mut params: Vec<Parameter> = m.errors.iter().map(Parameter::of_error).collect();
     let mut matrix = m.values;

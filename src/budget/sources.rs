@@ -30,7 +30,7 @@ use serde::{Deserialize, Serialize};
 
 use super::discrete::PreparedPath;
 use super::{BudgetError, ToolPath};
-use crate::analysis::{analyse, measurement_points, AnalysisOptions, KnownDeviation};
+use crate::analysis::{analyse, measurement_points, AnalysisOptions, KnownDeviation, Session};
 use crate::cmm::{read_and_match, MatchedPart, ReadOptions};
 use crate::parameter::{Effect, ParamId};
 use crate::part::{MeasurementPoint, SShape};
@@ -250,8 +250,10 @@ fn deviations(
 }
 
 /// The error budget of a measured part (CMM file bytes) machined with the CAM path `cl` and,
-/// where given, traced by the controller as `trace` (module docs).
+/// where given, traced by the controller as `trace` (module docs), analysed on `session` (the
+/// prepared settings of `opts.analysis`, [`Session::new`]).
 pub fn error_budget(
+    session: &Session,
     cmm: &[u8],
     cmm_name: &str,
     cl: &ToolPath,
@@ -303,7 +305,7 @@ pub fn error_budget(
         source: source.clone(),
         values: known,
     });
-    let analysis = analyse(cmm, cmm_name, &aopts)?;
+    let analysis = analyse(session, cmm, cmm_name, &aopts)?;
 
     // machine and tool terms from the identified parameters and the design columns
     let n = points.len();

@@ -337,7 +337,7 @@ fn check_units(
         .find_map(|c| c.unit)
         .unwrap_or(default_unit)
         .symbol();
-    plausibility::check_positions(points, plausibility::iso_box(), unit_explicit, unit_text)?;
+    plausibility::check_positions(points, plausibility::ISO_BOX, unit_explicit, unit_text)?;
     let dev_problems =
         plausibility::check_deviations(points, &table.layout, opts.max_distance_mm, warnings)?;
     if !dev_problems.is_empty() {

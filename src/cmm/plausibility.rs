@@ -19,11 +19,10 @@ use crate::part::{SShape, Surface};
 /// judged point by point when matching, this only catches unit errors.
 pub const BOX_MARGIN_MM: f64 = 10.0;
 
-/// Bounding box of [`SShape::iso`], computed once.
-pub fn iso_box() -> [[f64; 3]; 2] {
-    static BOX: std::sync::OnceLock<[[f64; 3]; 2]> = std::sync::OnceLock::new();
-    *BOX.get_or_init(|| part_box(&SShape::iso()))
-}
+/// Bounding box `[min, max]` of [`SShape::iso`] (mm): a constant of the part design,
+/// [`part_box`] of the ISO part to the bit (the test below recomputes it), so that a file is
+/// checked without sampling the part again and without a process-wide cache.
+pub const ISO_BOX: [[f64; 3]; 2] = [[-137.0, -95.5, 0.0], [131.0, 99.5, 30.000000000000007]];
 
 /// Bounding box `[min, max]` of the nominal part (mm).
 pub fn part_box(part: &SShape) -> [[f64; 3]; 2] {
@@ -216,4 +215,14 @@ pub fn check_deviations(
             ),
         })
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_iso_box_is_the_sampled_box_of_the_iso_part() {
+        assert_eq!(part_box(&SShape::iso()), ISO_BOX);
+    }
 }

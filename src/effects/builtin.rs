@@ -2,11 +2,14 @@
 
 use crate::effects::data::{Candidate, NamedColumns, PointMeta};
 use crate::effects::effect::SignatureModel;
+use crate::effects::path_model::PathModel;
 use crate::effects::EffectPoint;
 use crate::effects::GapError;
+use crate::machine::{AxisValues, ErrorParam};
 use crate::parameter::{Effect, ParamId};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
+use crate::sensitivity::SensitivityOptions;
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
 use crate::toolpath::tip_length::TipLength;
 
@@ -122,15 +125,6 @@ fn invisible_as_zero(mut c: Candidate) -> Candidate {
     c
 }
 
-/// The model of the given measurement points on paper 000's machine (`physical` mode, signed B).
-pub fn part_model(part: &SShape, points: &[MeasurementPoint]) -> Result<PartModel, GapError> {
-    part_model_on(
-        part,
-        points,
-        &crate::sensitivity::SensitivityOptions::default(),
-    )
-}
-
 /// The candidate of `effect` on the signature model: its columns named by its parameters,
 /// exact zeros when invisible ([`invisible_as_zero`]).
 fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapError> {
@@ -143,78 +137,27 @@ fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapErr
     }))
 }
 
-/// The model of the given measurement points on the machine of `opts` (its chain and B branch;
-/// the baseline is its location errors in `physical` mode whatever `opts.mode` says, as
-/// effects.md defines it). The candidates are those whose physics exists on the chain
-/// ([`Effect::on_chain`]), each with its signature derived from the chain.
-pub fn part_model_on(
+/// The model of `points` (axis values `q`, [`crate::sensitivity::axis_values`]) on the machine of
+/// `opts` in `physical` mode, on the path model `path` of the same settings, with the location
+/// errors `errors` as the baseline and every candidate whose physics the chain has
+/// ([`Effect::on_chain`]), each with its signature derived from the chain: what
+/// [`crate::effects::prepared::Prepared::part_model`] filters.
+pub(crate) fn every_candidate_model(
     part: &SShape,
     points: &[MeasurementPoint],
-    opts: &crate::sensitivity::SensitivityOptions,
-) -> Result<PartModel, GapError> {
-    let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
-    crate::effects::cache::part_model(part, points, opts, || {
-        compute_part_model(part, points, opts)
-    })
-}
-
-/// [`part_model_on`] computed (not taken from [`crate::effects::cache`]), on the path model of the
-/// settings (from the cache), `opts` in `physical` mode.
-fn compute_part_model(
-    part: &SShape,
-    points: &[MeasurementPoint],
-    opts: &crate::sensitivity::SensitivityOptions,
-) -> Result<PartModel, GapError> {
-    compute_model(part, points, opts, true)
-}
-
-/// The candidates of the machine of `opts` that are its location errors under another name
-/// ([`crate::effects::location_equivalent`]), decided on the part's built-in points, once per machine.
-pub fn location_equivalents_of(
-    part: &SShape,
-    opts: &crate::sensitivity::SensitivityOptions,
-) -> Result<Vec<(Effect, String)>, GapError> {
-    let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
-    crate::effects::location_equivalent::kept_for(&opts.chain, opts.branch, || {
-        let m = compute_model(part, &crate::part::builtin_points(part), opts, false)?;
-        let typical = opts
-            .params()?
-            .iter()
-            .map(crate::machine::ErrorParam::typical)
-            .collect();
-        Ok((m.baseline, typical, m.candidates))
-    })
-    .map(|kept| kept.to_vec())
-}
-
-/// The model with every candidate whose physics the chain has ([`Effect::on_chain`]), the
-/// location equivalents included (not kept by the cache): what the formulas give, for tests of
-/// the physics and for [`crate::effects::location_equivalent`].
-pub fn part_model_every_candidate(
-    part: &SShape,
-    points: &[MeasurementPoint],
-    opts: &crate::sensitivity::SensitivityOptions,
-) -> Result<PartModel, GapError> {
-    let opts = &opts.clone().with_mode(crate::sensitivity::Mode::Physical);
-    compute_model(part, points, opts, false)
-}
-
-/// [`compute_part_model`], with `filter` leaving out the location equivalents.
-fn compute_model(
-    part: &SShape,
-    points: &[MeasurementPoint],
-    opts: &crate::sensitivity::SensitivityOptions,
-    filter: bool,
+    q: &[AxisValues],
+    opts: &SensitivityOptions,
+    errors: &[ErrorParam],
+    path: &PathModel,
 ) -> Result<PartModel, GapError> {
     use crate::effects::machine::{
         backlash_columns, c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
-    let sens = crate::sensitivity::sensitivity_matrix(part, points, opts)?;
+    let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
     let baseline = NamedColumns::try_new(
         sens.errors.iter().map(|e| ParamId::Machine(*e)).collect(),
         sens.values.clone(),
     )?;
-    let path = crate::effects::cache::path_model(part, opts)?;
     let eps = effect_points_on(part, points, path.lengths());
     let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
     let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)?
@@ -224,30 +167,21 @@ fn compute_model(
     let model = SignatureModel {
         s_total: path.s_total(),
         envelope,
-        backlash: backlash_columns(&path.lags, part, points, opts)?,
-        scale: scale_signatures(part, points, opts)?,
-        machine_z: machine_z_columns(part, points, opts)?,
+        backlash: backlash_columns(&path.lags, part, points, q, opts)?,
+        scale: scale_signatures(part, points, q, opts)?,
+        machine_z: machine_z_columns(q, opts),
         c_table_sign: c_table_sign(&opts.chain),
-        index: index_signatures(part, points, opts)?,
+        index: index_signatures(points, q, opts)?,
         points: eps,
     };
-    let mut candidates = Effect::on_chain(&opts.chain)
+    let candidates = Effect::on_chain(&opts.chain)
         .into_iter()
         .map(|e| candidate(e, &model))
         .collect::<Result<Vec<_>, _>>()?;
-    if filter {
-        let same = location_equivalents_of(part, opts)?;
-        candidates.retain(|c| !same.iter().any(|(e, _)| *e == c.effect));
-    }
     Ok(PartModel {
         points: point_meta(points, &model.points),
         baseline,
         candidates,
         reversals: path.reversals.clone(),
     })
-}
-
-/// The model of the 100 built-in points.
-pub fn builtin_model(part: &SShape) -> Result<PartModel, GapError> {
-    part_model(part, &crate::part::builtin_points(part))
 }

@@ -5,11 +5,8 @@
 
 use serde::Serialize;
 
-use crate::effects::builtin::{location_equivalents_of, part_model_on};
-use crate::effects::GapError;
+use crate::effects::prepared::Prepared;
 use crate::parameter::Effect;
-use crate::part::{builtin_points, SShape};
-use crate::sensitivity::SensitivityOptions;
 
 /// One candidate and what becomes of it on the machine.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -22,15 +19,16 @@ pub struct EffectStatus {
     pub reason: String,
 }
 
-/// The catalogue of the machine of `opts` (chain, branch), in effects.md order.
-pub fn machine_effects(opts: &SensitivityOptions) -> Result<Vec<EffectStatus>, GapError> {
-    let part = SShape::iso();
-    let model = part_model_on(&part, &builtin_points(&part), opts)?;
-    let same = location_equivalents_of(&part, opts)?;
-    Ok(Effect::ALL
+/// The catalogue of the machine of the prepared settings (chain, branch), in effects.md order,
+/// decided on the built-in points' model ([`Prepared::builtin_model`]).
+pub fn machine_effects(prepared: &Prepared) -> Vec<EffectStatus> {
+    let chain = &prepared.options().chain;
+    let model = prepared.builtin_model();
+    let same = prepared.location_equivalents();
+    Effect::ALL
         .into_iter()
         .map(|effect| {
-            let (status, reason) = if let Some(why) = effect.absent_from(&opts.chain) {
+            let (status, reason) = if let Some(why) = effect.absent_from(chain) {
                 ("left_out", why)
             } else if let Some((_, why)) = same.iter().find(|(e, _)| *e == effect) {
                 ("left_out", why.clone())
@@ -54,5 +52,5 @@ pub fn machine_effects(opts: &SensitivityOptions) -> Result<Vec<EffectStatus>, G
                 reason,
             }
         })
-        .collect())
+        .collect()
 }

@@ -7,7 +7,7 @@
 //! points is that location error on this part: it is not offered, and the reports say which
 //! error it is. The rule is the error set's own (the identification's condition index 30), and
 //! like the set it is decided once per machine on the built-in design, whatever the file's
-//! points. Columns that are exactly zero (an effect invisible on the machine, e.g. `backlash_z` on
+//! points (by the prepared settings, [`crate::effects::prepared::Prepared`]). Columns that are exactly zero (an effect invisible on the machine, e.g. `backlash_z` on
 //! the tilting table) are not "absorbed": the diagnosis reports them as invisible.
 //!
 //! On the three machines (signed branch) only one candidate is left out this way: `c_index` on
@@ -15,15 +15,9 @@
 //! the B line about z (EC0B), and on this part it is `0.98 EC0B` to 1.7 % of its RMS. On paper
 //! 000 the smallest share left by the baseline is `backlash_c`'s 49 %.
 
-use std::cell::RefCell;
-use std::rc::Rc;
-
 use nalgebra::DVector;
 
 use crate::effects::data::{Candidate, NamedColumns};
-use crate::effects::GapError;
-use crate::machine::{Branch, Chain};
-use crate::numerics::memo::Memo;
 use crate::parameter::Effect;
 use crate::sensitivity::error_set::VISIBLE_FRACTION;
 
@@ -95,24 +89,4 @@ fn like_text(names: &[String], typical: &[f64], x: &DVector<f64>) -> String {
         text.push_str(&format!("{sign}{:.3e} {}", v.abs(), names[j]));
     }
     text
-}
-
-/// [`location_equivalents`] of the machine `(chain, branch)`, computed once per thread from
-/// `compute` (the built-in design's columns) and kept ([`crate::numerics::memo`]).
-pub fn kept_for(
-    chain: &Chain,
-    branch: Branch,
-    compute: impl FnOnce() -> Result<(NamedColumns, Vec<f64>, Vec<Candidate>), GapError>,
-) -> Result<Rc<Vec<(Effect, String)>>, GapError> {
-    type Kept = Memo<(Chain, Branch), Vec<(Effect, String)>>;
-    thread_local! {
-        static KEPT: RefCell<Kept> = const { RefCell::new(Memo::new(8)) };
-    }
-    if let Some(v) = KEPT.with_borrow_mut(|m| m.find(|(c, b)| c == chain && *b == branch)) {
-        return Ok(v);
-    }
-    let (baseline, typical, candidates) = compute()?;
-    let v = Rc::new(location_equivalents(&baseline, &typical, &candidates));
-    KEPT.with_borrow_mut(|m| m.insert((chain.clone(), branch), Rc::clone(&v)));
-    Ok(v)
 }

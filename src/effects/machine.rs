@@ -25,15 +25,16 @@ use crate::machine::inverse::inverse;
 use crate::machine::{AxisKind, AxisName, AxisValues, Branch, Chain, ErrorParam, MachineErrors};
 use crate::parameter::SCALE_AXES;
 use crate::part::{MeasurementPoint, SShape};
-use crate::sensitivity::defect::axis_values;
+use crate::sensitivity::defect::check_poses;
 use crate::sensitivity::defect::jacobian_rows;
 use crate::sensitivity::reversal::{backlash_signatures_lagged, grid_u, Lag, Pass};
 use crate::sensitivity::SensitivityOptions;
 
-/// `scale_<axis>.k` columns (mm/mm), axes of [`SCALE_AXES`].
+/// `scale_<axis>.k` columns (mm/mm), axes of [`SCALE_AXES`], at the points of axis values `q`.
 pub fn scale_signatures(
     part: &SShape,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &SensitivityOptions,
 ) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
     let params: Vec<ErrorParam> = SCALE_AXES
@@ -44,7 +45,7 @@ pub fn scale_signatures(
             power: 1,
         })
         .collect();
-    let m = jacobian_rows(part, points, opts, &params)?;
+    let m = jacobian_rows(part, points, q, opts, &params)?;
     Ok(SCALE_AXES
         .iter()
         .enumerate()
@@ -59,9 +60,10 @@ pub fn backlash_columns(
     lags: &[Lag; 2],
     part: &SShape,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &SensitivityOptions,
 ) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
-    let cols = backlash_signatures_lagged(lags, part, points, opts)?;
+    let cols = backlash_signatures_lagged(lags, part, points, q, opts)?;
     Ok(lags[0].axes.iter().copied().zip(cols).collect())
 }
 
@@ -134,29 +136,24 @@ pub fn machine_z_in_part(chain: &Chain, q: &AxisValues) -> Vector3<f64> {
     r.transpose() * Vector3::z()
 }
 
-/// Machine Z in the part frame at each point (`thermal_drift`), `None` when it is `ẑ` at every
-/// pose ([`machine_z_is_fixed`]).
-pub fn machine_z_columns(
-    part: &SShape,
-    points: &[MeasurementPoint],
-    opts: &SensitivityOptions,
-) -> Result<Option<Vec<Vector3<f64>>>, GapError> {
+/// Machine Z in the part frame at each point of axis values `q` (`thermal_drift`), `None` when
+/// it is `ẑ` at every pose ([`machine_z_is_fixed`]).
+pub fn machine_z_columns(q: &[AxisValues], opts: &SensitivityOptions) -> Option<Vec<Vector3<f64>>> {
     if machine_z_is_fixed(&opts.chain) {
-        return Ok(None);
+        return None;
     }
-    let q = axis_values(part, points, opts)?;
-    Ok(Some(
+    Some(
         q.iter()
             .map(|q| machine_z_in_part(&opts.chain, q))
             .collect(),
-    ))
+    )
 }
 
-/// `<axis>_index.d<axis>` columns (mm/rad) for the axes of [`index_axes`] (module docs): `opts`
-/// in `physical` mode.
+/// `<axis>_index.d<axis>` columns (mm/rad) for the axes of [`index_axes`] (module docs) at the
+/// points of axis values `q`: `opts` in `physical` mode.
 pub fn index_signatures(
-    part: &SShape,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &SensitivityOptions,
 ) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
     let axes = index_axes(&opts.chain);
@@ -168,9 +165,9 @@ pub fn index_signatures(
     let none = MachineErrors::none();
     let q_ref = inverse(chain, &Vector3::zeros(), &Vector3::z(), Branch::Signed, 0.0)?;
     let (jref, _) = jacobian(chain, &q_ref, 0.0, &none, &params)?;
-    let q = axis_values(part, points, opts)?;
+    check_poses(points, q)?;
     let mut cols = vec![vec![0.0; points.len()]; axes.len()];
-    for (i, (pt, q)) in points.iter().zip(&q).enumerate() {
+    for (i, (pt, q)) in points.iter().zip(q).enumerate() {
         let (j, _) = jacobian_body_point(chain, q, &pt.point, &none, &params)?;
         let d = (j - &jref).transpose() * pt.normal;
         for (k, col) in cols.iter_mut().enumerate() {

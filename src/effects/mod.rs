@@ -8,14 +8,14 @@
 //! - the part model: where the columns of each signature come from. [`builtin`] computes what the
 //!   formulas need from the geometry (effect points, envelope, tool-tip path length of
 //!   [`path_length`]), [`machine`] from the machine's axis path (backlash and scale columns, axis
-//!   reversals); what depends only on the settings is [`path_model`]; both it and whole part
-//!   models are computed once per settings (and points) and kept by [`cache`];
+//!   reversals); what depends only on the settings is [`path_model`]; it, the machine's error
+//!   set and the built-in points' model are built once by [`prepared`] (the prepared settings,
+//!   a value the caller holds and passes);
 //! - [`catalogue`]: a machine's own effect catalogue; [`location_equivalent`]: candidates that
 //!   are a location error of the machine under another name;
 //! - [`error`]: the one error type of the part model and the diagnosis built on it.
 
 pub mod builtin;
-pub mod cache;
 pub mod catalogue;
 pub mod data;
 pub mod effect;
@@ -24,6 +24,7 @@ pub mod location_equivalent;
 pub mod machine;
 pub mod path_length;
 pub mod path_model;
+pub mod prepared;
 
 pub use data::{Candidate, GapInput, NamedColumns, PointMeta, Reversal};
 pub use effect::EffectPoint;

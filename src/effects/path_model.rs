@@ -4,8 +4,8 @@
 //! first-order lag of 2 mm of tool-tip path, paper 002 §4.3), where each axis reverses, the
 //! tool-tip path lengths of the surfaces ([`crate::effects::path_length`]) and the envelope's tables of
 //! tool poses ([`crate::toolpath::envelope`]). It is the expensive part of a part model (two
-//! passes of ~1,000 inverse kinematics and axis rates each): kept by [`crate::effects::cache`] for
-//! every later file with the same settings.
+//! passes of ~1,000 inverse kinematics and axis rates each): built once with the prepared
+//! settings ([`crate::effects::prepared::Prepared`]) for every file with the same settings.
 //!
 //! Units: mm for path lengths, the lag per unit lost motion (mm/mm or rad/rad).
 

@@ -268,6 +268,9 @@ pub struct CorrectionInput<'a> {
     /// machine): effect and reason.
     pub unavailable: &'a [(Effect, String)],
     pub options: &'a IdentifyOptions,
+    /// The structure's decompositions kept for these points ([`structure::Decompositions`]: a
+    /// value the caller holds; a fresh one computes them).
+    pub decompositions: &'a structure::Decompositions,
 }
 
 /// The final answer.
@@ -506,6 +509,7 @@ fn fit_with_structure(
         &design.matrix().select_rows(&used),
         &used_y,
         sigma,
+        input.decompositions,
     )
     .ok_or(GapError::StructureNotEstimated {
         sigma,

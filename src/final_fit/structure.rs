@@ -116,27 +116,45 @@ struct Decomposition {
     q: DMatrix<f64>,
 }
 
-/// Decompositions kept: they depend only on the points' path positions `s` (the part design and
-/// the settings), not on the deviations, so a re-analysis of the same points reuses them.
+/// Point sets whose decompositions a [`Decompositions`] keeps: they depend only on the points'
+/// path positions `s` (the part design and the settings), not on the deviations, so a
+/// re-analysis of the same points (or another part at them) reuses them.
 const KEPT: usize = 2;
 /// Larger point sets are not kept (14 matrices of `n²` numbers each: 18 MB at 400 points).
 const KEPT_MAX_POINTS: usize = 400;
 
-thread_local! {
-    static DECOMPOSITIONS: RefCell<Memo<Vec<u64>, Vec<Decomposition>>> =
-        const { RefCell::new(Memo::new(KEPT)) };
+/// The eigen-decompositions of [`correlation`] at the grid's lengths for the last [`KEPT`] point
+/// sets (of at most [`KEPT_MAX_POINTS`] points) that [`estimate`] was given with it: a value its
+/// caller holds, one per measured point set (`crate::analysis::PointsModel`), so that the
+/// analyses of several deviations at the same points decompose once. The estimate is the same,
+/// bit for bit, with a fresh one (the test below).
+pub struct Decompositions {
+    kept: RefCell<Memo<Vec<u64>, Vec<Decomposition>>>,
 }
 
-/// Forgets the decompositions kept by this thread.
-pub fn clear_kept() {
-    DECOMPOSITIONS.with_borrow_mut(Memo::clear);
+impl Default for Decompositions {
+    fn default() -> Self {
+        Self {
+            kept: RefCell::new(Memo::new(KEPT)),
+        }
+    }
 }
 
-/// The decompositions of `K_ℓ` at every length of the grid over `(lo, hi)` (the lengths follow
-/// from the `s`, so the `s` bits are the key).
-fn decompositions(points: &[PointMeta], (lo, hi): (f64, f64)) -> Rc<Vec<Decomposition>> {
+impl std::fmt::Debug for Decompositions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Decompositions({} point sets)", self.kept.borrow().len())
+    }
+}
+
+/// The decompositions of `K_ℓ` at every length of the grid over `(lo, hi)`, from `kept` when it
+/// has them (the lengths follow from the `s`, so the `s` bits are the key).
+fn decompositions(
+    points: &[PointMeta],
+    (lo, hi): (f64, f64),
+    kept: &Decompositions,
+) -> Rc<Vec<Decomposition>> {
     let key: Vec<u64> = points.iter().map(|p| p.s.to_bits()).collect();
-    if let Some(d) = DECOMPOSITIONS.with_borrow_mut(|m| m.find(|k| *k == key)) {
+    if let Some(d) = kept.kept.borrow_mut().find(|k| *k == key) {
         return d;
     }
     let d: Rc<Vec<Decomposition>> = Rc::new(
@@ -152,7 +170,7 @@ fn decompositions(points: &[PointMeta], (lo, hi): (f64, f64)) -> Rc<Vec<Decompos
             .collect(),
     );
     if points.len() <= KEPT_MAX_POINTS {
-        DECOMPOSITIONS.with_borrow_mut(|m| m.insert(key, Rc::clone(&d)));
+        kept.kept.borrow_mut().insert(key, Rc::clone(&d));
     }
     d
 }
@@ -163,13 +181,15 @@ fn grid_length(lo: f64, hi: f64, k: usize) -> f64 {
 }
 
 /// The REML estimate of the structure's covariance for the residual of `design` on `y`, the
-/// white σ (mm) being fixed. `None` without a positive σ or with fewer points than two more than
-/// the design's rank.
+/// white σ (mm) being fixed, with the decompositions `kept` for these points (a fresh
+/// [`Decompositions`] computes them). `None` without a positive σ or with fewer points than two
+/// more than the design's rank.
 pub fn estimate(
     points: &[PointMeta],
     design: &DMatrix<f64>,
     y: &[f64],
     white_sigma: f64,
+    kept: &Decompositions,
 ) -> Option<StructureCovariance> {
     let n = points.len();
     if !(white_sigma > 0.0 && white_sigma.is_finite()) || y.len() != n || design.nrows() != n {
@@ -186,7 +206,7 @@ pub fn estimate(
     let (lo, hi) = length_range(points);
     let s2 = white_sigma * white_sigma;
     let mut best: Option<(f64, f64, f64)> = None; // (loglik, tau2, length)
-    let decompositions = decompositions(points, (lo, hi));
+    let decompositions = decompositions(points, (lo, hi), kept);
     for (k, Decomposition { lambda, q }) in decompositions.iter().enumerate() {
         let length = grid_length(lo, hi, k);
         let bt = q.transpose() * &basis;
@@ -465,7 +485,7 @@ mod tests {
         let mut rng = Sampler::new(3);
         let y: Vec<f64> = (0..100).map(|_| 0.0015 * rng.normal()).collect();
         let a = DMatrix::from_element(100, 1, 1.0);
-        let s = estimate(&p, &a, &y, 0.0015).unwrap();
+        let s = estimate(&p, &a, &y, 0.0015, &Decompositions::default()).unwrap();
         assert!(s.amplitude < 0.5 * 0.0015, "τ = {}", s.amplitude);
     }
 
@@ -483,7 +503,7 @@ mod tests {
             })
             .collect();
         let a = DMatrix::from_element(100, 1, 1.0);
-        let s = estimate(&p, &a, &y, 0.0015).unwrap();
+        let s = estimate(&p, &a, &y, 0.0015, &Decompositions::default()).unwrap();
         assert!((0.002..0.008).contains(&s.amplitude), "τ = {}", s.amplitude);
         assert!((30.0..300.0).contains(&s.length), "ℓ = {}", s.length);
     }
@@ -510,7 +530,7 @@ mod tests {
             .map(|q| 0.004 * libm::sin(q.s / 40.0) + 0.0015 * rng.normal())
             .collect();
         let a = DMatrix::from_element(p.len(), 1, 1.0);
-        let d = estimate(&p, &a, &y, 0.0015).unwrap();
+        let d = estimate(&p, &a, &y, 0.0015, &Decompositions::default()).unwrap();
         assert!(d.grouped.is_none());
         let basis = Factor::new(&a, None).basis;
         let g = estimate_grouped(&p, &basis, &y, 0.0015).unwrap();
@@ -540,11 +560,11 @@ mod tests {
             .collect();
         let mut fresh = Vec::new();
         for y in &ys {
-            clear_kept();
-            fresh.push(estimate(&p, &a, y, 0.0015).unwrap());
+            fresh.push(estimate(&p, &a, y, 0.0015, &Decompositions::default()).unwrap());
         }
+        let kept_for_p = Decompositions::default();
         for (y, f) in ys.iter().zip(&fresh) {
-            let kept = estimate(&p, &a, y, 0.0015).unwrap();
+            let kept = estimate(&p, &a, y, 0.0015, &kept_for_p).unwrap();
             assert_eq!(kept.amplitude.to_bits(), f.amplitude.to_bits());
             assert_eq!(kept.length.to_bits(), f.length.to_bits());
             assert_eq!(dense(&kept), dense(f));

@@ -1,8 +1,9 @@
-//! A small bounded memo for values that depend only on the settings and the part design, kept
-//! between calls by the caches of [`crate::effects::cache`], [`crate::final_fit::structure`],
-//! [`crate::effects::location_equivalent`] and [`crate::sensitivity::error_set`] (issue 21).
-//! Keys are compared by a predicate (bit-exact comparisons of floating-point inputs); the most
-//! recently used entry is first, the least recently used is dropped beyond the capacity.
+//! A small bounded memo inside values their callers hold (issue 28: no per-thread or
+//! process-wide cache): the point models of an analysis session
+//! (`crate::analysis::Session`) and the final fit's eigen-decompositions for a point set
+//! ([`crate::final_fit::structure::Decompositions`]). Keys are compared by a predicate
+//! (bit-exact comparisons of floating-point inputs); the most recently used entry is first, the
+//! least recently used is dropped beyond the capacity.
 
 use std::rc::Rc;
 

@@ -13,7 +13,7 @@
 //! the formula of the diagnosis's own `detection_limit` per parameter (`gap::which`), here on
 //! the plan's points before any part exists. A column the baseline absorbs entirely has no
 //! limit (JSON null: never visible on this part). Signatures come from the part model of the
-//! diagnosis ([`crate::effects::builtin::part_model_on`]), not re-derived.
+//! diagnosis ([`crate::effects::prepared::Prepared::part_model`]), not re-derived.
 
 use std::collections::BTreeMap;
 

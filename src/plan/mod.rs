@@ -32,13 +32,13 @@ pub use layout::{plan_points, split_total, MAX_PER_CURVE};
 pub use predict::{predicted_identification, PredictedParameter, Prediction};
 
 use crate::analysis::AnalysisOptions;
-use crate::effects::builtin::part_model_on;
+use crate::effects::prepared::Prepared;
 use crate::gap::DiagnoseOptions;
 use crate::identify::monte_carlo::CmmMpe;
 use crate::identify::Group;
 use crate::machine::chain::PAPER000_L0;
 use crate::machine::Branch;
-use crate::part::{MeasurementPoint, SShape};
+use crate::part::MeasurementPoint;
 use crate::sensitivity::Mode;
 use crate::settings::MachineChoice;
 use crate::settings::{CmmNoise, NoiseKind};
@@ -79,6 +79,15 @@ impl Default for PlanOptions {
 }
 
 impl PlanOptions {
+    /// The prepared settings of the plan's machine, L0, branch and mode (for [`plan`]; a
+    /// non-positive or non-finite L0 is [`PlanError::BadL0`]).
+    pub fn prepare(&self) -> Result<Prepared, PlanError> {
+        if !(self.l0.is_finite() && self.l0 > 0.0) {
+            return Err(PlanError::BadL0(self.l0));
+        }
+        crate::analysis::prepare(&self.analysis(0.0)).map_err(PlanError::Design)
+    }
+
     /// The analysis settings an identification of the planned part uses (σ given).
     pub fn analysis(&self, sigma: f64) -> AnalysisOptions {
         AnalysisOptions {
@@ -184,15 +193,18 @@ pub fn plan_noise(opts: &PlanOptions, points: &[MeasurementPoint]) -> Result<Pla
     })
 }
 
-/// The measurement plan of `opts`.
-pub fn plan(opts: &PlanOptions) -> Result<Plan, PlanError> {
+/// The measurement plan of `opts` on its prepared settings ([`PlanOptions::prepare`]).
+pub fn plan(prepared: &Prepared, opts: &PlanOptions) -> Result<Plan, PlanError> {
     if !(opts.l0.is_finite() && opts.l0 > 0.0) {
         return Err(PlanError::BadL0(opts.l0));
     }
-    let part = SShape::iso();
-    let points = plan_points(&part, opts.per_curve)?;
+    let points = plan_points(prepared.part(), opts.per_curve)?;
     let noise = plan_noise(opts, &points)?;
-    let id = predicted_identification(&part, &points, &opts.analysis(noise.sigma), noise.sigma)?;
+    let q = prepared
+        .axis_values(&points)
+        .map_err(|e| PlanError::Design(e.into()))?;
+    let analysis = opts.analysis(noise.sigma);
+    let id = predicted_identification(prepared, &points, &q, &analysis, noise.sigma)?;
     let pred = Prediction::of(&id);
     let mut notes = vec![format!(
         "Predicted with σ = {:.3} µm for `testpiece identify FILE --sigma {} --effects none` on a \
@@ -210,8 +222,9 @@ pub fn plan(opts: &PlanOptions) -> Result<Plan, PlanError> {
         }
     )];
     // The machine's own candidates (Effect::on_chain), as the analysis diagnoses them.
-    let sens = crate::analysis::sensitivity_options(&opts.analysis(noise.sigma));
-    let model = part_model_on(&part, &points, &sens).map_err(PlanError::Effects)?;
+    let model = prepared
+        .part_model(&points, &q)
+        .map_err(PlanError::Effects)?;
     let k = DiagnoseOptions::default().detect_factor;
     let limits = detection_limits(&model, noise.sigma, k);
     notes.push(format!(

@@ -13,12 +13,14 @@ use serde::Serialize;
 
 use super::PlanError;
 use crate::analysis::{design_at, AnalysisOptions};
+use crate::effects::prepared::Prepared;
 use crate::identify::{
     identify, Group, Identification, IdentifyOptions, Observations, ParameterEstimate,
     ParameterMap, Status,
 };
+use crate::machine::AxisValues;
 use crate::parameter::ParamId;
-use crate::part::{MeasurementPoint, SShape};
+use crate::part::MeasurementPoint;
 
 /// The predicted figures of one parameter (`{std, status}` with its `kind`, `name` and `unit`,
 /// as `identify` names them).
@@ -63,14 +65,16 @@ impl Prediction {
 }
 
 /// The identification of the baseline design of `opts` (its machine, mode, branch, L0, and the
-/// `dR` column when asked) at `points` for deviations all 0 and the a priori `sigma` (mm).
+/// `dR` column when asked; `prepared`: those settings) at `points` (axis values `q`,
+/// [`Prepared::axis_values`]) for deviations all 0 and the a priori `sigma` (mm).
 pub fn predicted_identification(
-    part: &SShape,
+    prepared: &Prepared,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &AnalysisOptions,
     sigma: f64,
 ) -> Result<Identification, PlanError> {
-    let (design, _) = design_at(part, points, opts).map_err(PlanError::Design)?;
+    let (design, _) = design_at(prepared, points, q, opts).map_err(PlanError::Design)?;
     let obs = Observations::new(
         points.iter().map(|p| p.id.to_string()).collect(),
         points.iter().map(|p| p.curve.name().to_string()).collect(),
@@ -89,11 +93,12 @@ mod tests {
     /// twice every std (relative 1e-12, rounding).
     #[test]
     fn std_is_linear_in_sigma() {
-        let part = SShape::iso();
-        let pts = crate::part::builtin_points(&part);
         let o = AnalysisOptions::default();
-        let a = Prediction::of(&predicted_identification(&part, &pts, &o, 0.001).unwrap());
-        let b = Prediction::of(&predicted_identification(&part, &pts, &o, 0.002).unwrap());
+        let p = crate::analysis::prepare(&o).unwrap();
+        let pts = crate::part::builtin_points(p.part());
+        let q = p.axis_values(&pts).unwrap();
+        let a = Prediction::of(&predicted_identification(&p, &pts, &q, &o, 0.001).unwrap());
+        let b = Prediction::of(&predicted_identification(&p, &pts, &q, &o, 0.002).unwrap());
         for (p, q) in a.parameters.iter().zip(&b.parameters) {
             if let (Some(s), Some(t)) = (p.std, q.std) {
                 assert_near!(t / s, 2.0, 1e-12);

@@ -81,11 +81,6 @@ impl SensitivityOptions {
         self.chain = chain;
         self
     }
-    /// The location errors of the chain the part is identified with (the matrix columns):
-    /// derived from what the part sees ([`super::error_set`]; paper 000: Table 3's eight).
-    pub fn params(&self) -> Result<Vec<ErrorParam>, SensitivityError> {
-        Ok(super::error_set::error_set(&self.chain, self.branch)?.params())
-    }
 }
 
 /// Per point: axis values, tool-point height and normal used by the mode.
@@ -109,38 +104,42 @@ pub(crate) fn reference_pose(opts: &SensitivityOptions) -> Result<AxisValues, Se
     })
 }
 
+/// The error-free poses of the points for the mode of `opts`: their axis values `q` (from
+/// [`axis_values`], one per point in the points' order) with the tool-point height and normal
+/// of the mode.
 fn point_poses(
     part: &SShape,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &SensitivityOptions,
 ) -> Result<Vec<PointPose>, SensitivityError> {
-    if let Some(p) = points.iter().find(|p| !(0.0..=1.0).contains(&p.u)) {
-        return Err(SensitivityError::BadPoint { id: p.id, u: p.u });
-    }
-    let mut out: Vec<Option<PointPose>> = (0..points.len()).map(|_| None).collect();
-    for s in Surface::BOTH {
-        let idx: Vec<usize> = (0..points.len())
-            .filter(|&i| points[i].surface == s)
-            .collect();
-        if idx.is_empty() {
-            continue;
-        }
-        let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
-        let path = machine_path(part, &opts.chain, s, opts.branch, &us)?;
-        for (&i, sample) in idx.iter().zip(path) {
-            let p = &points[i];
+    check_poses(points, q)?;
+    Ok(points
+        .iter()
+        .zip(q)
+        .map(|(p, q)| {
             let (h, n) = match opts.mode {
                 Mode::Physical => (p.h, p.normal),
-                Mode::Paper => (0.0, part.frame_at(s, p.u, 1.0).n),
+                Mode::Paper => (0.0, part.frame_at(p.surface, p.u, 1.0).n),
             };
-            out[i] = Some(PointPose {
-                q: sample.values,
-                h,
-                n,
-            });
-        }
+            PointPose { q: *q, h, n }
+        })
+        .collect())
+}
+
+/// Axis values `q` given for `points` must be one per point.
+pub(crate) fn check_poses(
+    points: &[MeasurementPoint],
+    q: &[AxisValues],
+) -> Result<(), SensitivityError> {
+    if q.len() == points.len() {
+        Ok(())
+    } else {
+        Err(SensitivityError::PoseCount {
+            poses: q.len(),
+            points: points.len(),
+        })
     }
-    Ok(out.into_iter().flatten().collect())
 }
 
 /// The Figure-19 sensitivity matrix: one row per point (in the given order), one column per
@@ -163,14 +162,19 @@ impl SensitivityMatrix {
     }
 }
 
-/// The sensitivity matrix of the points (linear eq. 14 per unit error, mode of `opts`).
+/// The sensitivity matrix of the points (linear eq. 14 per unit error, mode of `opts`), at
+/// their axis values `q` ([`axis_values`] with the same `opts`), one column per error of
+/// `errors`: the location errors of the chain's set ([`super::error_set::ErrorSet::params`];
+/// paper 000: Table 3's eight).
 pub fn sensitivity_matrix(
     part: &SShape,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &SensitivityOptions,
+    errors: &[ErrorParam],
 ) -> Result<SensitivityMatrix, SensitivityError> {
-    let params = opts.params()?;
-    let values = jacobian_rows(part, points, opts, &params)?;
+    let params = errors.to_vec();
+    let values = jacobian_rows(part, points, q, opts, &params)?;
     Ok(SensitivityMatrix {
         ids: points.iter().map(|p| p.id).collect(),
         curves: points.iter().map(|p| p.curve.name().to_string()).collect(),
@@ -179,14 +183,16 @@ pub fn sensitivity_matrix(
     })
 }
 
-/// Linear defect per unit of each parameter in `params` (any location error or error motion).
+/// Linear defect per unit of each parameter in `params` (any location error or error motion),
+/// at the points' axis values `q` ([`axis_values`] with the same `opts`).
 pub fn jacobian_rows(
     part: &SShape,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &SensitivityOptions,
     params: &[ErrorParam],
 ) -> Result<DMatrix<f64>, SensitivityError> {
-    let poses = point_poses(part, points, opts)?;
+    let poses = point_poses(part, points, q, opts)?;
     let mut m = DMatrix::zeros(points.len(), params.len());
     for (r, (pp, j)) in poses
         .iter()
@@ -203,14 +209,15 @@ pub fn jacobian_rows(
 
 /// The linear displacement of the displaced tool point (mode of `opts`) per unit of each
 /// parameter, minus that of the reference (3 × params per point, mm per unit): what
-/// [`jacobian_rows`] projects on the normal.
+/// [`jacobian_rows`] projects on the normal (`q`: the points' axis values, [`axis_values`]).
 pub fn jacobian_displacements(
     part: &SShape,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &SensitivityOptions,
     params: &[ErrorParam],
 ) -> Result<Vec<Matrix3xX<f64>>, SensitivityError> {
-    displacements(&point_poses(part, points, opts)?, opts, params)
+    displacements(&point_poses(part, points, q, opts)?, opts, params)
 }
 
 fn displacements(
@@ -230,16 +237,32 @@ fn displacements(
 }
 
 /// The axis values of the flank path at each point (in the points' order), by the chain and
-/// branch of `opts`.
+/// branch of `opts` (inverse kinematics, eq. 8-10; the mode is not used): the points' poses,
+/// solved once per point set and passed to every computation at those points (the design's
+/// columns, the exact model, every effect family's signature).
 pub fn axis_values(
     part: &SShape,
     points: &[MeasurementPoint],
     opts: &SensitivityOptions,
 ) -> Result<Vec<AxisValues>, SensitivityError> {
-    Ok(point_poses(part, points, opts)?
-        .into_iter()
-        .map(|p| p.q)
-        .collect())
+    if let Some(p) = points.iter().find(|p| !(0.0..=1.0).contains(&p.u)) {
+        return Err(SensitivityError::BadPoint { id: p.id, u: p.u });
+    }
+    let mut out = vec![AxisValues::default(); points.len()];
+    for s in Surface::BOTH {
+        let idx: Vec<usize> = (0..points.len())
+            .filter(|&i| points[i].surface == s)
+            .collect();
+        if idx.is_empty() {
+            continue;
+        }
+        let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
+        let path = machine_path(part, &opts.chain, s, opts.branch, &us)?;
+        for (&i, sample) in idx.iter().zip(path) {
+            out[i] = sample.values;
+        }
+    }
+    Ok(out)
 }
 
 /// Exact machined defect (eq. 12, mm) at the points for the errors `errors` (any location errors
@@ -251,7 +274,8 @@ pub fn defect(
     opts: &SensitivityOptions,
 ) -> Result<Vec<f64>, SensitivityError> {
     errors.validate(&opts.chain)?;
-    DefectPoses::new(part, points, opts)?.defect(errors)
+    let q = axis_values(part, points, opts)?;
+    DefectPoses::new(part, points, &q, opts)?.defect(errors)
 }
 
 /// What [`defect`] needs of the points that does not depend on the errors: the axis values of
@@ -270,13 +294,15 @@ pub struct DefectPoses {
 }
 
 impl DefectPoses {
-    /// The poses of `points` on the flank path of `opts` (chain, branch, mode).
+    /// The poses of `points` on the flank path of `opts` (chain, branch, mode), at their axis
+    /// values `q` ([`axis_values`] with the same `opts`).
     pub fn new(
         part: &SShape,
         points: &[MeasurementPoint],
+        q: &[AxisValues],
         opts: &SensitivityOptions,
     ) -> Result<Self, SensitivityError> {
-        let poses = point_poses(part, points, opts)?;
+        let poses = point_poses(part, points, q, opts)?;
         let none = MachineErrors::none();
         let c = &opts.chain;
         let q_ref = reference_pose(opts)?;
@@ -321,28 +347,29 @@ pub fn linear_defect(
     errors.validate(&opts.chain)?;
     let params: Vec<ErrorParam> = errors.values.iter().map(|(p, _)| *p).collect();
     let values: Vec<f64> = errors.values.iter().map(|(_, v)| *v).collect();
-    let m = jacobian_rows(part, points, opts, &params)?;
+    let q = axis_values(part, points, opts)?;
+    let m = jacobian_rows(part, points, &q, opts, &params)?;
     Ok((m * nalgebra::DVector::from_vec(values))
         .iter()
         .copied()
         .collect())
 }
 
-/// [`defect`] for a vector `xi` of the minimal-set errors of `opts.chain`, in the order of
-/// [`SensitivityOptions::params`] (paper 000: EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B, EA0B, EC0B;
-/// rad, EX0B in mm). Exact eq. 12.
+/// [`defect`] for a vector `xi` of the errors `params`, in their order (the chain's set,
+/// [`super::error_set::ErrorSet::params`]; paper 000: EC0Y, EA0Z, EB0Z, EA0C, EB0C, EX0B, EA0B,
+/// EC0B; rad, EX0B in mm). Exact eq. 12.
 pub fn defect_xi(
     part: &SShape,
     points: &[MeasurementPoint],
     xi: &[f64],
+    params: &[ErrorParam],
     opts: &SensitivityOptions,
 ) -> Result<Vec<f64>, SensitivityError> {
-    let params = opts.params()?;
     if xi.len() != params.len() {
         return Err(SensitivityError::ErrorCount {
             values: xi.len(),
             params: params.len(),
         });
     }
-    defect(part, points, &MachineErrors::from_pairs(&params, xi), opts)
+    defect(part, points, &MachineErrors::from_pairs(params, xi), opts)
 }

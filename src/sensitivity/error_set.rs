@@ -34,11 +34,9 @@
 //!
 //! The set is derived on the design of the part's 100 built-in points (s-shape.md: 25 per curve
 //! at equal arc length), so that a machine has one set whatever the file; a file's own points
-//! then decide rank and groups in the identification, as before. It is computed once per chain
-//! and branch and kept for the process ([`error_set`]).
-
-use std::cell::RefCell;
-use std::rc::Rc;
+//! then decide rank and groups in the identification, as before. [`error_set`] derives it at
+//! each call: a caller that needs it again keeps the value (the prepared settings,
+//! [`crate::effects::prepared::Prepared`], hold their machine's set).
 
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -46,11 +44,10 @@ use serde::Serialize;
 use crate::machine::chain::{AxisKind, AxisName, Chain, Side};
 use crate::machine::location_errors::{minimal_set, LocationError, LocationStatus};
 use crate::machine::{Branch, ErrorParam, Unit};
-use crate::numerics::memo::Memo;
 use crate::numerics::terms::{dominant, magnitude_text, Term};
 use crate::part::{builtin_points, SShape};
 
-use crate::sensitivity::defect::{jacobian_displacements, Mode, SensitivityOptions};
+use crate::sensitivity::defect::{axis_values, jacobian_displacements, Mode, SensitivityOptions};
 use crate::sensitivity::SensitivityError;
 
 /// A column is kept when at least this fraction of its RMS is left after projection on the
@@ -178,28 +175,17 @@ fn typical(e: &LocationError) -> f64 {
     e.typical()
 }
 
-/// The set of `chain` on the built-in design with `branch` (computed once per chain and branch
-/// and kept by the thread, as the other settings-only results are: [`crate::numerics::memo`]).
-pub fn error_set(chain: &Chain, branch: Branch) -> Result<Rc<ErrorSet>, SensitivityError> {
-    thread_local! {
-        static SETS: RefCell<Memo<(Chain, Branch), ErrorSet>> = const { RefCell::new(Memo::new(KEPT)) };
-    }
-    if let Some(s) = SETS.with_borrow_mut(|m| m.find(|(c, b)| c == chain && *b == branch)) {
-        return Ok(s);
-    }
+/// The set of `chain` with `branch`, derived on the built-in design of [`SShape::iso`]
+/// ([`derive`] at its 100 built-in points).
+pub fn error_set(chain: &Chain, branch: Branch) -> Result<ErrorSet, SensitivityError> {
     let part = SShape::iso();
     let points = builtin_points(&part);
     let opts = SensitivityOptions::default()
         .with_chain(chain.clone())
         .with_branch(branch)
         .with_mode(Mode::Physical);
-    let set = Rc::new(derive(&part, &points, &opts)?);
-    SETS.with_borrow_mut(|m| m.insert((chain.clone(), branch), Rc::clone(&set)));
-    Ok(set)
+    derive(&part, &points, &opts)
 }
-
-/// Machines (chain and branch) whose sets a thread keeps.
-const KEPT: usize = 8;
 
 /// The rule of the module docs on the design of `points` (any points of the part; `opts.mode`
 /// is taken as `physical`).
@@ -211,7 +197,8 @@ pub fn derive(
     let opts = opts.clone().with_mode(Mode::Physical);
     let list = full_list(&opts.chain);
     let params: Vec<ErrorParam> = list.iter().map(|(e, _)| ErrorParam::Location(*e)).collect();
-    let disp = jacobian_displacements(part, points, &opts, &params)?;
+    let q = axis_values(part, points, &opts)?;
+    let disp = jacobian_displacements(part, points, &q, &opts, &params)?;
     let n = points.len();
     let rms = |v: &DVector<f64>| (v.norm_squared() / n.max(1) as f64).sqrt();
     // Columns in typical units (mm of deviation per typical size).

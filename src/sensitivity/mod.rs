@@ -22,7 +22,7 @@ pub mod path;
 pub mod reversal;
 
 pub use defect::{
-    defect, defect_xi, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix,
+    axis_values, defect, defect_xi, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix,
     SensitivityOptions,
 };
 pub use path::{machine_path, PATH_GRID};
@@ -40,4 +40,6 @@ pub enum SensitivityError {
     BadMode(String),
     #[error("{values} error values for {params} parameters")]
     ErrorCount { values: usize, params: usize },
+    #[error("{poses} axis values for {points} points")]
+    PoseCount { poses: usize, points: usize },
 }

@@ -3,12 +3,8 @@
 //! linearly in `u` on the vertical zone `u ∈ [6/13, 8/13]` where `R` is exactly vertical and C is
 //! undefined (spec s-shape.md; [`crate::machine::inverse::inverse_path`]).
 
-use std::cell::RefCell;
-use std::rc::Rc;
-
 use crate::machine::inverse::inverse_path;
 use crate::machine::{Branch, Chain, PathSample};
-use crate::numerics::memo::Memo;
 use crate::part::{SShape, Surface};
 use crate::toolpath::flank::tool_pose;
 
@@ -18,64 +14,10 @@ use super::SensitivityError;
 /// below shows the paths bit-identical to 200 per span).
 pub const PATH_GRID: usize = 260;
 
-/// Point sets of at most this many parameters are kept by [`machine_path`].
-pub const KEEP_MAX: usize = 25_000;
-
-/// What a kept path depends on.
-struct PathKey {
-    part: SShape,
-    chain: Chain,
-    surface: Surface,
-    branch: Branch,
-    us: Vec<u64>,
-}
-
-thread_local! {
-    /// The last few point sets' paths: a part model asks for the same points' axis values
-    /// five times (location errors, scale, machine Z, index and backlash columns).
-    static KEPT: RefCell<Memo<PathKey, Vec<PathSample>>> = const { RefCell::new(Memo::new(4)) };
-}
-
-/// Axis values of the flank path of surface `s` at the parameters `us` (each in [0, 1]). The
-/// last few sets of parameters are kept per thread (the same values: the computation is
-/// deterministic), so the part model's five uses of its points' axis values solve them once.
+/// Axis values of the flank path of surface `s` at the parameters `us` (each in [0, 1]),
+/// solved at each call: a caller that needs the same points' axis values several times solves
+/// them once ([`crate::sensitivity::defect::axis_values`]) and passes them on.
 pub fn machine_path(
-    part: &SShape,
-    chain: &Chain,
-    s: Surface,
-    branch: Branch,
-    us: &[f64],
-) -> Result<Vec<PathSample>, SensitivityError> {
-    if us.len() > KEEP_MAX {
-        return solve_path(part, chain, s, branch, us);
-    }
-    let bits: Vec<u64> = us.iter().map(|u| u.to_bits()).collect();
-    let is = |k: &PathKey| {
-        k.surface == s && k.branch == branch && k.us == bits && k.chain == *chain && k.part == *part
-    };
-    if let Some(kept) = KEPT.with(|m| m.borrow_mut().find(is)) {
-        return Ok(kept.to_vec());
-    }
-    let path = solve_path(part, chain, s, branch, us)?;
-    let key = PathKey {
-        part: part.clone(),
-        chain: chain.clone(),
-        surface: s,
-        branch,
-        us: bits,
-    };
-    KEPT.with(|m| m.borrow_mut().insert(key, Rc::new(path.clone())));
-    Ok(path)
-}
-
-/// Forgets the kept paths of this thread (they belong to points: a first file, a benchmark of
-/// the kernels).
-pub fn clear_kept() {
-    KEPT.with_borrow_mut(Memo::clear);
-}
-
-/// [`machine_path`] without keeping the result (the reversal passes' windows, asked once).
-pub fn solve_path(
     part: &SShape,
     chain: &Chain,
     s: Surface,
@@ -100,26 +42,6 @@ pub fn solve_path(
 mod tests {
     use super::*;
     use crate::machine::chain::PAPER000_L0;
-
-    /// A kept path is the solved one, bit for bit, and another set of parameters is not served
-    /// from it.
-    #[test]
-    fn a_kept_path_is_the_solved_path() {
-        let part = SShape::iso();
-        let chain = Chain::paper000(PAPER000_L0);
-        let us = [0.1, 0.5, 0.9];
-        let solved = solve_path(&part, &chain, Surface::A, Branch::Signed, &us).unwrap();
-        let first = machine_path(&part, &chain, Surface::A, Branch::Signed, &us).unwrap();
-        let kept = machine_path(&part, &chain, Surface::A, Branch::Signed, &us).unwrap();
-        assert_eq!(first, solved);
-        assert_eq!(kept, solved);
-        let other = machine_path(&part, &chain, Surface::B, Branch::Signed, &us).unwrap();
-        assert_eq!(
-            other,
-            solve_path(&part, &chain, Surface::B, Branch::Signed, &us).unwrap()
-        );
-        assert_ne!(other, solved);
-    }
 
     /// The unwrapping grid only has to keep the outer angle's step below a quarter turn; the
     /// result at every requested `u` is then bit-identical to a 10× finer grid (the singular

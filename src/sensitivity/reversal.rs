@@ -36,8 +36,9 @@ use crate::part::{MeasurementPoint, SShape, Surface};
 use crate::toolpath::flank::tool_pose_derivs;
 use crate::toolpath::tip_length::TipLength;
 
+use super::defect::axis_values;
 use super::defect::{Mode, SensitivityOptions};
-use super::path::{machine_path, solve_path};
+use super::path::machine_path;
 use super::SensitivityError;
 
 /// Time constant of the servo lag, in mm of tool-tip path (effects.md).
@@ -210,7 +211,7 @@ pub fn pass(
     let stride = n / RATE_SAMPLES;
     let coarse_k: Vec<usize> = (0..=RATE_SAMPLES).map(|j| j * stride).collect();
     let coarse_u: Vec<f64> = coarse_k.iter().map(|&k| grid_u(k)).collect();
-    let coarse = solve_path(part, chain, surface, opts.branch, &coarse_u)?;
+    let coarse = machine_path(part, chain, surface, opts.branch, &coarse_u)?;
     let axes: Vec<AxisName> = chain.axes().map(|a| a.name).collect();
     let outer = RotaryPair::of(chain)?.outer;
     // Rates per unit u at each coarse sample; on the vertical zone the outer angle's rate is the
@@ -303,7 +304,7 @@ pub fn pass(
             return Ok::<(), SensitivityError>(());
         }
         let us: Vec<f64> = ks.iter().map(|&k| grid_u(k)).collect();
-        let got: Vec<PathSample> = solve_path(part, chain, surface, opts.branch, &us)?;
+        let got: Vec<PathSample> = machine_path(part, chain, surface, opts.branch, &us)?;
         solved
             .0
             .extend(ks.into_iter().zip(got.into_iter().map(|s| s.values)));
@@ -590,17 +591,21 @@ pub fn backlash_signatures_on(
         Lag::of(part, &passes[0], axes),
         Lag::of(part, &passes[1], axes),
     ];
-    backlash_signatures_lagged(&lags, part, points, opts)
+    let q = axis_values(part, points, opts)?;
+    backlash_signatures_lagged(&lags, part, points, &q, opts)
 }
 
 /// [`backlash_signatures`] on the lags of the passes of A and B ([`Lag::of`] with the axes wanted
-/// and the same `opts`): one vector per axis of the lags.
+/// and the same `opts`) at points whose axis values `q` are solved
+/// ([`crate::sensitivity::defect::axis_values`], same `opts`): one vector per axis of the lags.
 pub fn backlash_signatures_lagged(
     lags: &[Lag; 2],
     part: &SShape,
     points: &[MeasurementPoint],
+    q: &[AxisValues],
     opts: &SensitivityOptions,
 ) -> Result<Vec<Vec<f64>>, SensitivityError> {
+    super::defect::check_poses(points, q)?;
     let mut out = vec![vec![0.0; points.len()]; lags[0].axes.len()];
     for (surface, p) in Surface::BOTH.into_iter().zip(lags) {
         let idx: Vec<usize> = (0..points.len())
@@ -609,8 +614,6 @@ pub fn backlash_signatures_lagged(
         if idx.is_empty() {
             continue;
         }
-        let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
-        let poses = machine_path(part, &opts.chain, surface, opts.branch, &us)?;
         let mut around = vec![(0, 0.0, 0.0, 0.0); points.len()];
         for &i in &idx {
             let u = points[i].u;
@@ -624,7 +627,7 @@ pub fn backlash_signatures_lagged(
             );
         }
         for (a, &axis) in p.axes.iter().enumerate() {
-            for (&i, pose) in idx.iter().zip(&poses) {
+            for &i in &idx {
                 let pt = &points[i];
                 // Linear interpolation in u between the grid samples around the point (the
                 // reference's convention; the exact lag from sample k-1 differs by < 1e-4
@@ -635,7 +638,7 @@ pub fn backlash_signatures_lagged(
                     Mode::Physical => pt.normal,
                     Mode::Paper => part.frame_at(surface, pt.u, 1.0).n,
                 };
-                let dpdq = axis_derivative(opts, &pose.values, &pt.point, axis)?;
+                let dpdq = axis_derivative(opts, &q[i], &pt.point, axis)?;
                 out[a][i] = e_pt * dpdq.dot(&n);
             }
         }

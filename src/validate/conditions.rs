@@ -22,6 +22,8 @@ use serde::Serialize;
 use super::pairs::validate_pairs;
 use super::shapes::Shape;
 use super::single::{validate, validate_with, MachinePart, ValidateOptions, ValidationModel};
+use crate::analysis::{sensitivity_options, AnalysisOptions};
+use crate::effects::prepared::Prepared;
 use crate::part::{curve_points_n, Curve, MeasurementPoint, SShape};
 
 /// The conditions, in the table's order.
@@ -113,6 +115,9 @@ pub fn run_conditions(
     seed: u64,
 ) -> Result<ConditionsReport, super::ValidateError> {
     let base = ValidateOptions::default().with_cases(cases).with_seed(seed);
+    // The layouts are simulated on paper 000's machine (the defaults), prepared once for all.
+    let layout_settings = AnalysisOptions::default();
+    let mut layout_prepared: Option<Prepared> = None;
     let mut rows = Vec::new();
     for &name in CONDITIONS
         .iter()
@@ -128,7 +133,16 @@ pub fn run_conditions(
             "layout" => {
                 let mut total: Option<ConditionRow> = None;
                 for (k, &(count, curves)) in LAYOUTS.iter().enumerate() {
-                    let model = ValidationModel::at(part, &layout_points(part, count, curves))?;
+                    let prepared = match &layout_prepared {
+                        Some(p) => p.clone(),
+                        None => Prepared::new(part.clone(), sensitivity_options(&layout_settings))?,
+                    };
+                    let model = ValidationModel::with_prepared(
+                        prepared,
+                        &layout_points(part, count, curves),
+                        &layout_settings,
+                    )?;
+                    layout_prepared = Some(model.prepared.clone());
                     let share = cases / LAYOUTS.len() + usize::from(k < cases % LAYOUTS.len());
                     let o = base
                         .with_cases(share)

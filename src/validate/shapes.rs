@@ -19,10 +19,10 @@
 use nalgebra::DVector;
 
 use crate::effects::GapError;
-use crate::machine::{AxisName, ErrorParam};
+use crate::machine::{AxisName, AxisValues, ErrorParam};
 use crate::numerics::random::Sampler;
 use crate::part::{MeasurementPoint, SShape};
-use crate::sensitivity::defect::{axis_values, jacobian_rows};
+use crate::sensitivity::defect::jacobian_rows;
 use crate::sensitivity::SensitivityOptions;
 
 /// Shortest simulated waviness wavelength of the standard set (mm of tool path).
@@ -78,11 +78,12 @@ pub struct ShapeColumns {
 }
 
 impl ShapeColumns {
-    /// The columns at `points` on the machine of `opts` (B-C machines; without a C axis no
-    /// cyclic column).
+    /// The columns at `points` (axis values `q`, [`crate::sensitivity::axis_values`]) on the
+    /// machine of `opts` (B-C machines; without a C axis no cyclic column).
     pub fn at(
         part: &SShape,
         points: &[MeasurementPoint],
+        q: &[AxisValues],
         opts: &SensitivityOptions,
     ) -> Result<Self, GapError> {
         let linear = [AxisName::X, AxisName::Y, AxisName::Z];
@@ -99,7 +100,7 @@ impl ShapeColumns {
                     })
             })
             .collect();
-        let m = jacobian_rows(part, points, opts, &params)?;
+        let m = jacobian_rows(part, points, q, opts, &params)?;
         let straightness = params
             .iter()
             .enumerate()
@@ -108,11 +109,8 @@ impl ShapeColumns {
             .collect();
         let cyclic_c = if opts.chain.axis(AxisName::C).is_some() {
             let ecc = ErrorParam::axis_value(AxisName::C);
-            let col = jacobian_rows(part, points, opts, &[ecc])?;
-            let c: Vec<f64> = axis_values(part, points, opts)?
-                .iter()
-                .map(|q| q.c)
-                .collect();
+            let col = jacobian_rows(part, points, q, opts, &[ecc])?;
+            let c: Vec<f64> = q.iter().map(|q| q.c).collect();
             let n = points.len();
             Some([
                 DVector::from_iterator(n, (0..n).map(|i| col[(i, 0)] * (2.0 * c[i]).sin())),

@@ -47,8 +47,9 @@ use serde::Serialize;
 
 use super::parameter_error::{answer_error, AnswerError, ErrorComparison};
 use super::ValidateError;
-use crate::analysis::{fit_points, sensitivity_options, AnalysisOptions, Diagnosis};
+use crate::analysis::{fit_points, sensitivity_options, AnalysisOptions, Diagnosis, PointsModel};
 use crate::effects::data::{Candidate, NamedColumns, PointMeta};
+use crate::effects::prepared::Prepared;
 use crate::effects::GapError;
 use crate::final_fit::correct::Basis;
 use crate::gap::diagnose::DiagnoseOptions;
@@ -61,6 +62,7 @@ use crate::numerics::random::Sampler;
 use crate::parameter::{Effect, ParamId};
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::Mode;
+use std::rc::Rc;
 
 use super::shapes::{self, Shape, ShapeColumns};
 
@@ -79,6 +81,10 @@ pub struct ValidationModel {
     pub part: SShape,
     pub measured: Vec<MeasurementPoint>,
     pub settings: AnalysisOptions,
+    /// The prepared settings and the measured points' model on them, built once for every
+    /// simulated part (as a session keeps them for the files of one design).
+    pub prepared: Prepared,
+    pub at: Rc<PointsModel>,
     pub points: Vec<PointMeta>,
     pub baseline: NamedColumns,
     pub candidates: Vec<Candidate>,
@@ -107,17 +113,39 @@ impl ValidationModel {
             mode: Mode::Physical,
             ..settings.clone()
         };
-        let opts = sensitivity_options(&settings);
-        let m = crate::effects::builtin::part_model_on(part, points, &opts)?;
-        let shapes = ShapeColumns::at(part, points, &opts)?;
+        let prepared = Prepared::new(part.clone(), sensitivity_options(&settings))?;
+        Self::with_prepared(prepared, points, &settings)
+    }
+
+    /// [`ValidationModel::on`] with the settings already prepared (`prepared`: those of
+    /// `settings` in `physical` mode, on the part to simulate).
+    pub fn with_prepared(
+        prepared: Prepared,
+        points: &[MeasurementPoint],
+        settings: &AnalysisOptions,
+    ) -> Result<Self, GapError> {
+        let settings = AnalysisOptions {
+            mode: Mode::Physical,
+            ..settings.clone()
+        };
+        let at = PointsModel::new(&prepared, points);
+        let m = at.part_model()?.clone();
+        let shapes = ShapeColumns::at(
+            prepared.part(),
+            points,
+            at.axis_values()?,
+            prepared.options(),
+        )?;
         Ok(Self {
-            part: part.clone(),
+            part: prepared.part().clone(),
             measured: points.to_vec(),
             settings,
             points: m.points,
             baseline: m.baseline,
             candidates: m.candidates,
             shapes,
+            prepared,
+            at: Rc::new(at),
         })
     }
 
@@ -132,7 +160,7 @@ impl ValidationModel {
     /// The location errors' design: the baseline's columns with the machine's location errors
     /// (their units and typical sizes from their kinds, [`Parameter::of_error`]).
     pub fn location_design(&self) -> Result<Design, GapError> {
-        let errors = sensitivity_options(&self.settings).params()?;
+        let errors = self.prepared.errors();
         Ok(Design::try_new(
             errors.iter().map(Parameter::of_error).collect(),
             self.baseline.matrix.clone(),
@@ -435,7 +463,10 @@ pub fn exact_machine_part_on(
     use crate::identify::refine::ExactModel;
     let design = model.location_design()?;
     let opts = opts.clone().with_mode(crate::sensitivity::Mode::Physical);
-    let exact = crate::simulate::ExactDefectModel::at_points(&design, points, opts)?;
+    let q = crate::sensitivity::axis_values(&model.part, &points, &opts)
+        .map_err(|e| ValidateError::from(crate::simulate::SimulateError::from(e)))?;
+    let exact =
+        crate::simulate::ExactDefectModel::at_points(&design, &model.part, &points, &q, &opts)?;
     Ok(Box::new(move |xi: &DVector<f64>| {
         let d = exact.deviation(xi.as_slice())?;
         Ok(DVector::from_vec(d))
@@ -579,7 +610,7 @@ pub fn validate_with(
             noise_sigma: opts.known_sigma.then_some(sigma),
             ..model.settings.clone()
         };
-        let fit = fit_points(&model.part, &model.measured, y.as_slice(), &ids, &settings)
+        let fit = fit_points(&model.prepared, &model.at, y.as_slice(), &ids, &settings)
             .map_err(|source| ValidateError::Analysis { case, source })?;
         let report = match &fit.diagnosis {
             Diagnosis::Made { report, .. } => report,

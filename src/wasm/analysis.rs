@@ -5,12 +5,13 @@
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
+use super::prepared::PreparedSettings;
 use crate::analysis::{
-    analyse as run, analyse_repeats, sensitivity_options, Analysis, AnalysisError, AnalysisOptions,
-    Diagnosis,
+    analyse as run, analyse_repeats, Analysis, AnalysisError, AnalysisOptions, Diagnosis,
 };
 use crate::effects::catalogue::{machine_effects, EffectStatus};
-use crate::sensitivity::error_set::{error_set, ErrorSet};
+use crate::effects::prepared::Prepared;
+use crate::sensitivity::error_set::ErrorSet;
 
 /// The machine's location errors ([`crate::sensitivity::error_set`]) with its own effect
 /// catalogue ([`crate::effects::catalogue`]): what the identification and the diagnosis of
@@ -36,11 +37,9 @@ struct PageAnalysis<'a> {
     error_set: MachineSet<'a>,
 }
 
-fn page_analysis(a: &Analysis, opts: &AnalysisOptions) -> Result<JsValue, JsError> {
-    let set = error_set(&opts.machine.chain(opts.l0), opts.branch)
-        .map_err(|e| JsError::new(&e.to_string()))?;
-    let effects =
-        machine_effects(&sensitivity_options(opts)).map_err(|e| JsError::new(&e.to_string()))?;
+fn page_analysis(a: &Analysis, prepared: &Prepared) -> Result<JsValue, JsError> {
+    let set = prepared.error_set();
+    let effects = machine_effects(prepared);
     let verdict_line = match &a.diagnosis {
         Diagnosis::Made { report, .. } => crate::gap::report::verdict_line(&report.verdict),
         Diagnosis::NotMade { reason } => format!("Verdict: not available ({reason})"),
@@ -48,7 +47,7 @@ fn page_analysis(a: &Analysis, opts: &AnalysisOptions) -> Result<JsValue, JsErro
     super::to_js(&PageAnalysis {
         analysis: a,
         verdict_line,
-        error_set: MachineSet { set: &set, effects },
+        error_set: MachineSet { set, effects },
     })
 }
 
@@ -71,32 +70,45 @@ fn analysis_error(e: AnalysisError) -> JsValue {
     error.into()
 }
 
-/// Reads, matches and identifies one CMM file. `options` is `{machine, mode, branch, l0,
+/// Reads, matches and identifies one CMM file on `prepared` (the settings of `options`, held by
+/// the worker: [`super::prepared`]). `options` is `{machine, mode, branch, l0,
 /// tool_radius, exclude_bad_rows, noise_sigma, noise_mpe: {a_um, k_mm, r0_um}, keep_outliers,
 /// effects}` (any may be absent: defaults of `AnalysisOptions`; `noise_sigma` and `noise_mpe`
 /// not both). Returns the [`Analysis`] as a plain object with `verdict_line` and `error_set`
 /// (see `PageAnalysis`); a bad file throws the reader's message (line, column, text found,
 /// what was expected) and, for rejected rows, `bad_rows`.
 #[wasm_bindgen]
-pub fn analyse(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, JsValue> {
+pub fn analyse(
+    prepared: &PreparedSettings,
+    bytes: &[u8],
+    name: &str,
+    options: JsValue,
+) -> Result<JsValue, JsValue> {
     let opts: AnalysisOptions = super::settings_from_js(options, "bad analysis settings")?;
-    let a = run(bytes, name, &opts).map_err(analysis_error)?;
-    Ok(page_analysis(&a, &opts)?)
+    let session = prepared.session();
+    let a = run(session, bytes, name, &opts).map_err(analysis_error)?;
+    Ok(page_analysis(&a, session.prepared())?)
 }
 
-/// Repeat measurements of one part: `files` = `[{name, bytes: Uint8Array}]`, the first file then
+/// Repeat measurements of one part on `prepared` (as for `analyse`): `files` = `[{name, bytes:
+/// Uint8Array}]`, the first file then
 /// its repeats (the same point ids measured again, at least 2 files); `options` as for
 /// `analyse`, without `noise_sigma` or `noise_mpe` (σ comes from the repeats). Returns what
 /// `analyse` returns for their mean, with `repeat` = {pure_error {sigma, dof, sigma_mean,
 /// largest}, lack_of_fit {f, dof_fit, dof_pure, p_value}, summary}.
 #[wasm_bindgen(js_name = analyseRepeats)]
-pub fn analyse_repeats_js(files: JsValue, options: JsValue) -> Result<JsValue, JsValue> {
+pub fn analyse_repeats_js(
+    prepared: &PreparedSettings,
+    files: JsValue,
+    options: JsValue,
+) -> Result<JsValue, JsValue> {
     let files = super::pool::files_from_js(&files, "repeat files: expected [{name, bytes}]")?;
     let opts: AnalysisOptions = super::settings_from_js(options, "bad analysis settings")?;
     let list: Vec<(&[u8], &str)> = files
         .iter()
         .map(|(name, bytes)| (bytes.as_slice(), name.as_str()))
         .collect();
-    let a = analyse_repeats(&list, &opts).map_err(analysis_error)?;
-    Ok(page_analysis(&a, &opts)?)
+    let session = prepared.session();
+    let a = analyse_repeats(session, &list, &opts).map_err(analysis_error)?;
+    Ok(page_analysis(&a, session.prepared())?)
 }

@@ -5,25 +5,24 @@ use wasm_bindgen::prelude::*;
 
 use crate::bench::Stage;
 
-thread_local! {
-    static PREPARED: std::cell::RefCell<Option<(String, Stage)>> = const { std::cell::RefCell::new(None) };
+/// One benchmark stage with its input built (and what it keeps between its calls): the script
+/// holds it, times [`BenchStage::run`], then frees it.
+#[wasm_bindgen]
+pub struct BenchStage {
+    stage: Stage,
 }
 
-/// Prepares stage `name` for [`bench_run`] (keeps one prepared stage).
-#[wasm_bindgen(js_name = benchPrepare)]
-pub fn bench_prepare(name: &str) -> Result<(), JsError> {
-    let stage = Stage::prepare(name).map_err(|m| JsError::new(&m.to_string()))?;
-    PREPARED.with(|p| *p.borrow_mut() = Some((name.to_string(), stage)));
-    Ok(())
-}
+#[wasm_bindgen]
+impl BenchStage {
+    /// Builds the input of stage `name` (one of [`crate::bench::STAGES`]).
+    #[wasm_bindgen(constructor)]
+    pub fn new(name: &str) -> Result<BenchStage, JsError> {
+        let stage = Stage::prepare(name).map_err(|m| JsError::new(&m.to_string()))?;
+        Ok(BenchStage { stage })
+    }
 
-/// Runs the prepared stage `name` once (the timed call of `scripts/bench-wasm.mjs`).
-#[wasm_bindgen(js_name = benchRun)]
-pub fn bench_run(name: &str) -> Result<f64, JsError> {
-    PREPARED.with(|p| match &*p.borrow() {
-        Some((n, stage)) if n == name => stage.run().map_err(|m| JsError::new(&m.to_string())),
-        _ => Err(JsError::new(&format!(
-            "stage `{name}` is not prepared (call benchPrepare first)"
-        ))),
-    })
+    /// Runs the stage once (the timed call of `scripts/bench-wasm.mjs`).
+    pub fn run(&self) -> Result<f64, JsError> {
+        self.stage.run().map_err(|m| JsError::new(&m.to_string()))
+    }
 }

@@ -3,6 +3,8 @@
 
 use wasm_bindgen::prelude::*;
 
+use super::prepared::PreparedSettings;
+use crate::analysis::Session;
 use crate::budget::{error_budget, read_cl, read_trace, BudgetOptions, TraceMachine};
 use crate::machine::description::MachineDescription;
 
@@ -26,8 +28,9 @@ pub const BUDGET_EXAMPLES: [(&str, &str, &str); 3] = [
     ),
 ];
 
-/// The error budget of a measured part. `cmm`, `cl` and `trace` are file bytes (`trace` may be
-/// absent); `options` is a [`BudgetOptions`] object (`{analysis: {mode, branch, l0,
+/// The error budget of a measured part, analysed on `prepared` (the settings of
+/// `options.analysis`, held by the worker). `cmm`, `cl` and `trace` are file bytes (`trace` may
+/// be absent); `options` is a [`BudgetOptions`] object (`{analysis: {mode, branch, l0,
 /// tool_radius, …}, tool_radius, mpe_constant_um, mpe_length_mm_per_um}`, any part absent:
 /// defaults); `machine` is a JSON machine description for the trace (absent: paper 000's
 /// machine with `options.analysis.l0`). Returns the [`crate::budget::Budget`] (mm); a bad file
@@ -35,6 +38,7 @@ pub const BUDGET_EXAMPLES: [(&str, &str, &str); 3] = [
 #[wasm_bindgen]
 #[allow(clippy::too_many_arguments)]
 pub fn budget(
+    prepared: &PreparedSettings,
     cmm: &[u8],
     cmm_name: &str,
     cl: &[u8],
@@ -50,10 +54,9 @@ pub fn budget(
         (bytes, name)
     });
     let b = run(
-        cmm,
-        cmm_name,
-        cl,
-        cl_name,
+        prepared.session(),
+        (cmm, cmm_name),
+        (cl, cl_name),
         trace.as_ref().map(|(b, n)| (b.as_slice(), n.as_str())),
         &opts,
         machine.as_deref(),
@@ -61,13 +64,12 @@ pub fn budget(
     super::to_js(&b)
 }
 
-/// The budget of the files, the trace (bytes, name) read on `machine` (a JSON description) or
-/// paper 000's machine.
+/// The budget of the files (bytes, name), the trace read on `machine` (a JSON description) or
+/// paper 000's machine, analysed on `session`.
 fn run(
-    cmm: &[u8],
-    cmm_name: &str,
-    cl: &[u8],
-    cl_name: &str,
+    session: &Session,
+    (cmm, cmm_name): (&[u8], &str),
+    (cl, cl_name): (&[u8], &str),
     trace: Option<(&[u8], &str)>,
     opts: &BudgetOptions,
     machine: Option<&str>,
@@ -86,7 +88,7 @@ fn run(
         Some((bytes, name)) => Some(read_trace(bytes, name, &m).map_err(err)?),
         None => None,
     };
-    error_budget(cmm, cmm_name, &path, tr.as_ref(), opts).map_err(err)
+    error_budget(session, cmm, cmm_name, &path, tr.as_ref(), opts).map_err(err)
 }
 
 /// A budget example file: `role` `cmm`, `cl` or `trace`, and its text.
@@ -100,10 +102,10 @@ struct ExampleFile {
 
 /// The budget example of the page's "Example" button, in one call: the files, generated
 /// ([`crate::budget::synthetic::example_files`]), and their budget with `options` (as for
-/// [`budget`], paper 000's machine). Returns `{files: [{name, role, description, text}],
-/// budget}`.
+/// [`budget`], paper 000's machine; `prepared`: the settings of `options.analysis`). Returns
+/// `{files: [{name, role, description, text}], budget}`.
 #[wasm_bindgen(js_name = budgetExample)]
-pub fn budget_example(options: JsValue) -> Result<JsValue, JsError> {
+pub fn budget_example(prepared: &PreparedSettings, options: JsValue) -> Result<JsValue, JsError> {
     let opts: BudgetOptions = super::settings_from_js(options, "bad budget settings")?;
     let files = example_files()?;
     let text = |role: &str| {
@@ -117,7 +119,14 @@ pub fn budget_example(options: JsValue) -> Result<JsValue, JsError> {
             "the budget example has no measured part or CL file",
         ));
     };
-    let b = run(cmm, cmm_name, cl, cl_name, text("trace"), &opts, None)?;
+    let b = run(
+        prepared.session(),
+        (cmm, cmm_name),
+        (cl, cl_name),
+        text("trace"),
+        &opts,
+        None,
+    )?;
     super::to_js(&serde_json::json!({ "files": files, "budget": b }))
 }
 

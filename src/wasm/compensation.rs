@@ -4,16 +4,24 @@
 
 use wasm_bindgen::prelude::*;
 
+use super::prepared::PreparedSettings;
 use crate::analysis::{analyse, AnalysisOptions};
 use crate::compensation::compensation;
 
-/// The compensation of one CMM file's final answer: `options` as for `analyse`. Returns the
+/// The compensation of one CMM file's final answer: `prepared` and `options` as for `analyse`.
+/// Returns the
 /// [`crate::compensation::Compensation`] (`{machine, before, after, changes, tool_tip_shift,
 /// entered, part: {points: [{id, curve, measured, machine, left_model, residual, after, used}],
 /// before, after, machine, left_in}, notes}`, mm, rad).
 #[wasm_bindgen]
-pub fn compensate(bytes: &[u8], name: &str, options: JsValue) -> Result<JsValue, JsError> {
+pub fn compensate(
+    prepared: &PreparedSettings,
+    bytes: &[u8],
+    name: &str,
+    options: JsValue,
+) -> Result<JsValue, JsError> {
     let opts: AnalysisOptions = super::settings_from_js(options, "bad analysis settings")?;
-    let a = analyse(bytes, name, &opts).map_err(|e| JsError::new(&e.to_string()))?;
+    let a = analyse(prepared.session(), bytes, name, &opts)
+        .map_err(|e| JsError::new(&e.to_string()))?;
     super::to_js(&compensation(&a))
 }

@@ -12,14 +12,14 @@ use js_sys::{Float64Array, Object, Reflect};
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
+use super::prepared::PreparedSettings;
 use super::to_js;
-use crate::analysis::{sensitivity_options, AnalysisOptions};
 use crate::machine::{Branch, Chain, ErrorParam, Unit};
 use crate::parameter::ParamId;
-use crate::part::{builtin_points, SShape, Surface};
+use crate::part::{builtin_points, Surface};
 use crate::sensitivity::cone_frustum::ConeFrustum;
 use crate::sensitivity::frenet::{coefficients, cone_frames, flank_frames, Coefficients, Cutting};
-use crate::sensitivity::{sensitivity_matrix, SensitivityMatrix};
+use crate::sensitivity::SensitivityMatrix;
 
 /// A cone frustum of paper 002 §4 by name.
 type NamedCone = (&'static str, fn() -> ConeFrustum);
@@ -114,8 +114,8 @@ fn coefficients_of(
         .collect()
 }
 
-/// The curves of the analysis settings `options` (`{machine, l0, mode, branch}`), one call per
-/// change of them: `{sensitivity, path}`.
+/// The curves of the prepared settings `prepared` (held by the worker for the page's `{machine,
+/// l0, mode, branch}`), one call per change of them: `{sensitivity, path}`.
 /// - `sensitivity`: the Figure-19 matrix at the 100 built-in points (`matrix_to_js`: `{ids,
 ///   curves, params, units, scales, rows, cols, values}`, column-major, mm per unit error);
 /// - `path`: paper 002's coefficients `k, k_n, k_t, k_b` (mm per unit error) of each location
@@ -123,14 +123,12 @@ fn coefficients_of(
 ///   spaced `u`: `{path, s, x, x_label, coefficients: [{param, unit, scale, k, k_n, k_t, k_b}]}`.
 ///   A is machined down-cutting, B up-cutting (so `n` is the outward normal).
 #[wasm_bindgen(js_name = curvesFor)]
-pub fn curves_for(options_js: JsValue, surface: &str, samples: usize) -> Result<JsValue, JsError> {
-    let opts: AnalysisOptions = super::settings_from_js(options_js, "bad analysis settings")?;
-    if !(opts.l0.is_finite() && opts.l0 > 0.0) {
-        return Err(JsError::new(&format!(
-            "L0 = {} mm is not a positive finite length",
-            opts.l0
-        )));
-    }
+pub fn curves_for(
+    prepared: &PreparedSettings,
+    surface: &str,
+    samples: usize,
+) -> Result<JsValue, JsError> {
+    let prepared = prepared.session().prepared();
     let wanted = surface.trim();
     let Some(&(_, s, cutting)) = SURFACES
         .iter()
@@ -140,14 +138,17 @@ pub fn curves_for(options_js: JsValue, surface: &str, samples: usize) -> Result<
             "surface `{wanted}`: expected A or B"
         )));
     };
-    let sopts = sensitivity_options(&opts);
-    let params = sopts.params().map_err(|e| JsError::new(&e.to_string()))?;
-    let part = SShape::iso();
-    let m = sensitivity_matrix(&part, &builtin_points(&part), &sopts)
+    let sopts = prepared.options();
+    let params = prepared.errors();
+    let part = prepared.part();
+    let points = builtin_points(part);
+    let m = prepared
+        .axis_values(&points)
+        .and_then(|q| prepared.sensitivity_matrix(&points, &q))
         .map_err(|e| JsError::new(&e.to_string()))?;
     let samples = samples.clamp(2, 2000);
-    let frames = flank_frames(&part, s, &sopts, samples, cutting)
-        .map_err(|e| JsError::new(&e.to_string()))?;
+    let frames =
+        flank_frames(part, s, sopts, samples, cutting).map_err(|e| JsError::new(&e.to_string()))?;
     let path = PathCoefficients {
         path: format!("S-shape surface {surface}, {}", sopts.chain.code()),
         s: frames.iter().map(|f| f.s).collect(),

@@ -1,9 +1,10 @@
-//! The only module that knows about JavaScript: thin, stateless converters from the core's
-//! functions to `#[wasm_bindgen]` exports, one export per user action of the page (`www/`):
+//! The only module that knows about JavaScript: thin converters from the core's functions to
+//! `#[wasm_bindgen]` exports, one export per user action of the page (`www/`):
 //!
 //! | user action | export |
 //! |---|---|
 //! | the page opens | [`page::start`] (version, machines, examples, curves, words) |
+//! | the machine, L0, branch or mode change | `new Prepared(settings)` ([`prepared`]: the one value the worker holds and passes back to the exports below that analyse) |
 //! | a file or example is analysed | [`analysis::analyse`] / [`analysis::analyse_repeats`] |
 //! | the machine settings change, a path surface is chosen | [`curves::curves_for`] |
 //! | a cone is chosen | [`curves::cone_coefficients`] |
@@ -24,6 +25,7 @@ pub mod curves;
 pub mod page;
 pub mod plan;
 pub mod pool;
+pub mod prepared;
 pub mod program;
 
 /// Converts a core result to a plain JS object (maps as objects, not `Map`): serialised to JSON

@@ -3,6 +3,7 @@
 
 use wasm_bindgen::prelude::*;
 
+use super::prepared::PreparedSettings;
 use crate::compare::{compare, ParameterValue};
 use crate::pool::{identify_pooled, PoolOptions};
 
@@ -33,19 +34,25 @@ pub(super) fn files_from_js(
         .collect()
 }
 
-/// Identifies one machine from several CMM files. `files`: `[{name, bytes: Uint8Array}]` (at
-/// least 2); `options`: the settings of `analyse` plus `setup_per_part` (bool). Returns the
+/// Identifies one machine from several CMM files on `prepared` (the settings of `options`, as
+/// for `analyse`). `files`: `[{name, bytes: Uint8Array}]` (at least 2); `options`: the settings
+/// of `analyse` plus `setup_per_part` (bool). Returns the
 /// [`crate::pool::PooledIdentification`]: `{version, settings, parts: [{name, index, points,
 /// excluded_rows, residual_rms, residual_mean}], shared, per_part, identification}` (mm, rad).
 #[wasm_bindgen(js_name = analysePooled)]
-pub fn analyse_pooled(files: JsValue, options: JsValue) -> Result<JsValue, JsError> {
+pub fn analyse_pooled(
+    prepared: &PreparedSettings,
+    files: JsValue,
+    options: JsValue,
+) -> Result<JsValue, JsError> {
     let files = files_from_js(&files, "pooled files: expected [{name, bytes}]")?;
     let opts: PoolOptions = super::settings_from_js(options, "bad pooling settings")?;
     let list: Vec<(&[u8], &str)> = files
         .iter()
         .map(|(name, bytes)| (bytes.as_slice(), name.as_str()))
         .collect();
-    let r = identify_pooled(&list, &opts).map_err(|e| JsError::new(&e.to_string()))?;
+    let r = identify_pooled(prepared.session().prepared(), &list, &opts)
+        .map_err(|e| JsError::new(&e.to_string()))?;
     super::to_js(&r)
 }
 

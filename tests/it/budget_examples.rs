@@ -36,7 +36,16 @@ fn the_example_files_are_the_generators_and_their_budget_adds_up() {
     let trace = read_trace(files[1].1.as_bytes(), files[1].0, &TraceMachine::default()).unwrap();
     let mut opts = BudgetOptions::default();
     opts.analysis.tool_radius = true;
-    let b = error_budget(files[2].1.as_bytes(), files[2].0, &cl, Some(&trace), &opts).unwrap();
+    let session = testpiece::analysis::Session::new(&opts.analysis).unwrap();
+    let b = error_budget(
+        &session,
+        files[2].1.as_bytes(),
+        files[2].0,
+        &cl,
+        Some(&trace),
+        &opts,
+    )
+    .unwrap();
     let s = &b.summary;
     println!(
         "example budget (µm): design {:.1}..{:.1}, CAM {:.1}..{:.1}, NC {:.1}..{:.1}, machine {:.1}..{:.1}, tool {:.1}..{:.1}, residual {:.1}..{:.1}, CMM ±{:.1}; sum check {:.1e} mm",

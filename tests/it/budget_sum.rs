@@ -7,7 +7,7 @@
 //! measured deviation = the trace's discrete deviation (§4.1 method) + the linear machined
 //! defect of known location errors (eq. 14) − dR (§3.2), written as a canonical CMM file.
 
-use testpiece::analysis::AnalysisOptions;
+use testpiece::analysis::{AnalysisOptions, Session};
 use testpiece::budget::synthetic::{
     flank_path, flank_path_with_allowance, trace_of, write_cl_csv, write_trace_csv,
 };
@@ -74,7 +74,17 @@ fn the_budget_adds_up_to_the_simulated_measurement() {
     let defect = simulate_deviation(&design, &errors, 0.0, 0).unwrap();
     let measured: Vec<f64> = d_trace.iter().zip(&defect).map(|(a, b)| a + b).collect();
     let cmm = cmm_file(&pts, &measured);
-    let b = error_budget(cmm.as_bytes(), "sim.csv", &cl, Some(&trace), &options(true)).unwrap();
+    let opts = options(true);
+    let session = Session::new(&opts.analysis).unwrap();
+    let b = error_budget(
+        &session,
+        cmm.as_bytes(),
+        "sim.csv",
+        &cl,
+        Some(&trace),
+        &opts,
+    )
+    .unwrap();
     assert_eq!(b.points.len(), 100);
     let (mut sum_err, mut res, mut mach) = (0.0f64, 0.0f64, 0.0f64);
     for (i, p) in b.points.iter().enumerate() {
@@ -150,7 +160,10 @@ fn an_offset_path_shifts_the_budget_by_its_offset() {
         .collect();
     let m0: Vec<f64> = d0.iter().zip(&defect).map(|(a, b)| a + b).collect();
     let m1: Vec<f64> = d1.iter().zip(&defect).map(|(a, b)| a + b).collect();
+    // One session for the three budgets (the same settings).
+    let session = Session::new(&options(false).analysis).unwrap();
     let b0 = error_budget(
+        &session,
         cmm_file(&pts, &m0).as_bytes(),
         "m0.csv",
         &cl0,
@@ -159,6 +172,7 @@ fn an_offset_path_shifts_the_budget_by_its_offset() {
     )
     .unwrap();
     let b1 = error_budget(
+        &session,
         cmm_file(&pts, &m0).as_bytes(),
         "m0.csv",
         &cl1,
@@ -167,6 +181,7 @@ fn an_offset_path_shifts_the_budget_by_its_offset() {
     )
     .unwrap();
     let b2 = error_budget(
+        &session,
         cmm_file(&pts, &m1).as_bytes(),
         "m1.csv",
         &cl1,

@@ -15,7 +15,7 @@
 
 use std::time::{Duration, Instant};
 
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::cmm::{read_and_match, CmmError, ReadOptions};
 
 fn dir() -> std::path::PathBuf {
@@ -49,7 +49,7 @@ fn every_fuzz_input_ends_cleanly() {
                 exclude_bad_rows: exclude,
                 ..Default::default()
             };
-            match analyse(&b, &name, &o) {
+            match analyse_once(&b, &name, &o) {
                 Ok(a) => {
                     for p in &a.identification.parameters.0 {
                         assert!(p.value.is_finite(), "{name}: {}", p.name());
@@ -83,7 +83,7 @@ fn slow_xyzijk_inch_reports_its_bad_rows() {
 
 #[test]
 fn slow_semicolon_seed_is_analysed() {
-    let a = analyse(
+    let a = analyse_once(
         &bytes("slow_semicolon_analysis.csv"),
         "slow_semicolon_analysis.csv",
         &AnalysisOptions::default(),

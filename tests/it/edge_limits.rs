@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::cmm::options::{MAX_BYTES, MAX_ROWS};
 use testpiece::cmm::{read_cmm_with, CmmError, ReadOptions};
 
@@ -25,7 +25,7 @@ fn a_file_over_50_mb_is_refused_with_the_limit() {
     let mut big = vec![b' '; MAX_BYTES + 1];
     big[..6].copy_from_slice(b"x,y,z\n");
     let t0 = Instant::now();
-    let e = analyse(&big, "big.csv", &AnalysisOptions::default()).unwrap_err();
+    let e = analyse_once(&big, "big.csv", &AnalysisOptions::default()).unwrap_err();
     assert!(t0.elapsed().as_secs_f64() < 5.0, "{:?}", t0.elapsed());
     assert_eq!(
         e.to_string(),

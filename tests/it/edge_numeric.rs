@@ -18,7 +18,7 @@
 
 use crate::edge_common::*;
 use nalgebra::Vector3;
-use testpiece::analysis::{analyse, AnalysisError, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisError, AnalysisOptions};
 use testpiece::cmm::{read_and_match, CmmError, ReadOptions};
 use testpiece::identify::refine::{refine, RefineOptions, NONLINEAR_WARN_FRACTION};
 use testpiece::identify::{identify, IdentifyOptions, Observations, Status};
@@ -59,7 +59,7 @@ fn fewer_points_than_parameters_is_refused_with_the_need() {
     let pts = builtin();
     let y = vec![0.001; 5];
     let text = csv_of(&pts[..5], &y);
-    let e = analyse(text.as_bytes(), "five.csv", &AnalysisOptions::default()).unwrap_err();
+    let e = analyse_once(text.as_bytes(), "five.csv", &AnalysisOptions::default()).unwrap_err();
     assert_eq!(
         e.to_string(),
         "too few points: 5 usable point(s), the identification needs at least 10"
@@ -81,10 +81,10 @@ fn all_points_on_one_curve() {
         effects: testpiece::final_fit::correct::EffectsChoice::None,
         ..AnalysisOptions::default()
     };
-    let a = analyse(text.as_bytes(), "a_z11.csv", &baseline).unwrap();
+    let a = analyse_once(text.as_bytes(), "a_z11.csv", &baseline).unwrap();
     all_finite(&a);
     let id = &a.identification;
-    let full = analyse(csv_of(&pts, &y).as_bytes(), "all.csv", &baseline).unwrap();
+    let full = analyse_once(csv_of(&pts, &y).as_bytes(), "all.csv", &baseline).unwrap();
     eprintln!(
         "one curve: rank {} used {} condition {:.3} (all curves {:.3}) statuses {:?}",
         id.rank,
@@ -109,7 +109,7 @@ fn all_points_on_one_curve() {
         mode: testpiece::sensitivity::Mode::Paper,
         ..Default::default()
     };
-    let a = analyse(text.as_bytes(), "a_z11.csv", &paper).unwrap();
+    let a = analyse_once(text.as_bytes(), "a_z11.csv", &paper).unwrap();
     all_finite(&a);
     let id = &a.identification;
     eprintln!(
@@ -138,7 +138,16 @@ fn points_on_the_vertical_zone() {
                 .enumerate()
                 .map(|(k, &u)| MeasurementPoint::at(&part, k + 1, curve, u, curve.v()))
                 .collect();
-            let m = sensitivity_matrix(&part, &pts, &opts).unwrap();
+            let m = sensitivity_matrix(
+                &part,
+                &pts,
+                &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
+                &opts,
+                &testpiece::sensitivity::error_set::error_set(&opts.chain, opts.branch)
+                    .unwrap()
+                    .params(),
+            )
+            .unwrap();
             assert!(m.values.iter().all(|v| v.is_finite()));
             for c in 0..m.values.ncols() {
                 for r in [0, 2] {
@@ -166,7 +175,7 @@ fn points_on_the_vertical_zone() {
         .map(|(i, (c, u))| MeasurementPoint::at(&part, i + 1, c, u, c.v()))
         .collect();
     let text = csv_of(&pts, &vec![0.0005; pts.len()]);
-    let a = analyse(text.as_bytes(), "zone.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(text.as_bytes(), "zone.csv", &AnalysisOptions::default()).unwrap();
     all_finite(&a);
     assert_eq!(a.points.len(), 20);
 }
@@ -249,7 +258,7 @@ fn errors_too_large_for_the_linearisation_are_reported() {
 #[test]
 fn analysis_notes_the_linearisation_warning() {
     let clean = data("reference/examples/example_clean.csv");
-    let a = analyse(&clean, "example_clean.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(&clean, "example_clean.csv", &AnalysisOptions::default()).unwrap();
     assert!(!a
         .identification
         .notes
@@ -258,7 +267,7 @@ fn analysis_notes_the_linearisation_warning() {
     assert!(a.refinement.as_ref().unwrap().warning.is_none());
     let y = simulate_exact(Mode::Physical, Branch::Signed, &typical(30.0), 0.0, 1).unwrap();
     let text = csv_of(&builtin(), &y);
-    let a = analyse(text.as_bytes(), "large.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(text.as_bytes(), "large.csv", &AnalysisOptions::default()).unwrap();
     all_finite(&a);
     let r = a.refinement.as_ref().unwrap();
     eprintln!(
@@ -286,7 +295,7 @@ fn zero_negative_and_non_finite_noise_are_refused() {
             noise_sigma: Some(s),
             ..Default::default()
         };
-        let e = analyse(&clean, "c.csv", &o).unwrap_err();
+        let e = analyse_once(&clean, "c.csv", &o).unwrap_err();
         assert!(
             matches!(
                 e,
@@ -316,7 +325,7 @@ fn zero_negative_and_non_finite_noise_are_refused() {
 fn noiseless_data_give_finite_results() {
     let y = simulate_exact(Mode::Physical, Branch::Signed, &typical(1.0), 0.0, 1).unwrap();
     let text = csv_of(&builtin(), &y);
-    let a = analyse(
+    let a = analyse_once(
         text.as_bytes(),
         "noiseless.csv",
         &AnalysisOptions::default(),
@@ -384,7 +393,7 @@ fn non_finite_options_are_refused() {
             l0,
             ..Default::default()
         };
-        let e = analyse(&clean, "c.csv", &o).unwrap_err();
+        let e = analyse_once(&clean, "c.csv", &o).unwrap_err();
         assert!(matches!(e, AnalysisError::BadL0(_)), "{e}");
     }
     for v in [f64::NAN, f64::INFINITY, 0.0, -2.0] {

@@ -22,7 +22,7 @@ use testpiece::sensitivity::Mode;
 
 use crate::parity_common::*;
 use serde_json::Value;
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::cmm::{read_and_match, ReadOptions};
 use testpiece::identify::monte_carlo::{monte_carlo, MonteCarloOptions, Noise};
 use testpiece::identify::{identify, IdentifyOptions, Observations};
@@ -88,7 +88,7 @@ fn examples_value() -> Value {
     let mut m = serde_json::Map::new();
     for name in EXAMPLES {
         let bytes = std::fs::read(root().join("tests/data/reference/examples").join(name)).unwrap();
-        let a = analyse(&bytes, name, &AnalysisOptions::default()).unwrap();
+        let a = analyse_once(&bytes, name, &AnalysisOptions::default()).unwrap();
         m.insert(name.to_string(), analysis_value(&a));
     }
     Value::Object(m)
@@ -111,7 +111,7 @@ fn analysis_on_the_tilting_table() {
         machine: MachineChoice::Paper002,
         ..AnalysisOptions::default()
     };
-    let a = analyse(&bytes, name, &opts).unwrap();
+    let a = analyse_once(&bytes, name, &opts).unwrap();
     let names = a.design.names();
     assert_eq!(
         names,
@@ -133,7 +133,7 @@ fn analysis_on_the_tilting_table() {
 /// (tests/wasm_node/parity.rs).
 #[test]
 fn a_structured_scan_of_600_points() {
-    let a = analyse(
+    let a = analyse_once(
         structured_scan().as_bytes(),
         "scan.csv",
         &AnalysisOptions::default(),
@@ -149,10 +149,12 @@ fn a_structured_scan_of_600_points() {
 fn deterministic_for_a_given_seed() {
     let bytes =
         std::fs::read(root().join("tests/data/reference/examples/example_backlash_c.csv")).unwrap();
-    let a = serde_json::to_string(&analyse(&bytes, "b.csv", &AnalysisOptions::default()).unwrap())
-        .unwrap();
-    let b = serde_json::to_string(&analyse(&bytes, "b.csv", &AnalysisOptions::default()).unwrap())
-        .unwrap();
+    let a =
+        serde_json::to_string(&analyse_once(&bytes, "b.csv", &AnalysisOptions::default()).unwrap())
+            .unwrap();
+    let b =
+        serde_json::to_string(&analyse_once(&bytes, "b.csv", &AnalysisOptions::default()).unwrap())
+            .unwrap();
     assert_eq!(a, b);
 
     let errors: Vec<(ParamId, f64)> = vec![

@@ -3,7 +3,7 @@
 use crate::gap_common::*;
 
 use nalgebra::{DMatrix, DVector};
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::final_fit::correct::{correct, Basis, CorrectionInput, EffectsChoice};
 use testpiece::gap::diagnose;
 use testpiece::identify::refine::ExactModel;
@@ -32,7 +32,7 @@ fn the_examples_final_answers_are_within_two_std_of_their_keys() {
         ("example_tool_radius", Some(("tool_radius.dR", "dR"))),
         ("example_backlash_c", Some(("backlash_c.b", "b"))),
     ] {
-        let a = analyse(&example_file(name), name, &AnalysisOptions::default()).unwrap();
+        let a = analyse_once(&example_file(name), name, &AnalysisOptions::default()).unwrap();
         let k = key(name);
         for p in LOCATION {
             let e = a.identification.parameters.get(p).unwrap();
@@ -87,7 +87,7 @@ fn the_examples_final_answers_are_within_two_std_of_their_keys() {
 /// the choice (measured 0.05 std; `same_answer` below 0.1 std).
 #[test]
 fn equivalent_effects_give_the_same_location_errors() {
-    let a = analyse(
+    let a = analyse_once(
         &example_file("example_tool_radius"),
         "t",
         &AnalysisOptions::default(),
@@ -150,6 +150,7 @@ fn unexplained_structure_widens_every_std() {
             verdict: Some(&report.verdict),
             noise_sigma: Some(report.structure.noise.used),
             unavailable: &[],
+            decompositions: &Default::default(),
             options: &opts,
         },
         &EffectsChoice::Auto,
@@ -182,7 +183,7 @@ fn unexplained_structure_widens_every_std() {
 /// model does not have is refused with its id.
 #[test]
 fn the_choice_overrides_the_verdict() {
-    let a = analyse(
+    let a = analyse_once(
         &example_file("example_backlash_c"),
         "b",
         &AnalysisOptions {
@@ -201,13 +202,13 @@ fn the_choice_overrides_the_verdict() {
     };
     // paper 001's A-B head has no C axis: an effect forced by id that it does not have is
     // refused, naming the machine and why; the diagnosis never names it.
-    let err = analyse(&example_file("example_backlash_c"), "b", &o).unwrap_err();
+    let err = analyse_once(&example_file("example_backlash_c"), "b", &o).unwrap_err();
     assert_eq!(
         err.to_string(),
         "`backlash_c` is not a candidate on the A-B head, X table (paper 001, w X' b Y Z B A t): \
          the machine has no C axis"
     );
-    let c = analyse(
+    let c = analyse_once(
         &example_file("example_backlash_c"),
         "b",
         &AnalysisOptions {
@@ -226,7 +227,7 @@ fn the_choice_overrides_the_verdict() {
 /// parameter's typical size) to 1e-9 relative.
 #[test]
 fn effect_columns_enter_the_exact_model_linearly() {
-    let a = analyse(
+    let a = analyse_once(
         &example_file("example_backlash_c"),
         "b",
         &AnalysisOptions::default(),
@@ -244,12 +245,12 @@ fn effect_columns_enter_the_exact_model_linearly() {
         .collect();
     let design =
         Design::try_new(params, DMatrix::from_column_slice(n, names.len(), &data)).unwrap();
-    let model = testpiece::simulate::ExactDefectModel::at_points(
-        &design,
-        a.points.clone(),
-        testpiece::analysis::sensitivity_options(&a.settings),
-    )
-    .unwrap();
+    let opts = testpiece::analysis::sensitivity_options(&a.settings);
+    let part = testpiece::part::SShape::iso();
+    let q = testpiece::sensitivity::axis_values(&part, &a.points, &opts).unwrap();
+    let model =
+        testpiece::simulate::ExactDefectModel::at_points(&design, &part, &a.points, &q, &opts)
+            .unwrap();
     let x = a.identification.values();
     let j = model.jacobian(&x).unwrap();
     let h = 1e-6;

@@ -6,11 +6,11 @@
 //! memory (3.2 GB n × n matrices) and 2,500 points took 336 s.
 
 use crate::parity_common::structured_scan as scan;
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 
 #[test]
 fn a_large_part_with_structure_is_identified_with_the_grouped_covariance() {
-    let a = analyse(scan().as_bytes(), "scan.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(scan().as_bytes(), "scan.csv", &AnalysisOptions::default()).unwrap();
     assert_eq!(a.identification.points_used, 600);
     let report = a.diagnosis.report().unwrap();
     assert_eq!(

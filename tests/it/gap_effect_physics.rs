@@ -12,8 +12,9 @@
 
 use crate::edge_common::builtin;
 use nalgebra::{Matrix3, Vector3};
-use testpiece::effects::builtin::{part_model_every_candidate, part_model_on, PartModel};
+use testpiece::effects::builtin::PartModel;
 use testpiece::effects::path_length::total_path_length;
+use testpiece::effects::prepared::Prepared;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::direct::nominal;
 use testpiece::machine::inverse::inverse;
@@ -32,13 +33,17 @@ fn chain_of(m: MachineChoice) -> Chain {
 /// on the tilting table): the formulas under test.
 fn model_of(m: MachineChoice) -> PartModel {
     let opts = SensitivityOptions::default().with_chain(chain_of(m));
-    part_model_every_candidate(&SShape::iso(), &builtin(), &opts).unwrap()
+    let p = Prepared::new(SShape::iso(), opts).unwrap();
+    p.part_model_every_candidate(&builtin(), &p.axis_values(&builtin()).unwrap())
+        .unwrap()
 }
 
 /// The candidates the diagnosis is offered.
 fn offered(m: MachineChoice) -> PartModel {
     let opts = SensitivityOptions::default().with_chain(chain_of(m));
-    part_model_on(&SShape::iso(), &builtin(), &opts).unwrap()
+    let p = Prepared::new(SShape::iso(), opts).unwrap();
+    p.part_model(&builtin(), &p.axis_values(&builtin()).unwrap())
+        .unwrap()
 }
 
 fn column(m: &PartModel, effect: Effect) -> Option<Vec<f64>> {

@@ -4,7 +4,7 @@
 
 use crate::cli_common;
 
-use testpiece::analysis::{analyse, analyse_repeats, AnalysisOptions, Diagnosis};
+use testpiece::analysis::{analyse_once, analyse_repeats, AnalysisOptions, Diagnosis, Session};
 use testpiece::part::{builtin_points, SShape};
 use testpiece::validate::conditions::layout_points;
 use testpiece::validate::{exact_machine_part, run_conditions, ValidationModel, CONDITIONS};
@@ -15,6 +15,18 @@ fn simulate(args: &[&str]) -> String {
 }
 
 const ERRORS: &str = "EX0B=0.02,EA0B=2e-4,EB0C=1e-4,EC0Y=-1e-4";
+
+/// The repeats `texts` (a.csv, b.csv, ...) analysed together with the default options.
+fn analyse_texts(texts: &[String]) -> testpiece::analysis::Analysis {
+    let names = ["a.csv", "b.csv", "c.csv", "d.csv", "e.csv"];
+    let files: Vec<(&[u8], &str)> = texts
+        .iter()
+        .zip(names)
+        .map(|(p, n)| (p.as_bytes(), n))
+        .collect();
+    let o = AnalysisOptions::default();
+    analyse_repeats(&Session::new(&o).unwrap(), &files, &o).unwrap()
+}
 
 fn verdict(a: &testpiece::analysis::Analysis) -> String {
     match &a.diagnosis {
@@ -44,12 +56,7 @@ fn repeats_give_sigma_from_their_differences() {
             ])
         })
         .collect();
-    let files: Vec<(&[u8], &str)> = parts
-        .iter()
-        .zip(["a.csv", "b.csv", "c.csv"])
-        .map(|(p, n)| (p.as_bytes(), n))
-        .collect();
-    let a = analyse_repeats(&files, &AnalysisOptions::default()).unwrap();
+    let a = analyse_texts(&parts);
     let r = a.repeat.as_ref().expect("a repeat report");
     assert_eq!((r.pure_error.repeats, r.pure_error.dof), (3, 200));
     assert!(
@@ -67,12 +74,7 @@ fn repeats_give_sigma_from_their_differences() {
         .iter()
         .map(|seed| simulate(&["--errors", ERRORS, "--noise", "0.0015", "--seed", seed]))
         .collect();
-    let files: Vec<(&[u8], &str)> = clean
-        .iter()
-        .zip(["a.csv", "b.csv"])
-        .map(|(p, n)| (p.as_bytes(), n))
-        .collect();
-    let a = analyse_repeats(&files, &AnalysisOptions::default()).unwrap();
+    let a = analyse_texts(&clean);
     assert!(a.repeat.as_ref().unwrap().lack_of_fit.p_value > 0.01);
     assert_eq!(verdict(&a), "none");
 }
@@ -116,12 +118,7 @@ fn repeats_of_a_scattered_part_add_its_scatter_to_the_cmm() {
                 out
             })
             .collect();
-        let files: Vec<(&[u8], &str)> = measured
-            .iter()
-            .zip(["a.csv", "b.csv", "c.csv"])
-            .map(|(p, n)| (p.as_bytes(), n))
-            .collect();
-        let a = analyse_repeats(&files, &AnalysisOptions::default()).unwrap();
+        let a = analyse_texts(&measured);
         let r = a.repeat.as_ref().unwrap();
         assert!(r.pure_error.sigma < 0.0008, "{}", r.pure_error.sigma);
         assert!(r.lack_of_fit.p_value < 1e-6, "{:?}", r.lack_of_fit);
@@ -190,7 +187,7 @@ fn repeats_on_the_command_line_and_their_refusals() {
 fn an_implausible_sigma_is_questioned() {
     use testpiece::gap::verdict::VerdictId;
     let noisy = simulate(&["--errors", ERRORS, "--noise", "0.005", "--seed", "3"]);
-    let a = analyse(noisy.as_bytes(), "noisy.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(noisy.as_bytes(), "noisy.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };
@@ -209,14 +206,14 @@ fn an_implausible_sigma_is_questioned() {
         noise_sigma: Some(0.005),
         ..AnalysisOptions::default()
     };
-    let a = analyse(noisy.as_bytes(), "noisy.csv", &given).unwrap();
+    let a = analyse_once(noisy.as_bytes(), "noisy.csv", &given).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };
     assert!(!report.structure.noise.implausible, "{}", report.summary);
     assert_eq!(report.verdict.id(), VerdictId::Noise, "{}", report.summary);
     let clean = simulate(&["--errors", ERRORS, "--noise", "0.0015", "--seed", "3"]);
-    let a = analyse(clean.as_bytes(), "clean.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(clean.as_bytes(), "clean.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };
@@ -242,7 +239,7 @@ fn other_layouts_are_diagnosed_and_described() {
         .collect();
     every_third.reverse();
     let text = format!("{header}\n{}\n", every_third.join("\n"));
-    let a = analyse(text.as_bytes(), "third.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(text.as_bytes(), "third.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };
@@ -262,13 +259,13 @@ fn other_layouts_are_diagnosed_and_described() {
         .filter(|l| !l.contains("B_Z25"))
         .collect();
     let text = format!("{header}\n{}\n", three.join("\n"));
-    let a = analyse(text.as_bytes(), "three.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(text.as_bytes(), "three.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };
     assert_eq!(report.layout.not_measured, vec!["B_Z25".to_string()]);
     // the built-in layout is full and says nothing
-    let a = analyse(full.as_bytes(), "full.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(full.as_bytes(), "full.csv", &AnalysisOptions::default()).unwrap();
     let Diagnosis::Made { report, .. } = &a.diagnosis else {
         panic!()
     };

@@ -5,10 +5,11 @@
 
 use crate::cli_common::{testpiece, testpiece_ok};
 use crate::edge_common::*;
-use testpiece::analysis::{analyse, diagnose_on_machine, AnalysisOptions};
-use testpiece::effects::builtin::{
-    part_model, part_model_every_candidate, part_model_on, PartModel,
+use testpiece::analysis::{
+    analyse_once, diagnose_on_machine, prepare, AnalysisOptions, Diagnosis, PointsModel,
 };
+use testpiece::effects::builtin::PartModel;
+use testpiece::effects::prepared::Prepared;
 use testpiece::gap::verdict::VerdictId;
 use testpiece::identify::solve::{rms, Factor};
 use testpiece::machine::chain::PAPER000_L0;
@@ -29,18 +30,30 @@ fn options(machine: MachineChoice) -> AnalysisOptions {
 /// example_clean.csv analysed on `machine`.
 fn analyse_clean(machine: MachineChoice) -> testpiece::analysis::Analysis {
     let bytes = data("reference/examples/example_clean.csv");
-    analyse(&bytes, "clean.csv", &options(machine)).unwrap()
+    analyse_once(&bytes, "clean.csv", &options(machine)).unwrap()
+}
+
+fn prepared(machine: MachineChoice) -> Prepared {
+    let sopts = SensitivityOptions::default().with_chain(machine.chain(PAPER000_L0));
+    Prepared::new(SShape::iso(), sopts).unwrap()
 }
 
 fn model_of(machine: MachineChoice) -> PartModel {
-    let sopts = SensitivityOptions::default().with_chain(machine.chain(PAPER000_L0));
-    part_model_on(&SShape::iso(), &builtin(), &sopts).unwrap()
+    let p = prepared(machine);
+    p.part_model(&builtin(), &p.axis_values(&builtin()).unwrap())
+        .unwrap()
 }
 
 /// Every candidate with physics on the machine, the location equivalents included.
 fn every_candidate(machine: MachineChoice) -> PartModel {
-    let sopts = SensitivityOptions::default().with_chain(machine.chain(PAPER000_L0));
-    part_model_every_candidate(&SShape::iso(), &builtin(), &sopts).unwrap()
+    prepared(machine).builtin_model().clone()
+}
+
+/// The diagnosis of deviations `y` at the built-in points on `machine`.
+fn diagnose_builtin(y: &[f64], machine: MachineChoice) -> Diagnosis {
+    let o = options(machine);
+    let p = prepare(&o).unwrap();
+    diagnose_on_machine(&p, &PointsModel::new(&p, &builtin()), y, &o)
 }
 
 fn column(m: &PartModel, effect: Effect) -> Vec<f64> {
@@ -69,7 +82,7 @@ fn the_tilting_table_model_is_its_own() {
     let tilt = every_candidate(MachineChoice::Paper002);
     let a = analyse_clean(MachineChoice::Paper002);
     assert_eq!(tilt.baseline.names(), a.identification.names());
-    let p000 = part_model(&SShape::iso(), &builtin()).unwrap();
+    let p000 = model_of(MachineChoice::Paper000);
     assert!(tilt
         .candidates
         .iter()
@@ -128,14 +141,9 @@ fn a_tilting_table_part_is_diagnosed_on_its_own_axes() {
             loc + b * sig[i] + sigma * rng.normal()
         })
         .collect();
-    let d = diagnose_on_machine(
-        &SShape::iso(),
-        &builtin(),
-        &y,
-        &options(MachineChoice::Paper002),
-    )
-    .into_report()
-    .unwrap();
+    let d = diagnose_builtin(&y, MachineChoice::Paper002)
+        .into_report()
+        .unwrap();
     println!("b = {b:.3e} rad\n{}", d.summary);
     let v = &d.verdict;
     assert!(
@@ -175,14 +183,9 @@ fn the_a_b_head_is_diagnosed_on_its_own_chain() {
             loc + b * sig[i] + sigma * rng.normal()
         })
         .collect();
-    let d = diagnose_on_machine(
-        &SShape::iso(),
-        &builtin(),
-        &y,
-        &options(MachineChoice::Paper001),
-    )
-    .into_report()
-    .unwrap();
+    let d = diagnose_builtin(&y, MachineChoice::Paper001)
+        .into_report()
+        .unwrap();
     println!("b = {b:.3e} rad\n{}", d.summary);
     let v = &d.verdict;
     assert!(
@@ -207,7 +210,7 @@ fn the_cli_diagnoses_on_the_chosen_machine() {
     ] {
         let out = testpiece_ok(&["diagnose", &file, "--machine", m]);
         let text = std::fs::read(&file).unwrap();
-        let a = analyse(&text, "b.csv", &options(choice)).unwrap();
+        let a = analyse_once(&text, "b.csv", &options(choice)).unwrap();
         let d = a.diagnosis.clone().into_report().unwrap();
         assert_eq!(out.lines().next(), d.summary.lines().next(), "{m}");
         let lines: Vec<&str> = out.lines().collect();
@@ -250,7 +253,7 @@ fn simulate_adds_an_effects_signature_that_diagnose_names() {
         .chain(["--effect", "backlash_c=6e-4,tool_taper.g=2e-4"])
         .collect();
     let both = deviations(&testpiece_ok(&with));
-    let m = part_model(&SShape::iso(), &builtin()).unwrap();
+    let m = model_of(MachineChoice::Paper000);
     let sig = |e: Effect, j: usize| -> Vec<f64> {
         let c = m.candidates.iter().find(|c| c.effect == e).unwrap();
         c.signature.matrix.column(j).iter().copied().collect()

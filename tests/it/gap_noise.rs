@@ -59,8 +59,8 @@ fn analyse(effect: &DVector<f64>, parts: usize, seed: u64) -> Vec<(f64, VerdictI
             let noise = DVector::from_iterator(n, (0..n).map(|_| SIGMA * rng.normal()));
             let y = exact(&xi).unwrap() + effect + noise;
             let fit = fit_points(
-                &model.part,
-                &model.measured,
+                &model.prepared,
+                &model.at,
                 y.as_slice(),
                 &ids,
                 &model.settings,

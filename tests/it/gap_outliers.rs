@@ -4,8 +4,9 @@
 
 use crate::cli_common;
 
-use testpiece::analysis::{analyse, Analysis, AnalysisOptions};
-use testpiece::effects::builtin::builtin_model;
+use testpiece::analysis::{analyse_once, Analysis, AnalysisOptions};
+use testpiece::effects::builtin::PartModel;
+use testpiece::effects::prepared::Prepared;
 use testpiece::effects::GapInput;
 use testpiece::identify::monte_carlo::CmmMpe;
 use testpiece::machine::{AxisName, Unit};
@@ -36,7 +37,7 @@ fn with_spike(text: &str, id: u32, spike: f64) -> String {
 }
 
 fn run(text: &str, opts: &AnalysisOptions) -> Analysis {
-    analyse(text.as_bytes(), "spiked.csv", opts).unwrap()
+    analyse_once(text.as_bytes(), "spiked.csv", opts).unwrap()
 }
 
 fn verdict(a: &Analysis) -> String {
@@ -118,9 +119,18 @@ fn keep_outliers_names_them_but_keeps_every_point() {
     );
 }
 
+/// The model of the built-in points on paper 000's machine (which has no location equivalent:
+/// every candidate is offered).
+fn builtin_model() -> PartModel {
+    Prepared::new(SShape::iso(), Default::default())
+        .unwrap()
+        .builtin_model()
+        .clone()
+}
+
 /// Simulated parts of the built-in points: random location errors, an effect, noise σ.
 fn simulated(seed: u64, effect: Option<(Effect, f64)>, sigma: f64) -> GapInput {
-    let m = builtin_model(&SShape::iso()).unwrap();
+    let m = builtin_model();
     let mut rng = Sampler::new(seed);
     let n = m.points.len();
     let xi: Vec<f64> = m
@@ -175,7 +185,7 @@ fn clean_simulated_parts_have_no_outlier() {
 fn structured_effects_are_not_taken_for_outliers() {
     // Backlash steps (a few points move at each reversal) of every axis, at sizes far above the
     // detection limit, and the other effects: no point is named.
-    let m = builtin_model(&SShape::iso()).unwrap();
+    let m = builtin_model();
     let mut named = Vec::new();
     for c in &m.candidates {
         let col = c.signature.matrix.column(0);
@@ -240,7 +250,7 @@ fn the_cmm_mpe_gives_the_median_sigma_and_is_reported() {
         noise_mpe: Some(CmmMpe::paper000()),
         ..Default::default()
     };
-    let e = analyse(CLEAN.as_bytes(), "c.csv", &both).unwrap_err();
+    let e = analyse_once(CLEAN.as_bytes(), "c.csv", &both).unwrap_err();
     assert!(e.to_string().contains("given twice"), "{e}");
 }
 

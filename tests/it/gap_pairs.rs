@@ -168,11 +168,14 @@ fn a_single_effect_is_not_paired_and_waviness_stays_unexplained() {
 /// radius error each at 4× the detection limit, noise σ = 1.5 µm, written to 6 decimals (mm).
 fn two_effects_file() -> String {
     use testpiece::cmm::write::{canonical_csv, Precision};
-    use testpiece::effects::builtin::part_model;
+    use testpiece::effects::prepared::Prepared;
     use testpiece::part::{builtin_points, SShape};
     let part = SShape::iso();
     let pts = builtin_points(&part);
-    let m = part_model(&part, &pts).unwrap();
+    let prepared = Prepared::new(part, Default::default()).unwrap();
+    let m = prepared
+        .part_model(&pts, &prepared.axis_values(&pts).unwrap())
+        .unwrap();
     let a = &m.baseline.matrix;
     let base = Factor::new(a, None);
     let mut rng = Sampler::new(7);
@@ -219,9 +222,12 @@ fn a_measured_file_with_two_effects_gets_both() {
         on_disk == text,
         "{path} differs from the generator: regenerate with TESTPIECE_WRITE_EXAMPLES=1"
     );
-    let a =
-        testpiece::analysis::analyse(on_disk.as_bytes(), "two_effects.csv", &Default::default())
-            .unwrap();
+    let a = testpiece::analysis::analyse_once(
+        on_disk.as_bytes(),
+        "two_effects.csv",
+        &Default::default(),
+    )
+    .unwrap();
     let d = a.diagnosis.into_report().unwrap();
     println!("{}", d.summary);
     let names = named(&d.verdict);

@@ -14,7 +14,6 @@
 
 use crate::cli_common::{testpiece, testpiece_ok};
 use testpiece::analysis::AnalysisOptions;
-use testpiece::effects::builtin::location_equivalents_of;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::parameter::Effect;
 use testpiece::part::{builtin_points, SShape};
@@ -72,7 +71,7 @@ fn every_machine_passes_the_floors_on_its_own_model() {
         let model = model_on(m);
         let chain = m.chain(PAPER000_L0);
         let ids: Vec<Effect> = model.candidates.iter().map(|c| c.effect).collect();
-        let same = location_equivalents_of(&SShape::iso(), &options(m)).unwrap();
+        let same = model.prepared.location_equivalents();
         let expected: Vec<Effect> = Effect::on_chain(&chain)
             .into_iter()
             .filter(|e| !same.iter().any(|(x, _)| x == e))

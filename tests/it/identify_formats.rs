@@ -1,12 +1,12 @@
 //! Issue 5: the same measured part written in every format of cmm-csv.md identifies to the same
 //! parameters. Files: tests/data/cmm/formats/ (made from example_clean.csv by make_formats.py).
 
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 
 fn params(path: &std::path::Path) -> Vec<(String, f64)> {
     let bytes = std::fs::read(path).unwrap();
     let name = path.file_name().unwrap().to_string_lossy();
-    let a = analyse(&bytes, &name, &AnalysisOptions::default())
+    let a = analyse_once(&bytes, &name, &AnalysisOptions::default())
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     assert_eq!(a.identification.points_used, 100, "{name}");
     a.identification

@@ -3,7 +3,7 @@
 //! the whole ISO 230-1 list, and the tilting table's C-axis offset is identified.
 
 use nalgebra::{DMatrix, DVector};
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::location_errors::LocationError;
@@ -27,7 +27,14 @@ fn columns(m: MachineChoice, branch: Branch) -> (Vec<LocationError>, Vec<DVector
     let opts = SensitivityOptions::default()
         .with_chain(chain)
         .with_branch(branch);
-    let j = jacobian_rows(&part, &pts, &opts, &params).unwrap();
+    let j = jacobian_rows(
+        &part,
+        &pts,
+        &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
+        &opts,
+        &params,
+    )
+    .unwrap();
     let cols = list
         .iter()
         .enumerate()
@@ -188,7 +195,7 @@ fn tilting_table_parts_with_a_c_axis_offset_are_clean_and_the_offset_is_identifi
             .map(|(p, v)| (p, v + 0.0015 * rng.normal()))
             .collect();
         let csv = canonical_csv(rows, Precision::Decimals(5), None);
-        let a = analyse(
+        let a = analyse_once(
             csv.as_bytes(),
             "offset.csv",
             &AnalysisOptions {

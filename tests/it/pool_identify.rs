@@ -1,8 +1,14 @@
 //! Pooled identification (src/pool.rs): several simulated parts of one machine.
 
 use crate::pool_common::{part_csv, NOISE, TRUTH};
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, prepare, AnalysisOptions};
+use testpiece::effects::prepared::Prepared;
 use testpiece::pool::{identify_pooled, PoolOptions};
+
+/// The prepared settings of the pools here (paper 000's machine, the default L0, branch, mode).
+fn prepared() -> Prepared {
+    prepare(&AnalysisOptions::default()).unwrap()
+}
 
 /// A part of the machine (`seed` for its noise); `extra` errors are added to the truth.
 fn part(seed: u64, extra: &[(&str, f64)]) -> String {
@@ -14,7 +20,7 @@ fn part(seed: u64, extra: &[(&str, f64)]) -> String {
 /// One part's least-squares identification (the baseline: the pooled fit is the same least
 /// squares on both parts; the final answer's std also hold the model spread of its diagnosis).
 fn single(text: &str, opts: &AnalysisOptions) -> testpiece::identify::Identification {
-    analyse(text.as_bytes(), "part.csv", opts)
+    analyse_once(text.as_bytes(), "part.csv", opts)
         .unwrap()
         .baseline
         .identification
@@ -31,6 +37,7 @@ fn two_parts_of_one_machine_pool_to_within_their_std_and_shrink_it_by_root_two()
         ..Default::default()
     };
     let pooled = identify_pooled(
+        &prepared(),
         &[(a.as_bytes(), "a.csv"), (b.as_bytes(), "b.csv")],
         &PoolOptions {
             analysis: opts.clone(),
@@ -79,6 +86,7 @@ fn a_posteriori_std_shrinks_roughly_by_root_two() {
         ..Default::default()
     };
     let pooled = identify_pooled(
+        &prepared(),
         &[(a.as_bytes(), "a.csv"), (b.as_bytes(), "b.csv")],
         &PoolOptions {
             analysis: opts.clone(),
@@ -112,7 +120,7 @@ fn per_part_tool_radius_and_setup_terms() {
         setup_per_part: false,
     };
     let files = [(a.as_bytes(), "a.csv"), (b.as_bytes(), "b.csv")];
-    let pooled = identify_pooled(&files, &opts).unwrap();
+    let pooled = identify_pooled(&prepared(), &files, &opts).unwrap();
     assert_eq!(pooled.per_part, ["dR[1]", "dR[2]"]);
     for (name, truth) in [("dR[1]", 0.005), ("dR[2]", -0.005)] {
         let p = pooled.identification.parameters.get(name).unwrap();
@@ -124,6 +132,7 @@ fn per_part_tool_radius_and_setup_terms() {
         );
     }
     let with_setup = identify_pooled(
+        &prepared(),
         &files,
         &PoolOptions {
             setup_per_part: true,
@@ -144,10 +153,16 @@ fn per_part_tool_radius_and_setup_terms() {
 #[test]
 fn pooling_needs_two_parts_of_one_machine() {
     let a = part(41, &[]);
-    let e = identify_pooled(&[(a.as_bytes(), "a.csv")], &PoolOptions::default()).unwrap_err();
+    let e = identify_pooled(
+        &prepared(),
+        &[(a.as_bytes(), "a.csv")],
+        &PoolOptions::default(),
+    )
+    .unwrap_err();
     assert_eq!(e.to_string(), "pooling needs at least 2 parts, 1 given");
     let bad = "id,curve,x,y,z,nx,ny,nz,deviation\n1,A_Z11,abc,0,0,0,0,1,0\n";
     let e = identify_pooled(
+        &prepared(),
         &[(a.as_bytes(), "a.csv"), (bad.as_bytes(), "bad.csv")],
         &PoolOptions::default(),
     )

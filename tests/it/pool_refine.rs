@@ -3,7 +3,8 @@
 //! LM on the exact eq. 12 at every part's points recovers the truth.
 
 use crate::pool_common::{part_csv, NOISE, TRUTH};
-use testpiece::analysis::AnalysisOptions;
+use testpiece::analysis::{prepare, AnalysisOptions};
+use testpiece::effects::prepared::Prepared;
 use testpiece::identify::refine::ExactModel;
 use testpiece::machine::Unit;
 use testpiece::pool::{identify_pooled, pool_part, stack, PoolOptions, PooledExactModel};
@@ -20,6 +21,11 @@ fn part(seed: u64, scale: f64) -> String {
         .map(|(n, v)| (n.to_string(), v * scale))
         .collect();
     part_csv(&errs, seed)
+}
+
+/// The prepared settings of the pools here (paper 000's machine, the default L0, branch, mode).
+fn prepared() -> Prepared {
+    prepare(&AnalysisOptions::default()).unwrap()
 }
 
 fn opts(refine: bool, setup: bool) -> PoolOptions {
@@ -39,8 +45,8 @@ fn opts(refine: bool, setup: bool) -> PoolOptions {
 fn pooled_refinement_recovers_a_strongly_non_linear_machine() {
     let (a, b) = (part(31, SCALE), part(32, SCALE));
     let files = [(a.as_bytes(), "a.csv"), (b.as_bytes(), "b.csv")];
-    let exact = identify_pooled(&files, &opts(true, false)).unwrap();
-    let linear = identify_pooled(&files, &opts(false, false)).unwrap();
+    let exact = identify_pooled(&prepared(), &files, &opts(true, false)).unwrap();
+    let linear = identify_pooled(&prepared(), &files, &opts(false, false)).unwrap();
     let r = exact.refinement.as_ref().unwrap();
     assert!(r.performed && r.success, "{r:?}");
     println!(
@@ -83,8 +89,8 @@ fn pooled_refinement_recovers_a_strongly_non_linear_machine() {
 fn pooled_refinement_is_skipped_at_real_magnitudes() {
     let (a, b) = (part(41, 1.0), part(42, 1.0));
     let files = [(a.as_bytes(), "a.csv"), (b.as_bytes(), "b.csv")];
-    let exact = identify_pooled(&files, &opts(true, true)).unwrap();
-    let linear = identify_pooled(&files, &opts(false, true)).unwrap();
+    let exact = identify_pooled(&prepared(), &files, &opts(true, true)).unwrap();
+    let linear = identify_pooled(&prepared(), &files, &opts(false, true)).unwrap();
     let r = exact.refinement.as_ref().unwrap();
     assert!(!r.performed, "{}", r.reason);
     assert!(r.reason.starts_with("skipped"), "{}", r.reason);
@@ -109,7 +115,7 @@ fn pooled_model_jacobian_matches_finite_differences() {
     };
     let parts: Vec<_> = [(part(51, SCALE), "a.csv"), (part(52, SCALE), "b.csv")]
         .iter()
-        .map(|(t, n)| pool_part(t.as_bytes(), n, &o.analysis).unwrap())
+        .map(|(t, n)| pool_part(&prepared(), t.as_bytes(), n, &o.analysis).unwrap())
         .collect();
     let (design, _, per_part) = stack(&parts, &o).unwrap();
     assert_eq!(per_part.len(), 8, "dR, Rz, Tx, Ty per part");

@@ -9,7 +9,7 @@
 use crate::edge_common::*;
 use crate::identify_common::xi_strategy;
 use proptest::prelude::*;
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::final_fit::correct::EffectsChoice;
 use testpiece::identify::Status;
 use testpiece::sensitivity::Mode;
@@ -38,7 +38,7 @@ proptest! {
             effects: EffectsChoice::None,
             ..Default::default()
         };
-        let a = analyse(text.as_bytes(), "sim.csv", &opts).unwrap();
+        let a = analyse_once(text.as_bytes(), "sim.csv", &opts).unwrap();
         let id = &a.identification;
         let names = id.names();
         let values = id.values();

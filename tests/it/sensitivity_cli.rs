@@ -83,7 +83,17 @@ fn identifiability_figures_of_the_spec() {
         let opts = SensitivityOptions::default()
             .with_mode(mode)
             .with_branch(Branch::Signed);
-        let m = sensitivity_matrix(&part, &pts, &opts).unwrap().values;
+        let m = sensitivity_matrix(
+            &part,
+            &pts,
+            &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
+            &opts,
+            &testpiece::sensitivity::error_set::error_set(&opts.chain, opts.branch)
+                .unwrap()
+                .params(),
+        )
+        .unwrap()
+        .values;
         let (ra, rb, k) = (correlation(&m, 1, 3), correlation(&m, 2, 4), condition(&m));
         eprintln!("{mode:?}: corr(EA0Z,EA0C) {ra:.5}, corr(EB0Z,EB0C) {rb:.5}, condition {k:.2}");
         assert!(

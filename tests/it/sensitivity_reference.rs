@@ -54,7 +54,16 @@ fn check_matrix(file: &str, mode: Mode, branch: Branch) {
     let opts = SensitivityOptions::default()
         .with_mode(mode)
         .with_branch(branch);
-    let m = sensitivity_matrix(&part, &pts, &opts).unwrap();
+    let m = sensitivity_matrix(
+        &part,
+        &pts,
+        &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
+        &opts,
+        &testpiece::sensitivity::error_set::error_set(&opts.chain, opts.branch)
+            .unwrap()
+            .params(),
+    )
+    .unwrap();
     let (h, rows) = read(file);
     assert_eq!(&h[2..], m.names().as_slice());
     assert_eq!(rows.len(), m.values.nrows());
@@ -145,8 +154,20 @@ fn exact_and_linear_defect_agree_to_first_order_in_both_modes() {
     let xi = [3e-4, -3e-4, 2e-4, -1e-4, 3e-4, 0.03, -3e-4, 2.5e-4];
     for mode in [Mode::Physical, Mode::Paper] {
         let opts = SensitivityOptions::default().with_mode(mode);
-        let exact = testpiece::sensitivity::defect_xi(&part, &pts, &xi, &opts).unwrap();
-        let m = sensitivity_matrix(&part, &pts, &opts).unwrap();
+        let params = testpiece::sensitivity::error_set::error_set(&opts.chain, opts.branch)
+            .unwrap()
+            .params();
+        let exact = testpiece::sensitivity::defect_xi(&part, &pts, &xi, &params, &opts).unwrap();
+        let m = sensitivity_matrix(
+            &part,
+            &pts,
+            &testpiece::sensitivity::axis_values(&part, &pts, &opts).unwrap(),
+            &opts,
+            &testpiece::sensitivity::error_set::error_set(&opts.chain, opts.branch)
+                .unwrap()
+                .params(),
+        )
+        .unwrap();
         let lin = &m.values * nalgebra::DVector::from_row_slice(&xi);
         let worst = exact
             .iter()
@@ -156,10 +177,15 @@ fn exact_and_linear_defect_agree_to_first_order_in_both_modes() {
         eprintln!("{mode:?}: max |exact - linear| = {worst:e} mm");
         assert!(worst < 1e-4, "{mode:?}: {worst:e}");
     }
+    let opts = SensitivityOptions::default();
+    let params = testpiece::sensitivity::error_set::error_set(&opts.chain, opts.branch)
+        .unwrap()
+        .params();
     assert!(testpiece::sensitivity::defect_xi(
         &part,
         &pts,
         &xi[..3],
+        &params,
         &SensitivityOptions::default()
     )
     .is_err());

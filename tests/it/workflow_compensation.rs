@@ -8,7 +8,7 @@
 //! and EC0B.
 
 use crate::cli_common::testpiece_ok;
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::compensation::compensation;
 use testpiece::machine::AxisName;
 use testpiece::machine::Branch;
@@ -41,7 +41,7 @@ fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
         "--seed",
         "7",
     ]);
-    let a = analyse(csv.as_bytes(), "part.csv", &AnalysisOptions::default()).unwrap();
+    let a = analyse_once(csv.as_bytes(), "part.csv", &AnalysisOptions::default()).unwrap();
     let c = compensation(&a);
     assert_eq!(
         c.entered.len(),

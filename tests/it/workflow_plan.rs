@@ -7,10 +7,9 @@
 use crate::cli_common;
 
 use crate::cli_common::testpiece_ok;
-use testpiece::analysis::{analyse, design_at};
+use testpiece::analysis::{analyse, design_at, Session};
 use testpiece::cmm::write::{canonical_csv, Precision};
 use testpiece::identify::Status;
-use testpiece::part::SShape;
 use testpiece::plan::{plan, read_dmis_points, PlanOptions};
 use testpiece::tolerance::{PLAN_STD_REL as STD_REL, POINTS_MM};
 
@@ -30,14 +29,17 @@ fn predicted_std_equals_the_identification_on_a_part_measured_with_the_plan() {
             tool_radius: true,
             ..PlanOptions::default()
         };
-        let p = plan(&opts).unwrap();
-        let part = SShape::iso();
+        let prepared = opts.prepare().unwrap();
+        let p = plan(&prepared, &opts).unwrap();
         let settings = testpiece::analysis::AnalysisOptions {
             keep_outliers: true,
             refine: false,
             ..opts.analysis(0.002)
         };
-        let (design, _) = design_at(&part, &p.points, &settings).unwrap();
+        let q = prepared.axis_values(&p.points).unwrap();
+        let (design, _) = design_at(&prepared, &p.points, &q, &settings).unwrap();
+        // The identification of the planned part on the same prepared settings.
+        let session = Session::of(prepared);
         let truth: Vec<f64> = (0..design.cols())
             .map(|j| if j % 2 == 0 { 1e-5 } else { -2e-3 })
             .collect();
@@ -48,7 +50,7 @@ fn predicted_std_equals_the_identification_on_a_part_measured_with_the_plan() {
             .map(|(i, d)| d + 0.0015 * (i as f64 * 1.7).sin())
             .collect();
         let csv = canonical_csv(p.points.iter().zip(dev), Precision::Shortest, None);
-        let a = analyse(csv.as_bytes(), "planned.csv", &settings).unwrap();
+        let a = analyse(&session, csv.as_bytes(), "planned.csv", &settings).unwrap();
         assert_eq!(a.points.len(), p.points.len());
         let id = &a.identification;
         assert_eq!(

@@ -21,7 +21,9 @@ fn the_exported_budget_adds_up_and_equals_the_core() {
     let cmm = example("example_measured.csv");
     let cl = example("example_cl.apt");
     let tr = example("example_trace.csv");
+    let prepared = crate::prepared();
     let js = budget(
+        &prepared,
         &cmm,
         "example_measured.csv",
         &cl,
@@ -36,7 +38,9 @@ fn the_exported_budget_adds_up_and_equals_the_core() {
     let v: serde_json::Value = serde_wasm_bindgen::from_value(js).unwrap();
     let points = v["points"].as_array().unwrap();
     assert_eq!(points.len(), 100);
+    let session = testpiece::analysis::Session::new(&Default::default()).unwrap();
     let core = error_budget(
+        &session,
         &cmm,
         "example_measured.csv",
         &read_cl(&cl, "example_cl.apt").unwrap(),
@@ -51,7 +55,7 @@ fn the_exported_budget_adds_up_and_equals_the_core() {
         assert!((f("nc") - c.nc).abs() < 1e-12 && (f("machine") - c.machine).abs() < 1e-12);
     }
     // The page's example button: the same files and the same budget in one call.
-    let js = budget_example(JsValue::UNDEFINED)
+    let js = budget_example(&prepared, JsValue::UNDEFINED)
         .ok()
         .expect("budget example");
     let e: serde_json::Value = serde_wasm_bindgen::from_value(js).unwrap();

@@ -69,8 +69,10 @@ fn every_broken_file_is_an_error_with_the_native_message() {
         BROKEN.len(),
         "files in the corpus vs messages"
     );
+    let prepared = crate::prepared();
     for (name, bytes) in BROKEN {
-        let v = match testpiece::wasm::analysis::analyse(bytes, name, JsValue::UNDEFINED) {
+        let v = match testpiece::wasm::analysis::analyse(&prepared, bytes, name, JsValue::UNDEFINED)
+        {
             Ok(_) => panic!("{name}: read without error under wasm"),
             Err(e) => e,
         };

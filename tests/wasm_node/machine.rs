@@ -15,12 +15,13 @@ const REFERENCE: &str = include_str!(concat!(
 #[wasm_bindgen_test]
 fn sensitivity_matrix_matches_reference_under_wasm() {
     let part = SShape::iso();
-    let m = sensitivity_matrix(
-        &part,
-        &builtin_points(&part),
-        &SensitivityOptions::default(),
-    )
-    .expect("sensitivity");
+    let points = builtin_points(&part);
+    let opts = SensitivityOptions::default();
+    let q = testpiece::sensitivity::axis_values(&part, &points, &opts).expect("axis values");
+    let errors = testpiece::sensitivity::error_set::error_set(&opts.chain, opts.branch)
+        .expect("error set")
+        .params();
+    let m = sensitivity_matrix(&part, &points, &q, &opts, &errors).expect("sensitivity");
     let rows: Vec<Vec<f64>> = REFERENCE
         .lines()
         .skip(1)

@@ -10,3 +10,12 @@ mod machine;
 mod page;
 mod parity;
 mod workflow;
+
+use testpiece::wasm::prepared::PreparedSettings;
+
+/// The prepared settings of the default analysis settings, as the page's worker builds them.
+pub fn prepared() -> PreparedSettings {
+    PreparedSettings::new(wasm_bindgen::JsValue::UNDEFINED)
+        .ok()
+        .expect("prepared settings")
+}

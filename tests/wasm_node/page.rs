@@ -66,7 +66,7 @@ fn start_gives_the_examples_curves_and_words() {
 
 #[wasm_bindgen_test]
 fn curves_carry_each_parameter_with_its_unit() {
-    let js = curves_for(JsValue::UNDEFINED, "A", 20).expect("curves");
+    let js = curves_for(&crate::prepared(), "A", 20).expect("curves");
     let sens = js_sys::Reflect::get(&js, &JsValue::from_str("sensitivity")).unwrap();
     let get = |k: &str| -> serde_json::Value {
         serde_wasm_bindgen::from_value(js_sys::Reflect::get(&sens, &JsValue::from_str(k)).unwrap())

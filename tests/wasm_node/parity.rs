@@ -14,7 +14,7 @@ use parity_common::{
     analysis_value, compare, compare_abs, max_rel, EXAMPLES, LM_FTOL_REL, LOOSE_ABS, LOOSE_REL,
     PARITY_REL, STRICT,
 };
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
 
@@ -40,7 +40,7 @@ fn analysis_of_the_examples_matches_native() {
     let mut failures = Vec::new();
     for name in EXAMPLES {
         let bytes = example(name);
-        let a = analyse(bytes, name, &AnalysisOptions::default()).expect(name);
+        let a = analyse_once(bytes, name, &AnalysisOptions::default()).expect(name);
         let wasm = analysis_value(&a);
         let n = &native[name];
         for key in STRICT {
@@ -64,7 +64,7 @@ fn analysis_of_the_examples_matches_native() {
         for (key, v) in n.as_object().expect("an object") {
             report.push(format!("{name} {key}: {:.1e}", max_rel(v, &wasm[key])));
         }
-        testpiece::wasm::analysis::analyse(bytes, name, JsValue::UNDEFINED)
+        testpiece::wasm::analysis::analyse(&crate::prepared(), bytes, name, JsValue::UNDEFINED)
             .unwrap_or_else(|_| panic!("{name}: the export failed"));
     }
     assert!(
@@ -111,7 +111,7 @@ fn tilting_table_not_separable_values_match_native() {
         machine: MachineChoice::Paper002,
         ..AnalysisOptions::default()
     };
-    let a = analyse(example("example_backlash_c.csv"), "b.csv", &opts).expect("paper002");
+    let a = analyse_once(example("example_backlash_c.csv"), "b.csv", &opts).expect("paper002");
     let wasm = analysis_value(&a);
     let mut failures = Vec::new();
     // The final answer's basis is native's (`baseline`: the part is `none` on its own set),
@@ -168,7 +168,7 @@ const NATIVE_SCAN: &str = include_str!("../data/parity/structured_scan.json");
 fn structured_scan_matches_native() {
     let native: serde_json::Value =
         serde_json::from_str(NATIVE_SCAN).expect("structured_scan.json");
-    let a = analyse(
+    let a = analyse_once(
         parity_common::structured_scan().as_bytes(),
         "scan.csv",
         &AnalysisOptions::default(),

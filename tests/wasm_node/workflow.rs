@@ -5,7 +5,7 @@
 use wasm_bindgen::JsValue;
 use wasm_bindgen_test::*;
 
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::plan::{plan, PlanOptions};
 use testpiece::program::{program, ProgramOptions};
 use testpiece::wasm::compensation::compensate;
@@ -14,9 +14,12 @@ use testpiece::wasm::program::part_program;
 
 #[wasm_bindgen_test]
 fn the_exported_plan_equals_the_core() {
-    let js = measurement_plan(JsValue::UNDEFINED).ok().expect("plan");
+    let js = measurement_plan(&crate::prepared(), JsValue::UNDEFINED)
+        .ok()
+        .expect("plan");
     let v: serde_json::Value = serde_wasm_bindgen::from_value(js).unwrap();
-    let core = plan(&PlanOptions::default()).unwrap();
+    let opts = PlanOptions::default();
+    let core = plan(&opts.prepare().unwrap(), &opts).unwrap();
     let std = core.parameters.get("EX0B").unwrap().std.unwrap();
     assert_eq!(
         v["plan"]["parameters"]["EX0B"]["std"].as_f64().unwrap(),
@@ -38,6 +41,7 @@ fn the_exported_program_equals_the_core() {
 fn the_exported_compensation_equals_the_core() {
     let text = testpiece::examples::example_text("example_backlash_c.csv").expect("example");
     let js = compensate(
+        &crate::prepared(),
         text.as_bytes(),
         "example_backlash_c.csv",
         JsValue::UNDEFINED,
@@ -45,7 +49,7 @@ fn the_exported_compensation_equals_the_core() {
     .ok()
     .expect("compensate");
     let v: serde_json::Value = serde_wasm_bindgen::from_value(js).unwrap();
-    let a = analyse(
+    let a = analyse_once(
         text.as_bytes(),
         "example_backlash_c.csv",
         &AnalysisOptions::default(),

@@ -1,6 +1,6 @@
 //! `testpiece budget FILE --cl PATH [--trace PATH]`: the error budget per point (issue 10).
 
-use testpiece::analysis::AnalysisOptions;
+use testpiece::analysis::{AnalysisOptions, Session};
 use testpiece::budget::{error_budget, read_cl, read_trace, Budget, BudgetOptions, TraceMachine};
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::description::MachineDescription;
@@ -89,8 +89,17 @@ pub fn run(a: Args) -> Result<(), String> {
         None => None,
     };
     let opts = a.options();
-    let b = error_budget(&read(file)?, &file_name(file), &cl, trace.as_ref(), &opts)
-        .map_err(|e| format!("{file}: {e}"))?;
+    let bytes = read(file)?;
+    let session = Session::new(&opts.analysis).map_err(|e| format!("{file}: {e}"))?;
+    let b = error_budget(
+        &session,
+        &bytes,
+        &file_name(file),
+        &cl,
+        trace.as_ref(),
+        &opts,
+    )
+    .map_err(|e| format!("{file}: {e}"))?;
     if a.json {
         return print_json(&b);
     }

@@ -5,7 +5,7 @@
 //! A value parser's message says what was expected; `main` prefixes the option and the value
 //! (``--machine `paper9`: expected paper000, paper001 or paper002``).
 
-use testpiece::analysis::{analyse_parts, Analysis, AnalysisOptions, Fitted};
+use testpiece::analysis::{analyse_parts, Analysis, AnalysisOptions, Fitted, Session};
 use testpiece::identify::monte_carlo::CmmMpe;
 use testpiece::machine::Branch;
 use testpiece::part::ConeFrustum;
@@ -121,7 +121,7 @@ pub fn read(path: &str) -> Result<Vec<u8>, String> {
 }
 
 /// Reads FILE and its repeats (the same points measured again) and analyses their mean
-/// ([`analyse_parts`]); errors name the file.
+/// ([`analyse_parts`]) on the settings prepared once for the command; errors name the file.
 pub fn analyse_files(
     file: &str,
     repeats: &[String],
@@ -135,7 +135,8 @@ pub fn analyse_files(
         .iter()
         .map(|(b, n)| (b.as_slice(), n.as_str()))
         .collect();
-    analyse_parts(&files, settings).map_err(|e| format!("{file}: {e}"))
+    let session = Session::new(settings).map_err(|e| format!("{file}: {e}"))?;
+    analyse_parts(&session, &files, settings).map_err(|e| format!("{file}: {e}"))
 }
 
 /// Prints a value as pretty JSON.

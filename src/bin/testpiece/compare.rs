@@ -1,6 +1,6 @@
 //! `testpiece compare A B`: the differences of two parts' identified parameters.
 
-use testpiece::analysis::{analyse, AnalysisOptions};
+use testpiece::analysis::{analyse, AnalysisOptions, Session};
 use testpiece::compare::{compare, parameters_of, Comparison, Flag};
 
 use crate::common::{file_name, mm, print_json, read, ModeBranch};
@@ -39,9 +39,12 @@ pub fn run(a: Args) -> Result<(), String> {
         noise_sigma: a.sigma,
         ..AnalysisOptions::default()
     };
+    // The two parts share their settings: prepared once.
+    let session = Session::new(&settings).map_err(|e| format!("{}: {e}", a.a))?;
     let run_one = |f: &str| -> Result<_, String> {
         let name = file_name(f);
-        let part = analyse(&read(f)?, &name, &settings).map_err(|e| format!("{f}: {e}"))?;
+        let part =
+            analyse(&session, &read(f)?, &name, &settings).map_err(|e| format!("{f}: {e}"))?;
         Ok((name, parameters_of(&part.identification)))
     };
     let (na, pa) = run_one(&a.a)?;

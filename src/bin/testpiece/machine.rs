@@ -2,9 +2,11 @@
 //! errors a machine is identified with, derived from what the part sees, and its conventions.
 
 use testpiece::effects::catalogue::{machine_effects, EffectStatus};
+use testpiece::effects::prepared::Prepared;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::Branch;
-use testpiece::sensitivity::error_set::{error_set, ErrorSet, ErrorStatus, VISIBLE_FRACTION};
+use testpiece::part::SShape;
+use testpiece::sensitivity::error_set::{ErrorSet, ErrorStatus, VISIBLE_FRACTION};
 use testpiece::sensitivity::SensitivityOptions;
 use testpiece::settings::MachineChoice;
 
@@ -57,20 +59,21 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), String> {
     let chain = a.machine.chain(positive_l0(a.l0)?);
-    let set = error_set(&chain, a.branch).map_err(|e| e.to_string())?;
     let opts = SensitivityOptions::default()
         .with_chain(chain)
         .with_branch(a.branch);
-    let effects = machine_effects(&opts).map_err(|e| e.to_string())?;
+    let prepared = Prepared::new(SShape::iso(), opts).map_err(|e| e.to_string())?;
+    let set = prepared.error_set();
+    let effects = machine_effects(&prepared);
     if a.json {
-        let mut v = to_json(&*set)?;
+        let mut v = to_json(set)?;
         v["effects"] = to_json(&effects)?;
         v["machine"] = to_json(&a.machine)?;
         v["description"] = serde_json::json!(a.machine.describe());
         return print_json(&v);
     }
-    print_rows(&set);
-    print_notes(a.machine, &set, &effects);
+    print_rows(set);
+    print_notes(a.machine, set, &effects);
     Ok(())
 }
 

@@ -67,7 +67,8 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), String> {
     let opts = a.options()?;
-    let p = plan(&opts).map_err(|e| e.to_string())?;
+    let prepared = opts.prepare().map_err(|e| e.to_string())?;
+    let p = plan(&prepared, &opts).map_err(|e| e.to_string())?;
     if let Some(path) = &a.dmis {
         std::fs::write(path, p.dmis()).map_err(|e| format!("{path}: {e}"))?;
     }

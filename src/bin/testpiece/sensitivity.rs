@@ -3,7 +3,10 @@
 use testpiece::machine::Branch;
 use testpiece::parameter::ParamId;
 use testpiece::part::{builtin_points, SShape};
-use testpiece::sensitivity::{sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions};
+use testpiece::sensitivity::error_set::error_set;
+use testpiece::sensitivity::{
+    axis_values, sensitivity_matrix, Mode, SensitivityMatrix, SensitivityOptions,
+};
 
 use crate::common::{branch, branch_name, mode, print_json};
 
@@ -34,7 +37,12 @@ pub fn run(a: Args) -> Result<(), String> {
     let opts = SensitivityOptions::default()
         .with_mode(a.mode)
         .with_branch(a.branch);
-    let m = sensitivity_matrix(&part, &points, &opts).map_err(|e| e.to_string())?;
+    let m = error_set(&opts.chain, opts.branch)
+        .and_then(|set| {
+            let q = axis_values(&part, &points, &opts)?;
+            sensitivity_matrix(&part, &points, &q, &opts, &set.params())
+        })
+        .map_err(|e| e.to_string())?;
     if a.json {
         print_json(&json(&m, a.mode, a.branch))
     } else {

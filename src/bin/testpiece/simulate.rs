@@ -1,7 +1,7 @@
 //! `testpiece simulate`: a synthetic measured part in the canonical CSV format.
 
 use testpiece::cmm::write::{canonical_csv, Precision};
-use testpiece::effects::builtin::part_model_on;
+use testpiece::effects::prepared::Prepared;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::location_errors::minimal_set;
 use testpiece::machine::{Branch, ErrorParam};
@@ -105,8 +105,12 @@ pub fn run(a: Args) -> Result<(), String> {
     let pts = builtin_points(&part);
     let dev: Vec<f64> = match &a.effect {
         Some(EffectValues(values)) => {
-            let model =
-                part_model_on(&part, &pts, &a.chain_options(l0)).map_err(|e| e.to_string())?;
+            let prepared =
+                Prepared::new(part.clone(), a.chain_options(l0)).map_err(|e| e.to_string())?;
+            let model = prepared
+                .axis_values(&pts)
+                .map_err(|e| e.to_string())
+                .and_then(|q| prepared.part_model(&pts, &q).map_err(|e| e.to_string()))?;
             let e = model
                 .effect_deviation(values)
                 .map_err(|e| format!("--effect: {e}"))?;

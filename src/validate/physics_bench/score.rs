@@ -67,6 +67,8 @@ pub struct Scorer<'a> {
     base: Factor,
     near: Box<dyn Fn(Effect, Effect) -> bool + 'a>,
     ids: Vec<String>,
+    /// The settings prepared once for every repeated part (as the CLI holds them).
+    session: crate::analysis::Session,
 }
 
 impl<'a> Scorer<'a> {
@@ -76,6 +78,7 @@ impl<'a> Scorer<'a> {
             base: Factor::new(&model.baseline.matrix, None),
             near: Box::new(model.near_equivalence()),
             ids: model.measured.iter().map(|p| p.id.to_string()).collect(),
+            session: crate::analysis::Session::of(model.prepared.clone()),
             model,
         })
     }
@@ -116,7 +119,7 @@ impl<'a> Scorer<'a> {
                 .zip(&names)
                 .map(|(t, n)| (t.as_bytes(), n.as_str()))
                 .collect();
-            let (a, _) = analyse_parts(&files, &m.settings)
+            let (a, _) = analyse_parts(&self.session, &files, &m.settings)
                 .map_err(|source| ValidateError::Analysis { case, source })?;
             let outliers = count_outliers(&a.outliers);
             (
@@ -131,8 +134,8 @@ impl<'a> Scorer<'a> {
                 ..m.settings.clone()
             };
             let fit = fit_points(
-                &m.part,
-                &m.measured,
+                &m.prepared,
+                &m.at,
                 &part.measurements[0],
                 &self.ids,
                 &settings,

@@ -1,7 +1,7 @@
 //! `testpiece identify FILE1 FILE2 ...`: one machine from the pooled points of several parts.
 
-use testpiece::analysis::AnalysisOptions;
-use testpiece::pool::{identify_pooled, PoolOptions, PooledIdentification};
+use testpiece::analysis::{prepare, AnalysisOptions};
+use testpiece::pool::{identify_pooled, PoolError, PoolOptions, PooledIdentification};
 
 use crate::common::{file_name, print_json, read, to_json};
 
@@ -31,7 +31,14 @@ pub fn run(
         analysis,
         setup_per_part,
     };
-    let r = identify_pooled(&list, &opts).map_err(|e| e.to_string())?;
+    let prepared = prepare(&opts.analysis).map_err(|source| {
+        PoolError::Part {
+            name: names[0].clone(),
+            source,
+        }
+        .to_string()
+    })?;
+    let r = identify_pooled(&prepared, &list, &opts).map_err(|e| e.to_string())?;
     if json {
         print_json(&report_json(&r, &opts)?)
     } else {
