@@ -25,6 +25,7 @@ use crate::machine::chain::PAPER000_L0;
 use crate::machine::description::{AngleUnit, MachineDescription};
 use crate::machine::direct::nominal;
 use crate::machine::{AxisKind, AxisValues, Chain};
+use crate::numerics::order::sort_by_index;
 
 /// The machine a trace is replayed through: its chain and the unit of its rotary values.
 #[derive(Debug, Clone, PartialEq)]
@@ -67,7 +68,7 @@ impl TraceMachine {
     /// The chain's axes in the order X, Y, Z, A, B, C.
     pub fn axis_names(&self) -> Vec<crate::machine::AxisName> {
         let mut a: Vec<_> = self.chain.axes().map(|a| a.name).collect();
-        a.sort_by_key(|n| n.index());
+        sort_by_index(&mut a, |n| n.index());
         a
     }
 

@@ -24,6 +24,7 @@ use super::error::{CmmError, RowProblem, RowProblemKind};
 use super::options::ReadOptions;
 use super::table::{CmmFile, CmmPoint, CmmWarning, FormatInfo};
 use crate::geometry::GeometryError;
+use crate::numerics::order::sort_by_index;
 use crate::part::projection::{Projection, Projector};
 use crate::part::{SShape, Surface};
 
@@ -532,7 +533,7 @@ fn exclude_far_rows(
             .join(", ")
     )));
     excluded.extend(problems);
-    excluded.sort_by_key(|p| p.line);
+    sort_by_index(excluded, |p| p.line);
     Ok(())
 }
 

@@ -40,6 +40,7 @@ pub use options::ReadOptions;
 pub use table::{CmmFile, CmmPoint, CmmWarning, FormatInfo, FormatKind};
 pub use units::LengthUnit;
 
+use crate::numerics::order::sort_by_index;
 use rows::ParsedTable;
 
 /// Reads a CMM file with the default (strict) options. `name` is used in messages.
@@ -197,7 +198,7 @@ pub fn read_cmm_with(bytes: &[u8], name: &str, opts: &ReadOptions) -> Result<Cmm
     let mut warnings = Vec::new();
     let implausible = check_units(&mut points, &table, opts, default_unit, &mut warnings)?;
     problems.extend(implausible);
-    problems.sort_by_key(|p| p.line);
+    sort_by_index(&mut problems, |p| p.line);
     let excluded = exclude_bad_rows(problems, data_rows, opts, &mut warnings)?;
     if points.len() < opts.min_points {
         let excluded_rows = error::distinct_lines(&excluded);

@@ -6,6 +6,7 @@ use crate::effects::path_model::PathModel;
 use crate::effects::EffectPoint;
 use crate::effects::GapError;
 use crate::machine::{AxisValues, ErrorParam};
+use crate::numerics::order::argsort;
 use crate::parameter::{Effect, ParamId};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
@@ -50,8 +51,8 @@ fn effect_points_on(
 
 /// Point metadata for the diagnosis; machining order = rank of `s`.
 pub fn point_meta(points: &[MeasurementPoint], eps: &[EffectPoint]) -> Vec<PointMeta> {
-    let mut idx: Vec<usize> = (0..points.len()).collect();
-    idx.sort_by(|&a, &b| eps[a].s.total_cmp(&eps[b].s));
+    let s: Vec<f64> = eps[..points.len()].iter().map(|e| e.s).collect();
+    let idx = argsort(&s);
     let mut order = vec![0; points.len()];
     for (k, &i) in idx.iter().enumerate() {
         order[i] = k;

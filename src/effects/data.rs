@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::effects::GapError;
 use crate::machine::AxisName;
+use crate::numerics::order::sort_by_key_f64;
 use crate::parameter::{Effect, ParamId};
 use crate::part::Surface;
 
@@ -221,7 +222,7 @@ pub fn curve_sequences(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
         }
     }
     for (_, v) in &mut out {
-        v.sort_by(|&a, &b| points[a].u.total_cmp(&points[b].u));
+        sort_by_key_f64(v, |&i| points[i].u);
     }
     out
 }

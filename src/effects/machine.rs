@@ -23,6 +23,7 @@ use crate::effects::GapError;
 use crate::machine::direct::{jacobian, jacobian_body_point};
 use crate::machine::inverse::inverse;
 use crate::machine::{AxisKind, AxisName, AxisValues, Branch, Chain, ErrorParam, MachineErrors};
+use crate::numerics::order::sort_by_key_f64;
 use crate::parameter::SCALE_AXES;
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::defect::check_poses;
@@ -83,7 +84,7 @@ pub fn reversals(part: &SShape, passes: &[Pass; 2], axes: &[AxisName]) -> Vec<Re
         }
         offset += p.length.total();
     }
-    out.sort_by(|a, b| a.s.total_cmp(&b.s));
+    sort_by_key_f64(&mut out, |r| r.s);
     out
 }
 

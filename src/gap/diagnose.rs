@@ -24,6 +24,7 @@ use crate::measurement::noise::{
 };
 use crate::measurement::ruling_pairs::pair_sigma;
 use crate::measurement::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
+use crate::numerics::order::sort_by_key_f64;
 
 /// Options of a diagnosis (defaults: α = 0.05 family-wise, 2.5 σ).
 #[derive(Debug, Clone, Copy)]
@@ -162,7 +163,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         .iter()
         .map(|c| fit_candidate(&ctx, c))
         .collect();
-    fits.sort_by(|a, b| a.cv_score.total_cmp(&b.cv_score));
+    sort_by_key_f64(&mut fits, |f| f.cv_score);
     let spans: Vec<_> = fits
         .iter()
         .filter(|f| f.evidence.added_rank > 0)

@@ -17,6 +17,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
+use crate::numerics::order::sort_f64_descending;
 use crate::parameter::Effect;
 
 /// Cosine at or above which two candidates are reported as near-equivalent on this part.
@@ -40,7 +41,7 @@ pub fn principal_cosines(qa: &DMatrix<f64>, qb: &DMatrix<f64>) -> Vec<f64> {
     }
     let m = qa.transpose() * qb;
     let mut sv: Vec<f64> = m.singular_values().iter().map(|v| v.min(1.0)).collect();
-    sv.sort_by(|a, b| b.total_cmp(a));
+    sort_f64_descending(&mut sv);
     sv
 }
 

@@ -307,11 +307,12 @@ pub fn locate(
         .map(|(_, idx)| idx.iter().map(|&i| r[i]).collect())
         .collect();
     let noise = noise::estimate_noise(&seq_vals, inputs);
-    let randomness_per_curve = seqs
-        .iter()
-        .zip(&seq_vals)
-        .map(|((c, _), v)| (c.clone(), noise::randomness(v)))
-        .collect();
+    // Inserted one by one: `collect` into a map sorts with a copy of the sort code of its own
+    // (numerics::order).
+    let mut randomness_per_curve = BTreeMap::new();
+    for ((c, _), v) in seqs.iter().zip(&seq_vals) {
+        randomness_per_curve.insert(c.clone(), noise::randomness(v));
+    }
     let randomness = noise::randomness_pooled(&seq_vals);
     let ljung_box = noise::ljung_box(&seq_vals, noise::LJUNG_BOX_LAGS);
     let sigma = noise.used.max(f64::MIN_POSITIVE);

@@ -40,6 +40,7 @@ use serde::Serialize;
 use crate::effects::data::{Candidate, NamedColumns};
 use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
 use crate::gap::which::{fit_candidate, CandidateFit, Context};
+use crate::numerics::order::sort_by_key_f64;
 use crate::numerics::stats;
 use crate::numerics::stats::CHI2_1_95;
 use crate::parameter::Effect;
@@ -110,7 +111,7 @@ pub fn best_pair(
         .iter()
         .filter(|f| f.evidence.significant && f.evidence.added_rank > 0)
         .collect();
-    pool.sort_by(|a, b| a.evidence.p_value.total_cmp(&b.evidence.p_value));
+    sort_by_key_f64(&mut pool, |f| f.evidence.p_value);
     pool.truncate(POOL);
     // Forward selection from the strongest candidates: a second effect that the first one's
     // residual hides (not significant on its own, or crowded out of the pool by look-alikes of

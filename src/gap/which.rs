@@ -45,19 +45,20 @@ pub fn estimates(
     cov: &DMatrix<f64>,
     s2: f64,
 ) -> BTreeMap<String, Estimate> {
-    names
-        .iter()
-        .enumerate()
-        .map(|(j, name)| {
-            (
-                name.clone(),
-                Estimate {
-                    value: values[j],
-                    std: (s2 * cov[(j, j)]).max(0.0).sqrt(),
-                },
-            )
-        })
-        .collect()
+    // Inserted one by one: `collect` into a map sorts with a copy of the sort code of its own
+    // (numerics::order).
+    let mut out = BTreeMap::new();
+    for (j, name) in names.iter().enumerate() {
+        let std = (s2 * cov[(j, j)]).max(0.0).sqrt();
+        out.insert(
+            name.clone(),
+            Estimate {
+                value: values[j],
+                std,
+            },
+        );
+    }
+    out
 }
 
 /// Before/after figures on one curve (mm).

@@ -23,6 +23,7 @@
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
+use crate::numerics::order::sort_by_key_f64_descending;
 use crate::numerics::terms::{by_decreasing_magnitude, dominant, magnitude_text, Term};
 
 /// A named linear combination of parameters, e.g. `EA0Z - 0.98 EA0C`.
@@ -369,7 +370,7 @@ pub fn weak_groups(
             dirs.push((eig.eigenvectors.column(k).iter().copied().collect(), sd));
         }
     }
-    dirs.sort_by(|a, b| b.1.total_cmp(&a.1));
+    sort_by_key_f64_descending(&mut dirs, |d| d.1);
     let sel: Vec<Vec<usize>> = dirs.iter().map(|(v, _)| dominant(v, share)).collect();
     let mut out = Vec::new();
     for ids in merge_overlapping(&sel) {

@@ -18,6 +18,7 @@
 //! relative to the best-determined direction. Such directions are not separated: see
 //! [`crate::identify`].
 
+use crate::numerics::order::argsort_descending;
 use nalgebra::DMatrix;
 
 /// The SVD of the scaled design, singular values sorted in decreasing order.
@@ -64,8 +65,7 @@ impl ScaledSvd {
         let s = svd.singular_values;
         let u0 = svd.u.unwrap_or_else(|| DMatrix::zeros(rows, p));
         let vt = svd.v_t.unwrap_or_else(|| DMatrix::identity(p, p));
-        let mut order: Vec<usize> = (0..s.len()).collect();
-        order.sort_by(|&a, &b| s[b].total_cmp(&s[a]));
+        let order = argsort_descending(s.as_slice());
         let singular: Vec<f64> = order.iter().map(|&k| s[k]).collect();
         let mut u = DMatrix::zeros(n, p);
         let mut v = DMatrix::zeros(p, p);

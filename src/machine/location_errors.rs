@@ -25,6 +25,7 @@ use serde::{Deserialize, Serialize};
 use super::chain::{AxisKind, AxisName, Chain};
 use super::unit::Unit;
 use super::MachineError;
+use crate::numerics::order::sort_by_index;
 
 /// Typical magnitude of an angular location error (rad): the unit of paper 000 Figure 19.
 pub const TYPICAL_ANGLE_RAD: f64 = 1e-4;
@@ -145,7 +146,7 @@ pub fn minimal_set(chain: &Chain) -> MinimalSet {
         .filter(|a| a.name.kind() == AxisKind::Linear)
         .map(|a| a.name)
         .collect();
-    linear.sort();
+    sort_by_index(&mut linear, |n| n.index());
     let rotary: Vec<AxisName> = chain
         .code_order()
         .iter()

@@ -54,11 +54,12 @@ impl Serialize for DetectionLimits {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let mut m = s.serialize_map(Some(self.0.len()))?;
         for d in &self.0 {
-            let sizes: BTreeMap<&str, Option<f64>> = d
-                .parameters
-                .iter()
-                .map(|p| (p.name.as_str(), p.size))
-                .collect();
+            // Inserted one by one: `collect` into a map sorts with a copy of the sort code of
+            // its own (numerics::order).
+            let mut sizes: BTreeMap<&str, Option<f64>> = BTreeMap::new();
+            for p in &d.parameters {
+                sizes.insert(p.name.as_str(), p.size);
+            }
             m.serialize_entry(d.effect.id(), &sizes)?;
         }
         m.end()

@@ -40,6 +40,7 @@ use super::defect::axis_values;
 use super::defect::{Mode, SensitivityOptions};
 use super::path::machine_path;
 use super::SensitivityError;
+use crate::numerics::order::sort_by_index;
 
 /// Time constant of the servo lag, in mm of tool-tip path (effects.md).
 pub const LAG_LENGTH: f64 = 2.0;
@@ -308,7 +309,7 @@ pub fn pass(
         solved
             .0
             .extend(ks.into_iter().zip(got.into_iter().map(|s| s.values)));
-        solved.0.sort_by_key(|x| x.0);
+        sort_by_index(&mut solved.0, |x| x.0);
         solved.0.dedup_by_key(|x| x.0);
         Ok(())
     };

@@ -26,6 +26,7 @@ use serde::Serialize;
 
 use super::flank::{tool_pose, tool_pose_derivs, ToolPose, TOOL_RADIUS};
 use super::ToolpathError;
+use crate::numerics::order::sort_by_key_f64;
 use crate::part::{builtin_points, Curve, MeasurementPoint, RuledPart, SShape, Surface, HEIGHT};
 
 /// Number of intervals of the pose table (`u'` step 1/4000, about 0.17 mm of path).
@@ -395,7 +396,7 @@ pub fn surface_max_overcut(part: &SShape, s: Surface) -> Result<SurfaceMax, Tool
             }
         }
     }
-    cands.sort_by(|a, b| a.0.total_cmp(&b.0));
+    sort_by_key_f64(&mut cands, |c| c.0);
     cands.truncate(CANDIDATES);
     let (du, dv) = (1.0 / NU as f64, 1.0 / NV as f64);
     let mut best = (f64::INFINITY, 0.0, 0.0);
