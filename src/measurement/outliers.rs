@@ -52,6 +52,7 @@ use crate::effects::data::GapInput;
 use crate::identify::solve::{hstack, Factor};
 use crate::measurement::noise::total_sigma;
 use crate::measurement::smooth_noise::{smooth_basis, SMOOTH_DEGREE};
+use crate::numerics::order::sort_by_key_f64_descending;
 use crate::numerics::stats;
 
 /// Family-wise false-alarm rate of the outlier test (Bonferroni over the points).
@@ -293,7 +294,7 @@ pub fn find_outliers(input: &GapInput) -> OutlierTest {
             .copied()
             .filter(|&i| testable[i] && t[i].abs() > crit)
             .collect();
-        over.sort_by(|&a, &b| t[b].abs().total_cmp(&t[a].abs()));
+        sort_by_key_f64_descending(&mut over, |&i| t[i].abs());
         let found = over.into_iter().find(|&i| {
             let ok = isolated(&x, &y, &keep, i, &nb[i], r[i] / (1.0 - h[i]).max(1e-12))
                 && !explained(input, &x, &y, &keep, i, sigma, crit);

@@ -41,6 +41,7 @@ use serde::Serialize;
 
 use crate::effects::data::PointMeta;
 use crate::measurement::noise::trimmed_semivariogram;
+use crate::numerics::order::sort_by_key_f64;
 use crate::part::Surface;
 
 /// Smallest difference of mean contact height (mm) between two curves of a surface for their
@@ -98,10 +99,10 @@ pub fn ruling_pairs(points: &[PointMeta]) -> Vec<Vec<(usize, usize)>> {
             }
         }
         for (h, idx) in &mut curves {
-            idx.sort_by(|&a, &b| points[a].u.total_cmp(&points[b].u));
+            sort_by_key_f64(idx, |&i| points[i].u);
             *h = idx.iter().map(|&i| points[i].h).sum::<f64>() / idx.len() as f64;
         }
-        curves.sort_by(|a, b| a.0.total_cmp(&b.0));
+        sort_by_key_f64(&mut curves, |c| c.0);
         for w in curves.windows(2) {
             let ((h0, lo), (h1, hi)) = (&w[0], &w[1]);
             if h1 - h0 < MIN_HEIGHT_GAP_MM || lo.len() < 2 || hi.len() < 2 {

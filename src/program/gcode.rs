@@ -18,6 +18,7 @@ use std::fmt::Write;
 
 use super::ProgramError;
 use crate::machine::{AxisKind, AxisName, AxisValues, Chain};
+use crate::numerics::order::sort_by_index;
 
 /// Height of the approach and retract above the first and last positions, along the tool
 /// axis (mm).
@@ -26,7 +27,7 @@ pub const RETRACT: f64 = 50.0;
 /// The chain's axes in the order X, Y, Z, A, B, C.
 pub fn program_axes(chain: &Chain) -> Vec<AxisName> {
     let mut a: Vec<_> = chain.axes().map(|a| a.name).collect();
-    a.sort_by_key(|n| n.index());
+    sort_by_index(&mut a, |n| n.index());
     a
 }
 
