@@ -43,8 +43,19 @@ test('the Program view equals the CLI and its files download', async () => {
   assert.ok(worst <= 1e-9, `CL positions differ from the CLI by ${worst}`);
   const [gDownload] = await Promise.all([page.waitForEvent('download'), page.click('#program-gcode')]);
   const gcode = fs.readFileSync(await gDownload.path(), 'utf8');
-  assert.equal(gcode.split('\n').filter((l) => l.startsWith('G01 ')).length, native.length);
+  // Every feed GOTO of the CL (not after RAPID) is a G01 block; the rapids are G00 blocks.
+  const lines = cl.split('\n');
+  const feed = lines.filter((l, i) => l.startsWith('GOTO/') && lines[i - 1] !== 'RAPID').length;
+  assert.equal(gcode.split('\n').filter((l) => l.startsWith('G01 ')).length, feed);
   assert.ok(gcode.includes('(ROUGHING NOT INCLUDED'));
+  assert.ok(gcode.includes('G53 G00 Z0') && gcode.includes('T1 M06') && gcode.includes('G93'));
+  // Another controller: the page's program equals the CLI's.
+  await page.selectOption('#program-dialect', 'heidenhain');
+  await page.waitForFunction(() => !document.querySelector('#program-tcp').disabled, null, { timeout: 60000 });
+  const [hDownload] = await Promise.all([page.waitForEvent('download'), page.click('#program-gcode')]);
+  const klartext = fs.readFileSync(await hDownload.path(), 'utf8');
+  assert.equal(klartext, cli('--format', 'gcode', '--dialect', 'heidenhain'));
+  await page.selectOption('#program-dialect', 'iso');
   // A coarser tolerance: fewer positions, at once.
   await page.fill('#program-tolerance', '5');
   await page.dispatchEvent('#program-tolerance', 'change');
