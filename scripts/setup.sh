@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs, idempotently and only when missing, everything testpiece needs beyond Rust, Node and
 # npm: the wasm32 target, wasm-bindgen-cli at exactly the wasm-bindgen version of Cargo.lock,
-# wasm-pack, Debian's chromium, and the npm dev dependencies. Nothing is downloaded from GitHub:
+# wasm-pack, Debian's chromium, the npm dev dependencies, and the two G-code parsers the tests
+# read the programs with (PyPI, in a venv under target/). Nothing is downloaded from GitHub:
 # wasm-pack's own wasm-opt download is off in Cargo.toml and tools are found on PATH.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,5 +44,14 @@ fi
 if [ ! -d node_modules/playwright-core ] || [ package-lock.json -nt node_modules/.package-lock.json ]; then
   say "installing npm dev dependencies"
   PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund
+fi
+# 6. The independent G-code parsers of tests/it/program_parsers.rs (pygcode, gcodeparser) in
+#    target/gcode-venv (PyPI; python3 with venv and pip is all a machine needs).
+venv=target/gcode-venv
+if ! "$venv/bin/python" -c 'import pygcode, gcodeparser' >/dev/null 2>&1; then
+  say "installing pygcode and gcodeparser into $venv"
+  mkdir -p target
+  python3 -m venv "$venv"
+  "$venv/bin/pip" install --quiet --disable-pip-version-check pygcode==0.2.1 gcodeparser==0.3.0
 fi
 say "ready: $(rustc --version), wasm-bindgen $(wasm-bindgen --version | awk '{print $2}'), $(wasm-pack --version), $(/usr/bin/chromium --version)"

@@ -35,9 +35,9 @@ macro_rules! assert_near {
 /// The plan's predicted std against the identification of a part measured with the plan
 /// (relative; the design is rebuilt from the file by projection, which recovers `u` to ~1e-12).
 pub const PLAN_STD_REL: f64 = 1e-9;
-/// Tool tips of a part program's G-code replayed as an NC trace against its CL (mm): the G-code
-/// writes mm with 7 decimals and degrees with 8.
-pub const GCODE_REPLAY_MM: f64 = 1e-6;
+/// Tool tips of a part program's G-code replayed as an NC trace against its CL (mm), beyond the
+/// program's own rounding bound (`Program::rounding_bound`, from its words' decimals).
+pub const GCODE_REPLAY_MM: f64 = 1e-9;
 /// The predicted part after compensation against the exact eq. 12 simulation of the
 /// compensated machine (mm): the exact and linear models differ by < 0.3 µm at |ξ| ≤ 3e-4 rad.
 pub const COMPENSATED_PART_MM: f64 = 5e-4;

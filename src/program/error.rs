@@ -9,6 +9,12 @@ pub enum ProgramError {
     BadFeed(f64),
     #[error("L0 = {0} mm is not a positive finite length")]
     BadL0(f64),
+    #[error("spindle speed {0} 1/min: expected a number in [1, 100000]")]
+    BadSpindle(f64),
+    #[error("tool number {0}: expected 1 to 99")]
+    BadTool(u32),
+    #[error("the {0} dialect has no tool-centre-point mode this program can use (offered: fanuc G43.4, sinumerik TRAORI, heidenhain FUNCTION TCPM)")]
+    NoTcp(&'static str),
     #[error("inverse kinematics of surface {surface}: {source}")]
     Kinematics {
         surface: char,
@@ -25,6 +31,11 @@ pub enum ProgramError {
         tolerance: f64,
         u0: f64,
         u1: f64,
+    },
+    #[error("G-code line {line}: the tool tip of the TCP block has no machine axes: {source}")]
+    TipKinematics {
+        line: usize,
+        source: crate::machine::MachineError,
     },
     #[error("G-code line {line}: {message} (found `{text}`)")]
     GCode {

@@ -11,24 +11,35 @@
 //!   tip path and the controller's linear interpolation in machine axes all stay within the
 //!   tolerance; axis values by the analysis's inverse kinematics and B branch, through the
 //!   singular zone as the analysis assumes.
-//! - The CL file ([`Program::cl_apt`]): APT `GOTO/x,y,z,i,j,k`, the format `budget --cl` reads.
-//! - The G-code ([`gcode`]): `G01 X Y Z B C` (or `X Y Z A B`) in the chain's machine axes.
+//! - [`motion`]: the moves around the cut (retract to a safe machine height, rotary axes,
+//!   X Y, down, along the tool axis into and out of each pass), placed with a clearance.
+//! - The CL file ([`cl`]): APT `GOTO/x,y,z,i,j,k` with `RAPID` before each positioning move
+//!   and `FEDRAT` for the moves along the axis and the pass: the format `budget --cl` reads.
+//! - The program in a controller's dialect ([`dialect`], [`gcode`]), read back by [`read`].
+//! - [`clearance`]: the replay of the moves with the tool and holder against the part.
 //!
 //! Units: mm, rad inside; degrees in the G-code; feed mm/min.
 
+pub mod cl;
+pub mod clearance;
+pub mod dialect;
 mod error;
 pub mod gcode;
+pub mod motion;
+pub mod read;
 pub mod sampling;
 
 use serde::{Deserialize, Serialize};
 
+pub use dialect::Dialect;
 pub use error::ProgramError;
-pub use gcode::{read_gcode, write_gcode, GcodePass, RETRACT};
+pub use gcode::{write_gcode, GcodeSettings};
+pub use motion::{motion, Motion, Step, StepKind};
+pub use read::{read_program, ReadBlock};
 pub use sampling::{max_step, sample_surface};
 
 use crate::budget::ToolPath;
 use crate::machine::chain::PAPER000_L0;
-use crate::machine::inverse::solve_linear;
 use crate::machine::{AxisValues, Branch, Chain};
 use crate::part::{SShape, Surface};
 use crate::settings::MachineChoice;
@@ -47,6 +58,14 @@ pub struct ProgramOptions {
     pub tolerance: f64,
     /// Feed (mm/min) of the finishing pass.
     pub feed: f64,
+    /// The controller's dialect of the G-code.
+    pub dialect: Dialect,
+    /// Tool-centre-point mode (TRAORI, FUNCTION TCPM, G43.4) instead of machine axes.
+    pub tcp: bool,
+    /// Spindle speed (1/min).
+    pub spindle: f64,
+    /// Tool number (and its length-offset register).
+    pub tool: u32,
 }
 
 impl Default for ProgramOptions {
@@ -57,6 +76,10 @@ impl Default for ProgramOptions {
             branch: Branch::Signed,
             tolerance: 0.001,
             feed: 1000.0,
+            dialect: Dialect::Iso,
+            tcp: false,
+            spindle: 6000.0,
+            tool: 1,
         }
     }
 }
@@ -92,6 +115,8 @@ pub struct Program {
     /// The machine's description (axes, chain code).
     pub machine: &'static str,
     pub passes: Vec<ProgramPass>,
+    /// The moves around the cut and the heights they were placed with.
+    pub motion: Motion,
     pub notes: Vec<String>,
 }
 
@@ -110,6 +135,15 @@ impl ProgramOptions {
         }
         if !(self.l0.is_finite() && self.l0 > 0.0) {
             return Err(ProgramError::BadL0(self.l0));
+        }
+        if !(self.spindle.is_finite() && (1.0..=100_000.0).contains(&self.spindle)) {
+            return Err(ProgramError::BadSpindle(self.spindle));
+        }
+        if !(1..=99).contains(&self.tool) {
+            return Err(ProgramError::BadTool(self.tool));
+        }
+        if self.tcp && !self.dialect.offers_tcp() {
+            return Err(ProgramError::NoTcp(self.dialect.id()));
         }
         Ok(())
     }
@@ -163,15 +197,48 @@ pub fn program(opts: &ProgramOptions) -> Result<Program, ProgramError> {
             max_step(opts.tolerance, TOOL_RADIUS),
             opts.tolerance
         ),
-        "G-code: machine axes of the chain without tool-centre-point management (RTCP / TRAORI \
-         off); part origin at the chain's machine zero (where the analysis sets it)."
-            .to_string(),
+        if opts.tcp {
+            format!(
+                "G-code ({}): tool-centre-point mode, the tip in the part frame and the rotary \
+                 angles, feed per minute at the tip.",
+                opts.dialect.describe()
+            )
+        } else {
+            format!(
+                "G-code ({}): machine axes of the chain without tool-centre-point management; \
+                 part origin at the chain's machine zero (where the analysis sets it); the pass \
+                 in {}.",
+                opts.dialect.describe(),
+                if opts.dialect.inverse_time() {
+                    "inverse-time feed (G93)"
+                } else {
+                    "per-block feeds for the programmed tip speed"
+                }
+            )
+        },
     ];
+    let chain = opts.chain();
+    let motion = motion::motion(
+        &chain,
+        &passes
+            .iter()
+            .map(|p| (p.surface, p.positions.as_slice()))
+            .collect::<Vec<_>>(),
+    )?;
+    let mut notes = notes;
+    notes.push(format!(
+        "Moves outside the cut: Z to the machine's home, then per surface the rotary axes alone \
+         at the safe height Z = {:.3} mm, X Y, Z down to {} mm clear of the part, feed along the \
+         tool axis into the pass and out of it; the tool leaves each cut at feed along its axis.",
+        motion.z_safe,
+        motion::DESIGN_CLEARANCE
+    ));
     Ok(Program {
         version: crate::VERSION,
         machine: opts.machine.describe(),
         settings: opts.clone(),
         passes,
+        motion,
         notes,
     })
 }
@@ -253,60 +320,61 @@ impl Program {
         }
     }
 
-    /// The CL file: APT `GOTO/x,y,z,i,j,k` in full precision (the format `budget --cl` reads),
-    /// after `$$` header comments.
+    /// The CL file ([`cl`]).
     pub fn cl_apt(&self) -> String {
-        let mut s: String = self.header().lines().map(|l| format!("$$ {l}\n")).collect();
-        let apt = crate::budget::synthetic::write_apt(
-            &self.tool_path("program"),
-            "TESTPIECE S-SHAPE FINISHING FLANK PASS",
-            None,
-        );
-        s.push_str(&apt.replace(
-            "FEDRAT/1000.0,MMPM",
-            &format!("FEDRAT/{:.1},MMPM", self.settings.feed),
-        ));
-        s
+        cl::write_cl(self)
     }
 
-    /// The G-code in the chain's machine axes ([`gcode`]).
-    pub fn gcode(&self) -> Result<String, ProgramError> {
-        let chain = self.settings.chain();
-        let mut passes = Vec::new();
-        for p in &self.passes {
-            let letter = if p.surface == Surface::A { 'A' } else { 'B' };
-            let raised = |q: &Position| -> Result<AxisValues, ProgramError> {
-                let t = nalgebra::Vector3::from(q.tip) + nalgebra::Vector3::from(q.axis) * RETRACT;
-                solve_linear(&chain, &q.axes, &t).map_err(|e| ProgramError::Kinematics {
-                    surface: letter,
-                    source: e.into(),
-                })
-            };
-            let (first, last) = match (p.positions.first(), p.positions.last()) {
-                (Some(f), Some(l)) => (f, l),
-                _ => continue,
-            };
-            passes.push((
-                format!("surface {letter}: {} positions", p.positions.len()),
-                raised(first)?,
-                p.positions.iter().map(|q| q.axes).collect::<Vec<_>>(),
-                raised(last)?,
-            ));
+    /// The G-code settings of this program.
+    pub fn gcode_settings(&self) -> GcodeSettings {
+        let o = &self.settings;
+        GcodeSettings {
+            dialect: o.dialect,
+            tcp: o.tcp,
+            feed: o.feed,
+            spindle: o.spindle,
+            tool: o.tool,
         }
-        let passes: Vec<GcodePass> = passes
+    }
+
+    /// The largest move of a tool point (tip to the top of the flank) that the rounding of the
+    /// G-code's axis words gives (mm): [`gcode::rounding_bound`] over the pass.
+    pub fn rounding_bound(&self) -> f64 {
+        let qs: Vec<AxisValues> = self
+            .passes
             .iter()
-            .map(|(title, approach, blocks, retract)| GcodePass {
-                title: title.clone(),
-                approach: *approach,
-                blocks,
-                retract: *retract,
-            })
+            .flat_map(|p| p.positions.iter().map(|q| q.axes))
             .collect();
-        Ok(write_gcode(
-            &chain,
-            &self.header(),
-            &passes,
-            self.settings.feed,
-        ))
+        gcode::rounding_bound(
+            &self.settings.chain(),
+            &qs,
+            self.settings.dialect.decimals(),
+            crate::part::ruled::TIP_OFFSET,
+        )
+    }
+
+    /// The program in the chosen dialect ([`gcode`]).
+    pub fn gcode(&self) -> String {
+        let s = self.gcode_settings();
+        let mut header = self.header();
+        header.push_str(&format!(
+            "\ndialect: {}{}; tool T{} length offset {}, spindle S{} clockwise, flood coolant\n\
+             axis words rounded to {} decimals: tool path read back within {:.2e} mm\n\
+             safe height Z {:.3} mm (machine), {} mm clearance; machine Z home assumed above it",
+            s.dialect.describe(),
+            if s.tcp {
+                ", tool-centre-point mode"
+            } else {
+                ""
+            },
+            s.tool,
+            s.tool,
+            s.spindle,
+            s.dialect.decimals(),
+            self.rounding_bound(),
+            self.motion.z_safe,
+            motion::DESIGN_CLEARANCE,
+        ));
+        write_gcode(&self.settings.chain(), &header, &self.motion, &s)
     }
 }

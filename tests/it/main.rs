@@ -61,6 +61,7 @@ mod kinematics_peer;
 mod machine_error_set;
 mod pool_identify;
 mod pool_refine;
+mod program_dialects;
 mod proptest_bspline;
 mod proptest_identify;
 mod proptest_kinematics;

@@ -34,7 +34,9 @@ fn the_exported_program_equals_the_core() {
     let v: serde_json::Value = serde_wasm_bindgen::from_value(js).unwrap();
     let core = program(&ProgramOptions::default()).unwrap();
     assert_eq!(v["cl"].as_str().unwrap(), core.cl_apt());
-    assert_eq!(v["gcode"].as_str().unwrap(), core.gcode().unwrap());
+    assert_eq!(v["gcode"].as_str().unwrap(), core.gcode());
+    assert_eq!(v["dialects"].as_array().unwrap().len(), 5);
+    assert_eq!(v["rounding_bound"].as_f64().unwrap(), core.rounding_bound());
 }
 
 #[wasm_bindgen_test]
