@@ -16,16 +16,27 @@
 
 use wasm_bindgen::prelude::*;
 
+// The page's first module (feature `page-core`): what the first view calls.
+#[cfg(feature = "page-core")]
 pub mod analysis;
 #[cfg(feature = "bench")]
 pub mod bench;
-pub mod budget;
-pub mod compensation;
+#[cfg(feature = "page-core")]
 pub mod curves;
+#[cfg(feature = "page-core")]
 pub mod page;
-pub mod plan;
+#[cfg(feature = "page-core")]
 pub mod pool;
+// Both modules: each holds its own prepared settings (a wasm object lives in one module's memory).
 pub mod prepared;
+// The second module (feature `page-tools`): the views opened later.
+#[cfg(feature = "page-tools")]
+pub mod budget;
+#[cfg(feature = "page-tools")]
+pub mod compensation;
+#[cfg(feature = "page-tools")]
+pub mod plan;
+#[cfg(feature = "page-tools")]
 pub mod program;
 
 /// Converts a core result to a plain JS object (maps as objects, not `Map`): serialised to JSON

@@ -1,14 +1,23 @@
 //! Tests of the core compiled to wasm and run under Node: `wasm-pack test --node -- --test wasm_node`.
 //! One file per stage; each asserts the exported calls give the core's numbers.
+//! The exports of the page's first module (feature `page-core`) and of its second (`page-tools`)
+//! are tested under the default features (both); `-- --no-default-features --features F` runs
+//! the files of one module alone.
 #![cfg(target_arch = "wasm32")]
 
+#[cfg(feature = "page-tools")]
 mod budget;
 mod cmm;
+#[cfg(feature = "page-core")]
 mod cmm_broken;
+#[cfg(feature = "page-core")]
 mod gap;
 mod machine;
+#[cfg(feature = "page-core")]
 mod page;
+#[cfg(feature = "page-core")]
 mod parity;
+#[cfg(feature = "page-tools")]
 mod workflow;
 
 use testpiece::wasm::prepared::PreparedSettings;
