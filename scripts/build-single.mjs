@@ -2,9 +2,11 @@
 // file:// (a lab machine with no web server). file:// forbids loading other modules, module
 // workers and service workers, so: the page's ES modules are folded into one classic inline
 // script; the core runs in a classic Web Worker made from a Blob URL whose source (the
-// module-free wasm-bindgen glue + www/worker-inline.js) is inlined as a non-executed script; the
-// wasm is inlined as base64, decoded once by the page and posted to the worker, which starts it
-// with initSync. Cancel terminates the worker and starts another from the same source and bytes.
+// module-free wasm-bindgen glue of both wasm modules + www/worker-inline.js) is inlined as a
+// non-executed script; each wasm is inlined as base64: the first decoded once by the page and
+// posted to the worker, which starts it with initSync; the second (the Plan, Program, Error budget
+// and Correction views) decoded and posted only when one of those views first needs it. Cancel
+// terminates the worker and starts another from the same source and bytes.
 // Needs www/pkg/ (scripts/build-wasm.sh). Usage: node scripts/build-single.mjs
 import fs from 'node:fs';
 import path from 'node:path';
@@ -31,21 +33,22 @@ function fold(name, code) {
   return `const __m_${name.replace(/\W/g, '_')} = (() => {\n${code}\nreturn { ${exported.join(', ')} };\n})();\n`;
 }
 
-/** The wasm-bindgen glue (--target web) as a module-free block exposing initSync and the exports
- * (its functions and its classes, e.g. `Prepared`). */
-function foldGlue(code) {
+/** The wasm-bindgen glue (--target web) of module `name` as a module-free block `__m_pkg_<name>`
+ * exposing initSync and the exports (its functions and its classes, e.g. `Prepared`). */
+function foldGlue(name, code) {
   const names = [...code.matchAll(/^export (?:function|class) (\w+)/gm)].map((m) => m[1]);
   code = code.replace(/^export function /gm, 'function ')
     .replace(/^export class /gm, 'class ')
     .replace(/^export\s*\{[^}]*\};?\s*$/gm, '')
     .replace(/^export default \w+;?\s*$/gm, '');
   if (/^export\s/m.test(code) || /^import\s/m.test(code)) throw new Error('unexpected module syntax in the wasm glue');
-  return `const __m_pkg_testpiece = (() => {\n${code}\nreturn { initSync, exports: { ${names.join(', ')} } };\n})();\n`;
+  return `const __m_pkg_${name} = (() => {\n${code}\nreturn { initSync, exports: { ${names.join(', ')} } };\n})();\n`;
 }
 
 const read = (f) => fs.readFileSync(path.join(WWW, f), 'utf8');
 const wasm = fs.readFileSync(path.join(WWW, 'pkg', 'testpiece_bg.wasm'));
-const glue = foldGlue(read('pkg/testpiece.js'));
+const toolsWasm = fs.readFileSync(path.join(WWW, 'pkg', 'testpiece_tools_bg.wasm'));
+const glue = foldGlue('testpiece', read('pkg/testpiece.js')) + foldGlue('testpiece_tools', read('pkg/testpiece_tools.js'));
 // Dependency order, read from the imports: each module after the ones it imports, app.js last.
 function dependencyOrder(entry) {
   const order = [];
@@ -67,11 +70,18 @@ if (/import\.meta/.test(workerSource)) throw new Error('import.meta left in the 
 if (/<\/script/i.test(workerSource)) throw new Error('the worker source contains </script');
 const boot = `
 globalThis.__TESTPIECE_INLINE__ = (() => {
-  const b64 = document.getElementById('testpiece-wasm').textContent.trim();
-  const bin = atob(b64);
-  const bytes = new Uint8Array(bin.length);
-  for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
-  return { workerSource: document.getElementById('testpiece-worker').textContent, wasm: bytes };
+  const decode = (id) => {
+    const bin = atob(document.getElementById(id).textContent.trim());
+    const bytes = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+    return bytes;
+  };
+  let tools = null; // the second module's bytes, decoded when first asked for
+  return {
+    workerSource: document.getElementById('testpiece-worker').textContent,
+    wasm: decode('testpiece-wasm'),
+    toolsWasm: () => (tools ??= decode('testpiece-tools-wasm')),
+  };
 })();
 `;
 // app.js starts itself; the inline core must exist before it runs.
@@ -88,6 +98,7 @@ html = html.replace(/<link rel="stylesheet" href="style.css">/, `<style>\n${css}
 // (A replacer function: the inlined code may contain `$&`-like text.)
 html = html.replace(/<script type="module" src="app.js"><\/script>/, () =>
   `<script type="application/wasm-base64" id="testpiece-wasm">${wasm.toString('base64')}</script>\n` +
+  `<script type="application/wasm-base64" id="testpiece-tools-wasm">${toolsWasm.toString('base64')}</script>\n` +
   `<script type="text/plain" id="testpiece-worker">\n${workerSource}\n</script>\n` +
   `<script>\n(() => {\n'use strict';\n${app}\n})();\n</script>`);
 // file:// has no origin to connect to: forbid every connection; inline scripts are this file's

@@ -1,7 +1,10 @@
 // The page: settings and files in, the core's results out. All computation is in the core
 // (WebAssembly, in a Web Worker: a module worker when served, a Blob-URL one in the single-file
 // build), one call per user action (src/wasm/mod.rs lists them); each view draws in its own file.
-import { startCore, call, callPrepared, cancel, Cancelled } from './core.js';
+// The core is two wasm modules: the first view (the analysis of a part) calls the first; the
+// Plan, Program, Error budget and Correction views call the second, loaded when one of them first
+// needs it (`toolsCtx`).
+import { startCore, call, callPrepared, cancel, Cancelled, tools } from './core.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
 import { h, core, machineName, fittedWith } from './ui.js';
@@ -72,14 +75,31 @@ let busyTimer = null;
 let generation = 0; // bumped by Cancel: loops over files stop at the next file
 async function withProgress(text, fn) {
   busy++;
+  const before = $('progress-text').textContent;
   $('progress-text').textContent = text;
   document.body.dataset.busy = 'true';
   // Show the indication for anything that takes longer than 200 ms.
   if (!busyTimer) busyTimer = setTimeout(() => { $('progress').hidden = false; document.body.dataset.progressShown = 'true'; }, 200);
   try { return await fn(); } finally {
     if (--busy === 0) { clearTimeout(busyTimer); busyTimer = null; $('progress').hidden = true; delete document.body.dataset.busy; }
+    else $('progress-text').textContent = before; // an enclosing computation goes on
   }
 }
+
+/** Runs `fn` (a call of the second module) once the worker has the second module, loading it
+ * first with its own progress line; `body[data-tools]` says `loaded` after. */
+async function withTools(fn) {
+  if (!tools.loaded()) {
+    await withProgress('Loading the core of the Plan, Program, Error budget and Correction views…', () => tools.load());
+    document.body.dataset.tools = 'loaded';
+  }
+  return fn();
+}
+/** The core calls of the views that use the second module. */
+const toolsCtx = {
+  call: (op, ...args) => withTools(() => tools.call(op, ...args)),
+  callPrepared: (settings, op, ...args) => withTools(() => tools.callPrepared(settings, op, ...args)),
+};
 
 // ---------------------------------------------------------------- computing
 const CANCELLED = 'The computation was cancelled: change a setting or choose the file again to compute it.';
@@ -305,6 +325,7 @@ function setupInputs() {
   $('cancel').addEventListener('click', () => {
     generation++;
     cancel();
+    delete document.body.dataset.tools; // the new worker loads the second module again when asked
     $('summary').dataset.cancelled = 'true';
   });
 }
@@ -312,10 +333,10 @@ function setupInputs() {
 async function main() {
   setupTabs();
   setupInputs();
-  setupBudget($('view-budget'), { callPrepared, st, withProgress }); // issue 10
-  setupPlan($('view-plan'), { callPrepared, st }); // issue 19
-  setupProgram($('view-program'), { call, st, withProgress }); // issue 19
-  setupCompensation($('view-compensation'), { callPrepared, st, withProgress }); // issue 19
+  setupBudget($('view-budget'), { ...toolsCtx, st, withProgress }); // issue 10
+  setupPlan($('view-plan'), { ...toolsCtx, st }); // issue 19
+  setupProgram($('view-program'), { ...toolsCtx, st, withProgress }); // issue 19
+  setupCompensation($('view-compensation'), { ...toolsCtx, st, withProgress }); // issue 19
   readSettings();
   const runner = await coreStarted;
   $('runner').textContent = runner;

@@ -5,6 +5,11 @@
 //   classic worker made from a Blob URL of the inlined glue + worker-inline.js
 //   (scripts/build-single.mjs), to which the page posts the inlined wasm bytes; the worker
 //   starts the core with initSync.
+// The core is two wasm modules (scripts/build-wasm.sh): `call` and `callPrepared` reach the first,
+// which the worker starts at once; `tools` reaches the second (the Plan, Program, Error budget
+// and Correction views), which the worker loads on the first `tools.load()` (each tools call
+// loads it first): a dynamic import when served, the inlined bytes, decoded then, in the single
+// file.
 // Every call returns a promise. Cancel terminates the worker and starts a fresh one; the calls it
 // stops reject with a `Cancelled`, the core's own errors with a `CoreError`.
 
@@ -20,8 +25,10 @@ export class CoreError extends Error {
 }
 
 let worker = null;
-let inlineCore = null; // {workerSource, wasm: Uint8Array} in the single-file build
+let inlineCore = null; // {workerSource, wasm: Uint8Array, toolsWasm: () => Uint8Array} in the single-file build
 let seq = 0;
+let toolsLoad = null;   // the load of the second module into the current worker (a promise)
+let toolsReady = false; // whether it has finished
 const pending = new Map();
 
 function rejectAll(error) {
@@ -29,8 +36,10 @@ function rejectAll(error) {
   pending.clear();
 }
 
-/** Starts the core once. `inline` = {workerSource, wasm} for the single-file build. */
+/** Starts the core once. `inline` = {workerSource, wasm, toolsWasm} for the single-file build. */
 export async function startCore(inline) {
+  toolsLoad = null;
+  toolsReady = false;
   if (inline) {
     inlineCore = inline;
     const url = URL.createObjectURL(new Blob([inline.workerSource], { type: 'text/javascript' }));
@@ -75,6 +84,36 @@ export function call(op, ...args) {
 export function callPrepared(settings, op, ...args) {
   return post({ op, args, prepare: settings });
 }
+
+/** The second module: the exports of the Plan, Program, Error budget and Correction views. */
+export const tools = {
+  /** Whether the current worker has the second module (false again after Cancel). */
+  loaded: () => toolsReady,
+  /** Loads the second module into the worker, once per worker. */
+  load() {
+    if (!toolsLoad) {
+      const w = worker;
+      const message = { load: 'tools' };
+      if (inlineCore) message.wasm = inlineCore.toolsWasm();
+      const loading = post(message).then(
+        () => { if (worker === w) toolsReady = true; },
+        (e) => { if (toolsLoad === loading) toolsLoad = null; throw e; });
+      toolsLoad = loading;
+    }
+    return toolsLoad;
+  },
+  /** Calls the second module's export `op` with `args` (as `call`). */
+  async call(op, ...args) {
+    await tools.load();
+    return post({ op, args, module: 'tools' });
+  },
+  /** Calls the second module's export `op` with its prepared settings of `settings` (as
+   * `callPrepared`). */
+  async callPrepared(settings, op, ...args) {
+    await tools.load();
+    return post({ op, args, prepare: settings, module: 'tools' });
+  },
+};
 
 /** Stops the running computation (the worker is replaced; pending calls are rejected). */
 export function cancel() {

@@ -1,4 +1,6 @@
-// Service worker: after one visit the page works with the network off. The cache is versioned by
+// Service worker: after one visit the page works with the network off, every view included: both
+// wasm modules are cached at install, the second too (the Plan, Program, Error budget and
+// Correction views: the page loads it only when one of them needs it). The cache is versioned by
 // the build id the page registers it with (sw.js?build=<id>); `activate` deletes older caches.
 // Strategy: network first for same-origin GETs (a new build shows at once when online), falling
 // back to the cache when the network is unreachable.
@@ -7,7 +9,7 @@ const CACHE = `testpiece-${BUILD}`;
 const ASSETS = [
   './', 'index.html', 'style.css', 'app.js', 'core.js', 'worker.js', 'plot.js', 'export.js', 'ui.js', 'where.js',
   'data.js', 'fig19.js', 'identify.js', 'gap.js', 'parts.js', 'plan.js', 'program.js', 'budget.js', 'compensation.js', 'report.js',
-  'pkg/testpiece.js', 'pkg/testpiece_bg.wasm', 'pkg/build.js',
+  'pkg/testpiece.js', 'pkg/testpiece_bg.wasm', 'pkg/testpiece_tools.js', 'pkg/testpiece_tools_bg.wasm', 'pkg/build.js',
 ];
 
 self.addEventListener('install', (ev) => {

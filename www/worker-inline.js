@@ -1,19 +1,24 @@
 // The body of the single-file build's worker (a classic worker from a Blob URL; see core.js and
-// scripts/build-single.mjs, which puts the module-free wasm-bindgen glue `__m_pkg_testpiece`
-// before this text). Same protocol as worker.js, plus a first message {init: wasm bytes}.
-/* global __m_pkg_testpiece */
+// scripts/build-single.mjs, which puts the module-free wasm-bindgen glue of both modules,
+// `__m_pkg_testpiece` and `__m_pkg_testpiece_tools`, before this text). Same protocol as
+// worker.js, plus a first message {init: the first module's wasm bytes}; the load message of the
+// second module carries its bytes ({id, load: 'tools', wasm}), which the page decodes only then.
+/* global __m_pkg_testpiece, __m_pkg_testpiece_tools */
 let startError = null;
-const kept = []; // the prepared settings, as in worker.js
-function preparedFor(settings) {
-  const i = kept.findIndex((p) => p.isFor(settings));
+let toolsStarted = false;
+const kept = new Map(); // the prepared settings per module, as in worker.js
+function preparedFor(m, settings) {
+  if (!kept.has(m)) kept.set(m, []);
+  const list = kept.get(m);
+  const i = list.findIndex((p) => p.isFor(settings));
   if (i >= 0) {
-    const [p] = kept.splice(i, 1);
-    kept.unshift(p);
+    const [p] = list.splice(i, 1);
+    list.unshift(p);
     return p;
   }
-  kept.unshift(new __m_pkg_testpiece.exports.Prepared(settings));
-  while (kept.length > 2) kept.pop().free();
-  return kept[0];
+  list.unshift(new m.Prepared(settings));
+  while (list.length > 2) list.pop().free();
+  return list[0];
 }
 self.onmessage = (ev) => {
   const msg = ev.data;
@@ -21,12 +26,22 @@ self.onmessage = (ev) => {
     try { __m_pkg_testpiece.initSync({ module: msg.init }); } catch (e) { startError = e; }
     return;
   }
-  const { id, op, args, prepare } = msg;
+  const { id, op, args, prepare, load } = msg;
   try {
     if (startError) throw new Error(`the core could not start: ${startError.message || startError}`);
-    const fn = __m_pkg_testpiece.exports[op];
+    if (load === 'tools') {
+      if (!toolsStarted) {
+        try { __m_pkg_testpiece_tools.initSync({ module: msg.wasm }); } catch (e) { throw new Error(`the tools module could not be loaded: ${e.message || e}`); }
+        toolsStarted = true;
+      }
+      self.postMessage({ id, ok: true, result: null });
+      return;
+    }
+    if (msg.module === 'tools' && !toolsStarted) throw new Error('the tools module is not loaded');
+    const m = msg.module === 'tools' ? __m_pkg_testpiece_tools.exports : __m_pkg_testpiece.exports;
+    const fn = m[op];
     if (typeof fn !== 'function') throw new Error(`the core has no operation "${op}"`);
-    const first = prepare === undefined ? [] : [preparedFor(prepare)];
+    const first = prepare === undefined ? [] : [preparedFor(m, prepare)];
     self.postMessage({ id, ok: true, result: fn(...first, ...(args || [])) });
   } catch (e) {
     self.postMessage({ id, ok: false, error: e && e.message ? e.message : String(e), badRows: e && e.bad_rows });
