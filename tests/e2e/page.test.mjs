@@ -172,6 +172,9 @@ test('after one visit the page works with the network off (service worker cache)
     await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
     await page.waitForSelector('[data-table="parameters"]', { state: 'attached', timeout: 30000 });
     assert.match(await page.textContent('#summary'), /from 100 points/);
+    // The second wasm module, never loaded by this page before, from the service worker's cache.
+    await page.click('#tab-program');
+    await page.waitForSelector('[data-table="program-passes"]', { timeout: 30000 });
   } finally {
     await context.setOffline(false);
   }
@@ -252,6 +255,12 @@ test('the single-file build works from file:// with no server, its core in a Blo
   await page.dispatchEvent('#l0', 'change');
   await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('from 100 points'), null, { timeout: 60000 });
   console.log(`single file: after cancel, the restarted worker analysed in ${Date.now() - t2} ms`);
+  // The second wasm module (inlined too), started in the worker when the Program view opens.
+  await page.click('#tab-program');
+  await page.waitForSelector('[data-table="program-passes"]', { timeout: 30000 });
+  assert.equal(await page.evaluate(() => document.body.dataset.tools), 'loaded');
+  await page.click('#tab-plan');
+  await page.waitForSelector('[data-table="plan-parameters"]', { timeout: 30000 });
   assert.deepEqual(errors, []);
   await page.screenshot({ path: path.join(SHOTS, 'single-file.png'), fullPage: false });
   await page.close();
