@@ -19,6 +19,8 @@ pub enum AnalysisError {
     Identify(#[from] IdentifyError),
     #[error("L0 = {0} mm is not a positive finite length")]
     BadL0(f64),
+    #[error("feed = {0} mm/min is not a positive finite feed")]
+    BadFeed(f64),
     #[error(transparent)]
     Noise(#[from] NoiseError),
     #[error("exact model: {0}")]

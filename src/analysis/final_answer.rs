@@ -64,6 +64,8 @@ pub(super) struct FinalInput<'a> {
     pub(super) baseline: &'a Identification,
     pub(super) baseline_refinement: Option<&'a RefineReport>,
     pub(super) model: Option<&'a PartModel>,
+    /// The model's candidates at the shapes the diagnosis fitted.
+    pub(super) candidates: &'a [crate::effects::Candidate],
     pub(super) verdict: Option<&'a crate::gap::verdict::Verdict>,
     /// The part's noise σ of the diagnosis (mm).
     pub(super) noise_sigma: Option<f64>,
@@ -78,14 +80,13 @@ pub(super) fn final_answer(
     opts: &AnalysisOptions,
     iopts: &IdentifyOptions,
 ) -> Result<(Design, Identification, Option<RefineReport>, Correction), AnalysisError> {
-    let no_candidates: Vec<crate::effects::Candidate> = Vec::new();
     let no_points: Vec<crate::effects::PointMeta> = Vec::new();
     let input = CorrectionInput {
         design: f.design,
         observations: f.observations,
         baseline: f.baseline,
         points: f.model.map_or(&no_points, |m| &m.points),
-        candidates: f.model.map_or(&no_candidates, |m| &m.candidates),
+        candidates: f.candidates,
         verdict: f.verdict,
         noise_sigma: f.noise_sigma,
         unavailable: f.unavailable,
@@ -121,8 +122,8 @@ pub(super) fn final_answer(
         _ => None,
     };
     if opts.effects == EffectsChoice::Auto {
-        if let (Some(m), Some(v)) = (f.model, f.verdict) {
-            widen_by_model_spread(&f, m, v, &design, &mut identification, &mut correction);
+        if let (Some(_), Some(v)) = (f.model, f.verdict) {
+            widen_by_model_spread(&f, v, &design, &mut identification, &mut correction);
         }
     }
     Ok((design, identification, refinement, correction))
@@ -132,7 +133,6 @@ pub(super) fn final_answer(
 /// them by ([`model_spread`]), about the chosen model's estimate.
 fn widen_by_model_spread(
     f: &FinalInput,
-    m: &PartModel,
     v: &crate::gap::verdict::Verdict,
     design: &Design,
     identification: &mut Identification,
@@ -150,7 +150,7 @@ fn widen_by_model_spread(
         &f.design.names(),
         &obs.deviation,
         &used,
-        &m.candidates,
+        f.candidates,
         chosen.as_ref(),
         v.sigma,
     );

@@ -242,7 +242,14 @@ pub fn analyse_parts(
         }
     }
     if let Diagnosis::Made { report, .. } = &mut diagnosis {
-        report.summary = diagnosis_summary(report, &outliers, &points, opts.known.as_ref(), &noise);
+        report.summary = diagnosis_summary(
+            report,
+            &outliers,
+            &points,
+            opts.known.as_ref(),
+            &noise,
+            opts.feed,
+        );
     }
     let analysis = Analysis {
         diagnosis,

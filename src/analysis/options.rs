@@ -48,6 +48,10 @@ pub struct AnalysisOptions {
     /// Effects fitted with the location errors in the final answer: `auto` (default, what the
     /// diagnosis names), `none` (the baseline), or ids (`--effects`).
     pub effects: EffectsChoice,
+    /// The feed the part was cut with (mm/min; default the finishing programme's,
+    /// [`crate::settings::feed::PROGRAMME_FEED`]): a servo lag in mm of path is reported as the
+    /// position loop's time constant at it.
+    pub feed: f64,
 }
 
 /// A deviation the process explains, per matched point (mm, + = material left).
@@ -74,6 +78,7 @@ impl Default for AnalysisOptions {
             refine: true,
             known: None,
             effects: EffectsChoice::Auto,
+            feed: crate::settings::feed::PROGRAMME_FEED,
         }
     }
 }

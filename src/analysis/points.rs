@@ -86,6 +86,9 @@ pub fn design_at(
     if !(opts.l0.is_finite() && opts.l0 > 0.0) {
         return Err(AnalysisError::BadL0(opts.l0));
     }
+    if !(opts.feed.is_finite() && opts.feed > 0.0) {
+        return Err(AnalysisError::BadFeed(opts.feed));
+    }
     check_prepared(prepared, opts)?;
     effects_on_machine(prepared, opts).map_err(AnalysisError::Correction)?;
     let m = prepared.sensitivity_matrix(points, q)?;

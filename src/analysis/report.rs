@@ -160,8 +160,12 @@ pub(super) fn diagnosis_summary(
     points: &[MeasurementPoint],
     known: Option<&KnownDeviation>,
     noise: &NoiseSource,
+    feed: f64,
 ) -> String {
     let mut s = crate::gap::report::summary(report);
+    if let Some(servo) = servo_sentence(report, feed) {
+        s = format!("{}\n{servo}\n", s.trim_end());
+    }
     if let Some(test) = outliers.test.as_ref().filter(|t| !t.points.is_empty()) {
         let mut named = test.clone();
         for o in &mut named.points {
@@ -180,6 +184,60 @@ pub(super) fn diagnosis_summary(
         s = format!("{}\n{}\n", s.trim_end(), noise.summary);
     }
     s
+}
+
+/// The servo effects a verdict names, in the machine owner's terms (effects.md, "Shapes are
+/// families"): an axis trailing the others by `l` mm of path is a position-loop time constant
+/// longer by `l/F` at the feed `F`; a common lag `L` (from `L²`) is `1/Kv = L/F` on every axis.
+/// Only the mismatch of the axes moves the part to first order: all lagging alike leaves it right.
+fn servo_sentence(report: &DiagnosisReport, feed: f64) -> Option<String> {
+    use crate::parameter::Effect;
+    use crate::settings::feed::lag_ms;
+    let v = &report.verdict;
+    let effects = v.finding.effects();
+    let param = |effect: Effect, name: &str| {
+        let key = if v.finding.with().is_some() {
+            format!("{effect}.{name}")
+        } else {
+            name.to_string()
+        };
+        v.parameters.get(&key).copied()
+    };
+    let mut out = Vec::new();
+    for e in effects {
+        match e {
+            Effect::ServoLag(axis) => {
+                let est = param(e, "l")?;
+                let (ms, sd) = (lag_ms(est.value, feed), lag_ms(est.std, feed));
+                let (who, adjust) = if est.value >= 0.0 {
+                    ("trails", "raise its Kv (or feed-forward) to match theirs")
+                } else {
+                    ("leads", "lower its Kv, or raise the others', to match")
+                };
+                out.push(format!(
+                    "Servo: the {axis} axis {who} the others by {:.3} ± {:.3} mm of path: at {feed:.0} mm/min                      (the feed the part was cut with: --feed) its position loop's time constant (1/Kv) is {:.2} ± {:.2} ms                      {} theirs; {adjust}. Only the mismatch shows on the part.",
+                    est.value.abs(),
+                    est.std,
+                    ms.abs(),
+                    sd,
+                    if est.value >= 0.0 { "longer than" } else { "shorter than" },
+                ));
+            }
+            Effect::ServoCommon => {
+                let est = param(e, "L2")?;
+                let l = est.value.max(0.0).sqrt();
+                let ms = lag_ms(l, feed);
+                out.push(format!(
+                    "Servo: the path is rounded by a lag all axes share, L² = {:.3} ± {:.3} mm² (L = {l:.2} mm of path):                      at {feed:.0} mm/min (--feed) 1/Kv ≈ {ms:.1} ms on every axis (Kv ≈ {:.0} 1/s);                      a higher Kv or velocity feed-forward reduces it.",
+                    est.value,
+                    est.std,
+                    if ms > 0.0 { 1000.0 / ms } else { f64::INFINITY },
+                ));
+            }
+            _ => {}
+        }
+    }
+    (!out.is_empty()).then(|| out.join("\n"))
 }
 
 impl Analysis {

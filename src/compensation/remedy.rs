@@ -7,9 +7,10 @@
 //!   compensation of that axis), linear scale errors (its pitch / linear error compensation),
 //!   thermal growth of the head (thermal compensation, or a warm-up before the test), the C
 //!   axis's zero offset (its reference offset), the pivot-to-tip length (the tool length / pivot
-//!   length the kinematic transformation uses);
+//!   length the kinematic transformation uses), the servo's following error (the position-loop
+//!   gains: an axis trailing the others is matched to them);
 //! - not machine errors: the tool's radius and taper (the tool table, or another tool), the part's
-//!   set-up on the CMM (the measurement's datum alignment), the flank-milling overcut of the ruled
+//!   set-up on the CMM (the measurement's datum alignment), the tool's wear, the flank-milling overcut of the ruled
 //!   surface (the tool path: paper 000 §3; no machine correction removes it).
 
 use serde::Serialize;
@@ -59,6 +60,15 @@ pub fn remedy(effect: Effect) -> Remedy {
         Effect::Overcut => other(
             "the tool path (flank milling of a non-developable ruled surface, paper 000 §3): not a machine error",
         ),
+        Effect::ToolWear => other(
+            "the tool (a fresh tool, a harder grade or coating, or the tool radius offset varied along the cut): not a machine error",
+        ),
+        Effect::ServoLag(_) => machine(
+            "the position-loop gain (Kv) of that axis, matched to the other axes' (or their feed-forward)",
+        ),
+        Effect::ServoCommon => machine(
+            "the position-loop gains or velocity feed-forward of every axis (a smaller following error), or a lower feed",
+        ),
     }
 }
 
@@ -74,7 +84,11 @@ mod tests {
             let r = remedy(e);
             let not_machine = matches!(
                 e,
-                Effect::ToolRadius | Effect::ToolTaper | Effect::SetupError | Effect::Overcut
+                Effect::ToolRadius
+                    | Effect::ToolTaper
+                    | Effect::SetupError
+                    | Effect::Overcut
+                    | Effect::ToolWear
             );
             assert_eq!(r.machine_error, !not_machine, "{}", e.id());
             assert!(!r.corrected_by.is_empty());

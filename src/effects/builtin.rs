@@ -1,6 +1,6 @@
 //! The signatures and point metadata of the built-in S-shape points, from the geometry.
 
-use crate::effects::data::{Candidate, NamedColumns, PointMeta};
+use crate::effects::data::{Candidate, Family, NamedColumns, PointMeta};
 use crate::effects::effect::SignatureModel;
 use crate::effects::path_model::PathModel;
 use crate::effects::EffectPoint;
@@ -122,6 +122,8 @@ fn invisible_as_zero(mut c: Candidate) -> Candidate {
         .all(|v| v.abs() < INVISIBLE_SIGNATURE)
     {
         c.signature.matrix.fill(0.0);
+        // an invisible effect is invisible at every shape: one shape, all zeros
+        c.family = None;
     }
     c
 }
@@ -132,9 +134,20 @@ fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapErr
     let columns = effect
         .signature(model)
         .ok_or(GapError::NotModelled(effect))?;
+    let family = match (effect.shape(), effect.family_signatures(model)) {
+        (Some(shape), Some(members)) => Some(Family {
+            shape,
+            signatures: members
+                .iter()
+                .map(|cols| Ok(NamedColumns::from_columns(effect.parameter_ids(), cols)?.matrix))
+                .collect::<Result<Vec<_>, GapError>>()?,
+        }),
+        _ => None,
+    };
     Ok(invisible_as_zero(Candidate {
         effect,
         signature: NamedColumns::from_columns(effect.parameter_ids(), &columns)?,
+        family,
     }))
 }
 
@@ -152,8 +165,9 @@ pub(crate) fn every_candidate_model(
     path: &PathModel,
 ) -> Result<PartModel, GapError> {
     use crate::effects::machine::{
-        backlash_columns, c_table_sign, index_signatures, machine_z_columns, scale_signatures,
+        c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
+    use crate::sensitivity::reversal::{backlash_gains, lagged_columns};
     let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
     let baseline = NamedColumns::try_new(
         sens.errors.iter().map(|e| ParamId::Machine(*e)).collect(),
@@ -165,10 +179,23 @@ pub(crate) fn every_candidate_model(
         .iter()
         .map(|d| d.deviation)
         .collect();
+    // the backlash columns at the reference lag and at each lag of the family, from the gains
+    // (∂x/∂q)·N computed once
+    let axes = &path.lags[0].axes;
+    let gains = backlash_gains(part, points, q, axes, opts)?;
+    let named = |cols: Vec<Vec<f64>>| axes.iter().copied().zip(cols).collect::<Vec<_>>();
+    let servo = crate::sensitivity::servo::servo_signatures(part, points, q, opts)?;
     let model = SignatureModel {
         s_total: path.s_total(),
         envelope,
-        backlash: backlash_columns(&path.lags, part, points, q, opts)?,
+        backlash: named(lagged_columns(&path.lags, part, points, &gains)),
+        backlash_family: path
+            .lag_family
+            .iter()
+            .map(|lags| named(lagged_columns(lags, part, points, &gains)))
+            .collect(),
+        servo: servo.lag,
+        servo_common: servo.common,
         scale: scale_signatures(part, points, q, opts)?,
         machine_z: machine_z_columns(q, opts),
         c_table_sign: c_table_sign(&opts.chain),

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use crate::effects::GapError;
 use crate::machine::AxisName;
 use crate::numerics::order::sort_by_key_f64;
-use crate::parameter::{Effect, ParamId};
+use crate::parameter::{Effect, ParamId, Shape};
 use crate::part::Surface;
 
 /// Where a measured point lies on the part and on the tool path.
@@ -108,11 +108,65 @@ impl NamedColumns {
 
 /// A candidate unmodelled effect of effects.md and its signature per unit of each parameter
 /// (`n × q`, one column per parameter of the effect, in the order of
-/// [`Effect::parameters`]).
+/// [`Effect::parameters`]), at the reference value of its shape when it has one.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Candidate {
     pub effect: Effect,
     pub signature: NamedColumns,
+    /// The signatures at every value of the effect's shape grid ([`Effect::shape`]), `None` for
+    /// an effect of one shape.
+    pub family: Option<Family>,
+}
+
+/// The signatures of a family at the values of its shape grid (effects.md, "Shapes are
+/// families"): the diagnosis fits the amplitude linearly at each and keeps the best shape.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Family {
+    pub shape: Shape,
+    /// One `n × q` matrix per value of `shape.grid`, columns as the candidate's `signature`.
+    pub signatures: Vec<DMatrix<f64>>,
+}
+
+impl Candidate {
+    /// A candidate of one shape.
+    pub fn new(effect: Effect, signature: NamedColumns) -> Self {
+        Self {
+            effect,
+            signature,
+            family: None,
+        }
+    }
+
+    /// The rows `rows` (in that order), of the signature and of every member of the family.
+    pub fn select_rows(&self, rows: &[usize]) -> Self {
+        Self {
+            effect: self.effect,
+            signature: self.signature.select_rows(rows),
+            family: self.family.as_ref().map(|f| Family {
+                shape: f.shape.clone(),
+                signatures: f.signatures.iter().map(|m| m.select_rows(rows)).collect(),
+            }),
+        }
+    }
+
+    /// The candidate of one shape at the grid value `index` of its family (itself when it has
+    /// none): what the final fit uses once the diagnosis has fitted the shape.
+    pub fn at_shape(&self, index: Option<usize>) -> Self {
+        match (&self.family, index) {
+            (Some(f), Some(k)) if k < f.signatures.len() => Self {
+                effect: self.effect,
+                signature: NamedColumns {
+                    params: self.signature.params.clone(),
+                    matrix: f.signatures[k].clone(),
+                },
+                family: None,
+            },
+            _ => Self {
+                family: None,
+                ..self.clone()
+            },
+        }
+    }
 }
 
 /// Everything a diagnosis needs, as plain data.

@@ -35,6 +35,14 @@
 //!   at the tool-body point at the contact point, minus the tip's at the reference pose where the
 //!   part origin is set, as for the location errors in `physical` mode
 //!   ([`crate::effects::machine::index_signatures`]).
+//! - `tool_wear.w`: the flank wears while it cuts, the effective radius shrinks along the path and
+//!   material is left in proportion to the machined length: `+s/s_total` (effects.md).
+//! - `servo_lag_<axis>.l` and `servo_common.L2`: the servo's following error
+//!   ([`crate::sensitivity::servo`]): `−(dq_i/ds)·(d dev/dq_i)` and `(1/2)·Σ_i (d²q_i/ds²)·(d dev/dq_i)`.
+//! - Families (effects.md, "Shapes are families"): `backlash_<axis>` at each lag `tau` of its grid
+//!   (the reference 2 mm is the table's), `thermal_drift` with the warm-up
+//!   `g·(1 − exp(−s/(f·s_total)))/(1 − exp(−1/f))` at each `f` of its grid (the linear law the
+//!   limit `f = ∞`, the table's) ([`Effect::family_signatures`]).
 //! - `pivot_length.dL0`: a real pivot-to-tip length `L0 + dL0` moves the tool by `−dL0·w` along
 //!   its own axis `w`, which has no normal component on a flank-milled wall (`N·w = 0`); the part
 //!   origin was set with B = 0, which removed `−dL0·ẑ`, so what shows is `+dL0·ẑ·N = dL0·N_z`.
@@ -61,15 +69,7 @@ impl Effect {
             Effect::Overcut => vec![m.envelope.clone()],
             Effect::Backlash(a) => return axis_column(&m.backlash, a),
             Effect::Scale(a) => return axis_column(&m.scale, a),
-            Effect::ThermalDrift => match &m.machine_z {
-                None => vec![per_point(&|p| -(p.s / m.s_total) * p.n.z)],
-                Some(z) => vec![m
-                    .points
-                    .iter()
-                    .zip(z)
-                    .map(|(p, z)| -(p.s / m.s_total) * z.dot(&p.n))
-                    .collect()],
-            },
+            Effect::ThermalDrift => vec![thermal_column(m, f64::INFINITY)],
             Effect::SetupError => vec![
                 per_point(&rotation_z),
                 per_point(&|p| p.n.x),
@@ -81,7 +81,66 @@ impl Effect {
             },
             Effect::AIndex => return axis_column(&m.index, AxisName::A),
             Effect::PivotLength => vec![per_point(&|p| p.n.z)],
+            Effect::ToolWear => vec![per_point(&|p| p.s / m.s_total)],
+            Effect::ServoLag(a) => return axis_column(&m.servo, a),
+            Effect::ServoCommon if m.servo_common.len() == m.points.len() => {
+                vec![m.servo_common.clone()]
+            }
+            Effect::ServoCommon => return None,
         })
+    }
+
+    /// The signature columns at every value of the effect's shape grid ([`Effect::shape`]), in
+    /// grid order; `None` for an effect of one shape or when the model has no column for it.
+    pub fn family_signatures(self, m: &SignatureModel) -> Option<Vec<Vec<Vec<f64>>>> {
+        let shape = self.shape()?;
+        match self {
+            Effect::Backlash(a) if m.backlash_family.len() == shape.grid.len() => m
+                .backlash_family
+                .iter()
+                .map(|cols| {
+                    cols.iter()
+                        .find(|(b, _)| *b == a)
+                        .map(|(_, c)| vec![c.clone()])
+                })
+                .collect(),
+            Effect::ThermalDrift => Some(
+                shape
+                    .grid
+                    .iter()
+                    .map(|&f| vec![thermal_column(m, f)])
+                    .collect(),
+            ),
+            _ => None,
+        }
+    }
+}
+
+/// The fraction of the whole drift reached at the fraction `x` of the path with the warm-up
+/// constant `f` (effects.md): `(1 − exp(−x/f)) / (1 − exp(−1/f))`, `x` itself for `f = ∞`.
+pub fn warm_up(x: f64, f: f64) -> f64 {
+    if f.is_infinite() {
+        x
+    } else {
+        (-x / f).exp_m1() / (-1.0 / f).exp_m1()
+    }
+}
+
+/// `thermal_drift.g` with the warm-up constant `f`: `−warm_up(s/s_total, f)·(R_W(q)ᵀẑ)·N`
+/// (module doc; `f = ∞` the linear law of the table).
+fn thermal_column(m: &SignatureModel, f: f64) -> Vec<f64> {
+    match &m.machine_z {
+        None => m
+            .points
+            .iter()
+            .map(|p| -warm_up(p.s / m.s_total, f) * p.n.z)
+            .collect(),
+        Some(z) => m
+            .points
+            .iter()
+            .zip(z)
+            .map(|(p, z)| -warm_up(p.s / m.s_total, f) * z.dot(&p.n))
+            .collect(),
     }
 }
 
@@ -126,6 +185,13 @@ pub struct SignatureModel {
     /// `<a>_index` columns from the Jacobian of the axis's constant positioning error (mm/rad),
     /// for the index axes [`SignatureModel::c_table_sign`] does not cover.
     pub index: Vec<(AxisName, Vec<f64>)>,
+    /// `backlash_<axis>.b` columns at each lag of the backlash family's grid ([`Effect::shape`]).
+    pub backlash_family: Vec<Vec<(AxisName, Vec<f64>)>>,
+    /// `servo_lag_<axis>.l` column per axis of the chain (mm per mm of path,
+    /// [`crate::sensitivity::servo`]).
+    pub servo: Vec<(AxisName, Vec<f64>)>,
+    /// `servo_common.L2` column (mm per mm²).
+    pub servo_common: Vec<f64>,
 }
 
 #[cfg(test)]

@@ -26,6 +26,6 @@ pub mod path_length;
 pub mod path_model;
 pub mod prepared;
 
-pub use data::{Candidate, GapInput, NamedColumns, PointMeta, Reversal};
+pub use data::{Candidate, Family, GapInput, NamedColumns, PointMeta, Reversal};
 pub use effect::EffectPoint;
 pub use error::GapError;

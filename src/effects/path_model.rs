@@ -12,7 +12,8 @@
 use crate::effects::data::Reversal;
 use crate::effects::machine::reversals;
 use crate::effects::GapError;
-use crate::parameter::backlash_axes;
+use crate::machine::AxisName;
+use crate::parameter::{backlash_axes, Effect};
 use crate::part::{SShape, Surface};
 use crate::sensitivity::reversal::{passes, Lag};
 use crate::sensitivity::SensitivityOptions;
@@ -25,6 +26,8 @@ use crate::toolpath::tip_length::TipLength;
 pub struct PathModel {
     /// The lags of the chain's backlash axes ([`backlash_axes`]) on the passes of A and B.
     pub lags: [Lag; 2],
+    /// The same at each lag of the backlash family's grid ([`crate::parameter::Effect::shape`]).
+    pub lag_family: Vec<[Lag; 2]>,
     /// Where each axis reverses, by tool-tip path length from the start of A (mm).
     pub reversals: Vec<Reversal>,
     /// The envelope's pose tables of A and B ([`crate::toolpath::envelope::pose_table`]).
@@ -37,11 +40,23 @@ impl PathModel {
     pub fn new(part: &SShape, opts: &SensitivityOptions) -> Result<Self, GapError> {
         let passes = passes(part, opts)?;
         let axes = backlash_axes(&opts.chain);
+        let grid = Effect::Backlash(AxisName::X)
+            .shape()
+            .map_or_else(Vec::new, |s| s.grid);
         Ok(Self {
             lags: [
                 Lag::of(part, &passes[0], &axes),
                 Lag::of(part, &passes[1], &axes),
             ],
+            lag_family: grid
+                .iter()
+                .map(|&tau| {
+                    [
+                        Lag::with_length(part, &passes[0], &axes, tau),
+                        Lag::with_length(part, &passes[1], &axes, tau),
+                    ]
+                })
+                .collect(),
             reversals: reversals(part, &passes, &axes),
             pose_tables: [pose_table(part, Surface::A), pose_table(part, Surface::B)],
         })

@@ -137,6 +137,7 @@ mod tests {
                 DMatrix::from_column_slice(n, 1, &e),
             )
             .unwrap(),
+            family: None,
         };
         let s = model_spread(
             &a,

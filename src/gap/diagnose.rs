@@ -144,7 +144,12 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
         rss,
     };
     // (c) WHICH: each candidate on its own.
-    let tries = input.candidates.len();
+    // a family counts as its effectively independent shapes (the search's cost, effects.md)
+    let tries: f64 = input
+        .candidates
+        .iter()
+        .map(|c| crate::gap::shape::effective_shapes(&baseline.factor, c))
+        .sum();
     let ctx = Context {
         y: &y,
         a,
@@ -215,8 +220,8 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
                 .any(|e| e == named || equivalent.contains(e))
         })
     };
-    if let Some(pf) =
-        best_pair(&ctx, &input.candidates, &fits, base_cv_score).filter(|pf| keeps_named(pf))
+    let shaped = crate::gap::which::at_fitted_shapes(&input.candidates, &fits);
+    if let Some(pf) = best_pair(&ctx, &shaped, &fits, base_cv_score).filter(|pf| keeps_named(pf))
     {
         verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
         pair = Some(pf);

@@ -43,6 +43,7 @@ pub mod folds;
 pub mod location;
 pub mod pairs;
 pub mod regions;
+pub mod shape;
 pub mod report;
 pub mod verdict;
 pub mod which;

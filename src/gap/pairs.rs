@@ -76,10 +76,7 @@ fn stacked(first: &Candidate, second: &Candidate) -> Candidate {
     m.columns_mut(a.matrix.ncols(), b.matrix.ncols())
         .copy_from(&b.matrix);
     let params = a.params.iter().chain(&b.params).cloned().collect();
-    Candidate {
-        effect: first.effect,
-        signature: NamedColumns { params, matrix: m },
-    }
+    Candidate::new(first.effect, NamedColumns { params, matrix: m })
 }
 
 /// Most candidates paired with each other (the most significant ones, by their F-test p-value):
@@ -143,7 +140,10 @@ pub fn best_pair(
         }
     }
     let tries = pairs.len().max(1);
-    let pair_ctx = Context { tries, ..*ctx };
+    let pair_ctx = Context {
+        tries: tries as f64,
+        ..*ctx
+    };
     let rss = |f: &CandidateFit| f.rms * f.rms * nf;
     let mut tried: Vec<(Effect, Effect, f64)> = Vec::new();
     let mut accepted: Vec<PairFit> = Vec::new();

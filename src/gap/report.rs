@@ -120,6 +120,39 @@ fn noise_sentence(n: &NoiseEstimate, sigma: f64, limit: f64) -> String {
     s
 }
 
+/// The fitted shape of a named family, with its 95 % interval (an open end: the part does not
+/// bound the shape on that side).
+fn shape_sentence(e: Effect, sh: &crate::gap::shape::ShapeFit) -> String {
+    let v = |x: f64| {
+        if x.is_infinite() {
+            "∞ (linear)".to_string()
+        } else {
+            format!("{x:.3}")
+        }
+    };
+    let low = if sh.low_open {
+        format!("≤ {}", v(sh.low))
+    } else {
+        v(sh.low)
+    };
+    let high = if sh.high_open {
+        format!("≥ {}", v(sh.high))
+    } else {
+        v(sh.high)
+    };
+    let (what, unit) = match sh.name {
+        "tau" => ("lag after a reversal", " mm of tool-tip path"),
+        _ => ("warm-up constant, a fraction of the machining time", ""),
+    };
+    format!(
+        "Shape: `{e}` {what} {} = {}{unit} (95 %: {low} to {high}{unit}; reference {}; {:.1} effectively independent shapes searched).\n",
+        sh.name,
+        v(sh.value),
+        v(sh.reference),
+        sh.effective_shapes
+    )
+}
+
 /// The plain-language summary of a report (first line: the verdict).
 pub fn summary(r: &DiagnosisReport) -> String {
     let v = &r.verdict;
@@ -134,6 +167,16 @@ pub fn summary(r: &DiagnosisReport) -> String {
             .map(|(k, e)| format!("{k} = {:.4e} ± {:.1e}", e.value, e.std))
             .collect();
         s += &format!("Fitted: {}.\n", ps.join(", "));
+    }
+    for e in f.effects() {
+        if let Some(sh) = r
+            .candidates
+            .iter()
+            .find(|c| c.effect == e && c.with.is_none())
+            .and_then(|c| c.shape.as_ref())
+        {
+            s += &shape_sentence(e, sh);
+        }
     }
     if !f.equivalent().is_empty() {
         s += &format!(

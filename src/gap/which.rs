@@ -27,6 +27,7 @@ use serde::Serialize;
 use crate::effects::data::curve_sequences;
 use crate::effects::data::{Candidate, PointMeta};
 use crate::gap::folds::FoldFactor;
+use crate::gap::shape::{effective_shapes, fit_shape, ShapeFit};
 use crate::identify::solve::{max_abs, rms, Factor};
 use crate::numerics::stats;
 use crate::parameter::{Effect, ParamId};
@@ -172,6 +173,9 @@ pub struct CandidateFit {
     /// parameters are then named `<effect>.<parameter>`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub with: Option<Effect>,
+    /// The fitted shape of a family (its lag, its warm-up), with its interval.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<ShapeFit>,
     pub parameters: BTreeMap<String, Estimate>,
     /// In-sample residual RMS after adding the candidate (mm).
     pub rms: f64,
@@ -225,7 +229,9 @@ pub struct Context<'a> {
     pub given_sigma: Option<f64>,
     /// The baseline augmented with the per-curve smooth basis of [`crate::measurement::smooth_noise`].
     pub smooth: &'a SmoothFit,
-    pub tries: usize,
+    /// The Bonferroni factor: the candidates tried, a family counted by its effectively
+    /// independent shapes ([`crate::gap::shape::effective_shapes`]).
+    pub tries: f64,
     pub alpha: f64,
     pub detect_factor: f64,
 }
@@ -277,8 +283,44 @@ fn parameter_keys(c: &Candidate) -> Vec<String> {
         .collect()
 }
 
-/// Fits one candidate on top of the baseline.
+/// The candidates at the shapes their fits found (a family's fitted lag or warm-up; the others as
+/// they are), each of one shape: what the pairs and the final fit use.
+pub fn at_fitted_shapes(candidates: &[Candidate], fits: &[CandidateFit]) -> Vec<Candidate> {
+    candidates
+        .iter()
+        .map(|c| {
+            let index = fits
+                .iter()
+                .find(|f| f.effect == c.effect && f.with.is_none())
+                .and_then(|f| f.shape.as_ref())
+                .map(|s| s.grid_index);
+            c.at_shape(index)
+        })
+        .collect()
+}
+
+/// Fits one candidate on top of the baseline; a family at the shape that fits best
+/// ([`crate::gap::shape`]).
 pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
+    let shape = c.family.as_ref().and_then(|_| {
+        let m = effective_shapes(&ctx.baseline.factor, c);
+        fit_shape(
+            &ctx.baseline.factor,
+            &ctx.baseline.residual,
+            c,
+            ctx.baseline.factor.rank,
+            ctx.given_sigma.map(|s| s * s),
+            m,
+        )
+    });
+    let at = c.at_shape(shape.as_ref().map(|f| f.grid_index));
+    let mut fit = fit_one_shape(ctx, &at);
+    fit.shape = shape;
+    fit
+}
+
+/// [`fit_candidate`] for the signature of `c` as it is.
+fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
     let n = ctx.y.len();
     let nf = n as f64;
     let s = &c.signature.matrix;
@@ -315,7 +357,7 @@ pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
     } else {
         (0.0, 1.0)
     };
-    let p_bonferroni = (p_value * ctx.tries.max(1) as f64).min(1.0);
+    let p_bonferroni = (p_value * ctx.tries.max(1.0)).min(1.0);
     let effect = s * &theta;
     let unabsorbed_effect = &u * &theta;
     let effect_norm = effect.norm();
@@ -367,6 +409,7 @@ pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
     CandidateFit {
         effect: c.effect,
         with: None,
+        shape: None,
         parameters,
         rms: rms1,
         max_abs: max_abs(&residual),

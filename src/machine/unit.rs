@@ -21,6 +21,8 @@ pub enum Unit {
     Rad,
     /// `1`: a pure number (e.g. the scale `k` of `overcut`).
     One,
+    /// `mm^2`: a squared length (`servo_common.L2`, the square of the common servo lag).
+    Mm2,
     /// The unit of a displacement of kind `of` per that of kind `per` to the `power` (≥ 1):
     /// `mm/mm` (a scale error, a taper), `rad/mm^2` (an error motion's coefficient of `q²`).
     Per {
@@ -53,6 +55,7 @@ impl Unit {
             "mm" => return Unit::Mm,
             "rad" => return Unit::Rad,
             "1" => return Unit::One,
+            "mm^2" => return Unit::Mm2,
             _ => {}
         }
         if let Some((of, rest)) = text.split_once('/') {
@@ -83,6 +86,7 @@ impl fmt::Display for Unit {
             Unit::Mm => f.pad("mm"),
             Unit::Rad => f.pad("rad"),
             Unit::One => f.pad("1"),
+            Unit::Mm2 => f.pad("mm^2"),
             Unit::Per { of, per, power: 1 } => f.pad(&format!("{}/{}", base(*of), base(*per))),
             Unit::Per { of, per, power } => f.pad(&format!("{}/{}^{power}", base(*of), base(*per))),
             Unit::Text(t) => f.pad(t),
@@ -115,6 +119,7 @@ mod tests {
             (Unit::Mm, "mm"),
             (Unit::Rad, "rad"),
             (Unit::One, "1"),
+            (Unit::Mm2, "mm^2"),
             (per(AxisKind::Linear, AxisKind::Linear, 1), "mm/mm"),
             (per(AxisKind::Rotary, AxisKind::Linear, 2), "rad/mm^2"),
             (Unit::Text("µm/K".into()), "µm/K"),

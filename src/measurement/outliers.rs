@@ -418,10 +418,7 @@ pub fn without_rows(input: &GapInput, drop: &[usize]) -> GapInput {
         candidates: input
             .candidates
             .iter()
-            .map(|c| crate::effects::Candidate {
-                effect: c.effect,
-                signature: c.signature.select_rows(&keep),
-            })
+            .map(|c| c.select_rows(&keep))
             .collect(),
         noise_sigma: input.noise_sigma,
         reversals: input.reversals.clone(),

@@ -37,6 +37,12 @@ pub enum Effect {
     PivotLength,
     /// `a_index`: zero offset `dA` (rad) of the A axis.
     AIndex,
+    /// `tool_wear`: material left in proportion to the machined length, `w` (mm) at the end.
+    ToolWear,
+    /// `servo_lag_<axis>`: the axis trailing the others by `l` (mm of tool-tip path).
+    ServoLag(AxisName),
+    /// `servo_common`: the rounding of the path by the lag `L` all axes share, per `L²` (mm²).
+    ServoCommon,
 }
 
 /// Axes of the backlash candidates, in effects.md order (then A, added for paper 001's A-B head).
@@ -62,7 +68,7 @@ pub const SCALE_AXES: [AxisName; 3] = [AxisName::X, AxisName::Y, AxisName::Z];
 
 impl Effect {
     /// Every candidate, in the order of effects.md (then those added for paper 001's A-B head).
-    pub const ALL: [Effect; 17] = [
+    pub const ALL: [Effect; 25] = [
         Effect::ToolRadius,
         Effect::ToolTaper,
         Effect::Overcut,
@@ -80,6 +86,14 @@ impl Effect {
         Effect::PivotLength,
         Effect::Backlash(AxisName::A),
         Effect::AIndex,
+        Effect::ToolWear,
+        Effect::ServoLag(AxisName::X),
+        Effect::ServoLag(AxisName::Y),
+        Effect::ServoLag(AxisName::Z),
+        Effect::ServoLag(AxisName::B),
+        Effect::ServoLag(AxisName::C),
+        Effect::ServoLag(AxisName::A),
+        Effect::ServoCommon,
     ];
 
     /// The candidates whose physics exists on `chain`, in the order of [`Effect::ALL`] (paper
@@ -110,7 +124,7 @@ impl Effect {
                 .then(|| format!("the machine has no {a} axis"))
         };
         match self {
-            Effect::Backlash(a) | Effect::Scale(a) => no_axis(a),
+            Effect::Backlash(a) | Effect::Scale(a) | Effect::ServoLag(a) => no_axis(a),
             Effect::CIndex => no_axis(AxisName::C),
             Effect::AIndex => no_axis(AxisName::A),
             Effect::PivotLength => (!chain
@@ -146,6 +160,14 @@ impl Effect {
             Effect::CIndex => "c_index",
             Effect::PivotLength => "pivot_length",
             Effect::AIndex => "a_index",
+            Effect::ToolWear => "tool_wear",
+            Effect::ServoLag(A::X) => "servo_lag_x",
+            Effect::ServoLag(A::Y) => "servo_lag_y",
+            Effect::ServoLag(A::Z) => "servo_lag_z",
+            Effect::ServoLag(A::A) => "servo_lag_a",
+            Effect::ServoLag(A::B) => "servo_lag_b",
+            Effect::ServoLag(A::C) => "servo_lag_c",
+            Effect::ServoCommon => "servo_common",
         }
     }
 
@@ -173,6 +195,9 @@ impl Effect {
             Effect::CIndex => &[("dC", Unit::Rad)],
             Effect::PivotLength => &[("dL0", Unit::Mm)],
             Effect::AIndex => &[("dA", Unit::Rad)],
+            Effect::ToolWear => &[("w", Unit::Mm)],
+            Effect::ServoLag(_) => &[("l", Unit::Mm)],
+            Effect::ServoCommon => &[("L2", Unit::Mm2)],
         }
     }
 
@@ -218,6 +243,14 @@ impl Effect {
             Effect::CIndex => "zero offset of the C axis",
             Effect::PivotLength => "pivot-to-tip length error",
             Effect::AIndex => "zero offset of the A axis",
+            Effect::ToolWear => "tool wear along the machined length",
+            Effect::ServoLag(A::X) => "X axis's servo trailing the others",
+            Effect::ServoLag(A::Y) => "Y axis's servo trailing the others",
+            Effect::ServoLag(A::Z) => "Z axis's servo trailing the others",
+            Effect::ServoLag(A::A) => "A axis's servo trailing the others",
+            Effect::ServoLag(A::B) => "B axis's servo trailing the others",
+            Effect::ServoLag(A::C) => "C axis's servo trailing the others",
+            Effect::ServoCommon => "rounding of the path by the servo lag all axes share",
         }
     }
 
@@ -260,7 +293,71 @@ impl Effect {
     /// The machine axis the effect belongs to (backlash and scale), if any.
     pub fn axis(self) -> Option<AxisName> {
         match self {
-            Effect::Backlash(a) | Effect::Scale(a) => Some(a),
+            Effect::Backlash(a) | Effect::Scale(a) | Effect::ServoLag(a) => Some(a),
+            _ => None,
+        }
+    }
+}
+
+/// The shape parameter of an effect's family (effects.md, "Shapes are families"): not a column
+/// of the signature (the amplitude is, linearly), but fitted by a one-dimensional search over
+/// `grid` (variable projection); the table's signature is the one at `reference`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shape {
+    /// `tau` (backlash: the lag, mm of tool-tip path) or `f` (thermal drift: the warm-up constant
+    /// as a fraction of the machining time; `inf` is the linear law).
+    pub name: &'static str,
+    pub unit: Unit,
+    /// The value of the reference signatures (`effect_signatures.csv`): 2 mm, and the linear law.
+    pub reference: f64,
+    /// The values searched, increasing (the reference among them).
+    pub grid: Vec<f64>,
+}
+
+/// The backlash's lag of the reference signatures (effects.md's table, `effect_signatures.csv`):
+/// 2 mm of tool-tip path.
+pub const REFERENCE_LAG: f64 = 2.0;
+
+/// Ratio of consecutive lags of the backlash family's grid: 2·1.3^k mm, k = −9..8, 0.19-16.3 mm
+/// (effects.md: 0.2-15 mm on real machines). The signature changes by a few percent between
+/// neighbours, below what a part can tell.
+pub const LAG_GRID_RATIO: f64 = 1.3;
+
+/// Warm-up constants of the thermal family's grid (fractions of the machining time), and the
+/// linear law (`inf`): from a head that is warm after 4 % of the path to the linear limit.
+pub const WARM_UP_GRID: [f64; 12] = [
+    0.04,
+    0.06,
+    0.09,
+    0.13,
+    0.2,
+    0.3,
+    0.45,
+    0.7,
+    1.0,
+    1.5,
+    2.2,
+    f64::INFINITY,
+];
+
+impl Effect {
+    /// The shape parameter of the effect's family, `None` for an effect of one shape.
+    pub fn shape(self) -> Option<Shape> {
+        match self {
+            Effect::Backlash(_) => Some(Shape {
+                name: "tau",
+                unit: Unit::Mm,
+                reference: REFERENCE_LAG,
+                grid: (-9..=8)
+                    .map(|k| REFERENCE_LAG * LAG_GRID_RATIO.powi(k))
+                    .collect(),
+            }),
+            Effect::ThermalDrift => Some(Shape {
+                name: "f",
+                unit: Unit::One,
+                reference: f64::INFINITY,
+                grid: WARM_UP_GRID.to_vec(),
+            }),
             _ => None,
         }
     }

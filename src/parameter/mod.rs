@@ -11,6 +11,6 @@ pub mod effect;
 pub mod error;
 pub mod id;
 
-pub use effect::{backlash_axes, Effect, BACKLASH_AXES, SCALE_AXES};
+pub use effect::{backlash_axes, Effect, Shape, BACKLASH_AXES, SCALE_AXES};
 pub use error::ParameterError;
 pub use id::{ParamId, ParamKind, PartTerm, TOOL_RADIUS};

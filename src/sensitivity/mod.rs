@@ -20,6 +20,7 @@ pub mod error_set;
 pub mod frenet;
 pub mod path;
 pub mod reversal;
+pub mod servo;
 
 pub use defect::{
     axis_values, defect, defect_xi, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix,

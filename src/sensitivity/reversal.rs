@@ -43,7 +43,7 @@ use super::SensitivityError;
 use crate::numerics::order::sort_by_index;
 
 /// Time constant of the servo lag, in mm of tool-tip path (effects.md).
-pub const LAG_LENGTH: f64 = 2.0;
+pub const LAG_LENGTH: f64 = crate::parameter::effect::REFERENCE_LAG;
 /// Steps of the `u` grid on which the directions are defined (20001 samples).
 pub const REVERSAL_GRID: usize = 20000;
 /// Axis increments at most this large between grid samples count as rest (mm or rad): they are
@@ -493,6 +493,8 @@ struct Segment {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lag {
     pub axes: Vec<AxisName>,
+    /// The lag's "time" constant, in mm of tool-tip path ([`LAG_LENGTH`] for [`Lag::of`]).
+    pub tau: f64,
     /// Tool-tip path length of the pass.
     pub length: TipLength,
     segments: Vec<Vec<Segment>>,
@@ -502,6 +504,12 @@ impl Lag {
     /// The lag of `axes` on pass `p` of `part` (the lags of A and B given together must have the
     /// same axes).
     pub fn of(part: &SShape, p: &Pass, axes: &[AxisName]) -> Self {
+        Self::with_length(part, p, axes, LAG_LENGTH)
+    }
+
+    /// [`Lag::of`] with the time constant `tau` (mm of tool-tip path) instead of [`LAG_LENGTH`]:
+    /// the backlash family of effects.md ("Shapes are families", lags of 0.2-15 mm).
+    pub fn with_length(part: &SShape, p: &Pass, axes: &[AxisName], tau: f64) -> Self {
         let segments = axes
             .iter()
             .map(|&a| {
@@ -515,7 +523,7 @@ impl Lag {
                 }];
                 for &(k, d) in turns.map_or(&[][..], |t| &t.at[..]) {
                     let s0 = p.length.at(part, grid_u(k - 1));
-                    let from = offset_on(&segs, k - 1, s0);
+                    let from = offset_on(&segs, k - 1, s0, tau);
                     segs.push(Segment {
                         k,
                         target: -0.5 * d,
@@ -528,6 +536,7 @@ impl Lag {
             .collect();
         Self {
             axes: axes.to_vec(),
+            tau,
             length: p.length.clone(),
             segments,
         }
@@ -536,7 +545,7 @@ impl Lag {
     /// The offset per unit lost motion of axis `axes[a]` at grid sample `k`, where the path
     /// length is `s` (mm).
     pub fn offset(&self, a: usize, k: usize, s: f64) -> f64 {
-        offset_on(&self.segments[a], k, s)
+        offset_on(&self.segments[a], k, s, self.tau)
     }
 
     /// The offsets of axis `axes[a]` at every grid sample (for tests and plots; the signatures
@@ -548,14 +557,14 @@ impl Lag {
     }
 }
 
-/// `e_k = e* + (e_{k_r−1} − e*)·exp(−(s_k − s_{k_r−1})/`[`LAG_LENGTH`]`)` on the segment holding
-/// `k`; exactly `e*` on a settled first segment.
-fn offset_on(segs: &[Segment], k: usize, s: f64) -> f64 {
+/// `e_k = e* + (e_{k_r−1} − e*)·exp(−(s_k − s_{k_r−1})/τ)` on the segment holding `k` (`τ` the
+/// lag, [`LAG_LENGTH`] at the reference); exactly `e*` on a settled first segment.
+fn offset_on(segs: &[Segment], k: usize, s: f64, tau: f64) -> f64 {
     let g = &segs[segs.partition_point(|g| g.k <= k).max(1) - 1];
     if g.from == g.target {
         g.target
     } else {
-        g.target + (g.from - g.target) * (-(s - g.s0) / LAG_LENGTH).exp()
+        g.target + (g.from - g.target) * (-(s - g.s0) / tau).exp()
     }
 }
 
@@ -606,45 +615,66 @@ pub fn backlash_signatures_lagged(
     q: &[AxisValues],
     opts: &SensitivityOptions,
 ) -> Result<Vec<Vec<f64>>, SensitivityError> {
+    let gains = backlash_gains(part, points, q, &lags[0].axes, opts)?;
+    Ok(lagged_columns(lags, part, points, &gains))
+}
+
+/// `(∂x/∂q)·N` of each axis of `axes` at each point (mm per mm or per rad): the normal
+/// displacement of the contact point per unit of the axis, the factor of every backlash (and
+/// servo) column that does not depend on the lag; one vector per axis.
+pub fn backlash_gains(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    q: &[AxisValues],
+    axes: &[AxisName],
+    opts: &SensitivityOptions,
+) -> Result<Vec<Vec<f64>>, SensitivityError> {
     super::defect::check_poses(points, q)?;
+    axes.iter()
+        .map(|&axis| {
+            points
+                .iter()
+                .zip(q)
+                .map(|(pt, q)| {
+                    let n = match opts.mode {
+                        Mode::Physical => pt.normal,
+                        Mode::Paper => part.frame_at(pt.surface, pt.u, 1.0).n,
+                    };
+                    Ok(axis_derivative(opts, q, &pt.point, axis)?.dot(&n))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The backlash columns on the lags `lags` (A and B, same axes) from the gains of
+/// [`backlash_gains`] (same axes, same points): `e(s)·(∂x/∂q)·N`.
+pub fn lagged_columns(
+    lags: &[Lag; 2],
+    part: &SShape,
+    points: &[MeasurementPoint],
+    gains: &[Vec<f64>],
+) -> Vec<Vec<f64>> {
     let mut out = vec![vec![0.0; points.len()]; lags[0].axes.len()];
     for (surface, p) in Surface::BOTH.into_iter().zip(lags) {
-        let idx: Vec<usize> = (0..points.len())
-            .filter(|&i| points[i].surface == surface)
-            .collect();
-        if idx.is_empty() {
-            continue;
-        }
-        let mut around = vec![(0, 0.0, 0.0, 0.0); points.len()];
-        for &i in &idx {
-            let u = points[i].u;
-            let k = grid_after(u);
+        for (i, pt) in points.iter().enumerate() {
+            if pt.surface != surface {
+                continue;
+            }
+            // Linear interpolation in u between the grid samples around the point (the
+            // reference's convention; the exact lag from sample k-1 differs by < 1e-4
+            // relative): k the first sample at or after u.
+            let k = grid_after(pt.u);
             let (u0, u1) = (grid_u(k - 1), grid_u(k));
-            around[i] = (
-                k,
-                (u - u0) / (u1 - u0),
-                p.length.at(part, u0),
-                p.length.at(part, u1),
-            );
-        }
-        for (a, &axis) in p.axes.iter().enumerate() {
-            for &i in &idx {
-                let pt = &points[i];
-                // Linear interpolation in u between the grid samples around the point (the
-                // reference's convention; the exact lag from sample k-1 differs by < 1e-4
-                // relative): k the first sample at or after u.
-                let (k, t, s0, s1) = around[i];
+            let t = (pt.u - u0) / (u1 - u0);
+            let (s0, s1) = (p.length.at(part, u0), p.length.at(part, u1));
+            for (a, col) in out.iter_mut().enumerate() {
                 let e_pt = p.offset(a, k - 1, s0) * (1.0 - t) + p.offset(a, k, s1) * t;
-                let n = match opts.mode {
-                    Mode::Physical => pt.normal,
-                    Mode::Paper => part.frame_at(surface, pt.u, 1.0).n,
-                };
-                let dpdq = axis_derivative(opts, &q[i], &pt.point, axis)?;
-                out[a][i] = e_pt * dpdq.dot(&n);
+                col[i] = e_pt * gains[a][i];
             }
         }
     }
-    Ok(out)
+    out
 }
 
 /// `∂x/∂q` of the tool-body point at the contact point `x` for one axis (mm per mm or per rad):

@@ -2,6 +2,7 @@
 //! ([`machine_choice`]) and the CMM noise ([`cmm_noise`]).
 
 pub mod cmm_noise;
+pub mod feed;
 pub mod machine_choice;
 
 pub use cmm_noise::{CmmNoise, NoiseError, NoiseKind};

@@ -71,6 +71,7 @@ mod sensitivity_frenet;
 mod sensitivity_gauge_block;
 mod sensitivity_reference;
 mod sensitivity_reversal;
+mod sensitivity_servo;
 mod validate_physics;
 mod wasm_examples;
 mod workflow_compensation;

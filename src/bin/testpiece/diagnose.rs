@@ -83,6 +83,10 @@ pub struct Args {
     /// the B-axis branch of the inverse kinematics
     #[arg(long, value_name = "signed|positive", default_value = "signed", value_parser = branch)]
     branch: Branch,
+    /// the feed the part was cut with (mm/min): a servo lag the diagnosis names is stated as the
+    /// position loop's time constant (1/Kv, ms) at it
+    #[arg(long, value_name = "MM_PER_MIN", default_value_t = testpiece::settings::feed::PROGRAMME_FEED, value_parser = mm, allow_negative_numbers = true)]
+    feed: f64,
     /// leave out the rows the reader rejects instead of refusing the file
     #[arg(long)]
     exclude_bad_rows: bool,
@@ -111,6 +115,7 @@ pub fn run(a: Args) -> Result<(), String> {
         noise_mpe: cmm_noise(a.sigma, a.mpe.as_ref())?,
         keep_outliers: a.keep_outliers,
         exclude_bad_rows: a.exclude_bad_rows,
+        feed: a.feed,
         ..AnalysisOptions::default()
     };
     let [file] = a.files.as_slice() else {

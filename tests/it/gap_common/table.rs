@@ -118,6 +118,7 @@ impl Table {
                 Ok(Candidate {
                     effect: effect.parse().map_err(|e| format!("{e}"))?,
                     signature: cols,
+                    family: None,
                 })
             })
             .collect()

@@ -139,6 +139,10 @@ pub struct Args {
     /// the pivot-to-tip length (mm)
     #[arg(long, value_name = "MM", default_value_t = PAPER000_L0, value_parser = mm, allow_negative_numbers = true)]
     l0: f64,
+    /// the feed the part was cut with (mm/min): a servo lag the diagnosis names is stated as the
+    /// position loop's time constant (1/Kv, ms) at it
+    #[arg(long, value_name = "MM_PER_MIN", default_value_t = testpiece::settings::feed::PROGRAMME_FEED, value_parser = mm, allow_negative_numbers = true)]
+    feed: f64,
     /// with several files: each part's CMM datum alignment Rz[k] (rad), Tx[k], Ty[k] (mm)
     #[arg(long)]
     setup_per_part: bool,
@@ -235,6 +239,7 @@ impl Args {
             refine: !self.no_refine,
             known: None,
             effects: self.effects.clone().unwrap_or_default(),
+            feed: self.feed,
         })
     }
 

@@ -1,0 +1,163 @@
+//! Servo following error along the flank path (`shared/spec/effects.md`, "Shapes are families":
+//! `servo_lag_<axis>` and `servo_common`; paper 002 §4.3 simulates one axis's servo delay).
+//!
+//! Each axis trails its command by its speed times its position loop's time constant `1/Kv`. At
+//! the constant feed `F` the tool tip covers `s = F·t`, so a time lag is a lag in tool-tip path:
+//! `L = F/Kv` (mm).
+//! - **Mismatch** (`servo_lag_<axis>.l`): axis `i` trailing the others by `l` (mm of path) sits at
+//!   `q_i(s − l) ≈ q_i(s) − l·dq_i/ds`, so the defect is `−l·(dq_i/ds)·(d dev/dq_i)`.
+//! - **Common rounding** (`servo_common.L2`): a first-order loop `q' = Kv (q_c − q)` gives
+//!   `q = q_c(s − L) + (L²/2)·d²q_c/ds² + O(L³)`; a shift of every axis by the same `L` along the
+//!   path leaves the tool on the path, so the defect is `(L²/2)·Σ_i (d²q_i/ds²)·(d dev/dq_i)`,
+//!   per unit of `L²`.
+//!
+//! `d dev/dq_i` is the normal displacement of the tool-body point at the contact point per unit
+//! of axis `i` ([`super::reversal`]'s `∂x/∂q`, the axis's positioning error motion `E{i}{i}`,
+//! exactly a change of its value), dotted with the normal of the mode. The rates follow the
+//! model's own inverse kinematics along the path ([`crate::sensitivity::machine_path`]: the outer
+//! angle interpolated linearly in `u` on the vertical zone, which is what the controller is
+//! commanded): `dq/ds = q_u/s_u` and `d²q/ds² = (q_uu − q_u·s_uu/s_u)/s_u²` with `s_u = |d tip/du|`
+//! (reference README, `servo_signatures.csv`). `q_u`, `q_uu` and `s_uu` are central differences in
+//! `u` with steps [`STEP_U`] and `2·STEP_U`, Richardson-extrapolated (error `O(h⁴)`); `s_u` is the
+//! analytic tip speed ([`crate::toolpath::flank::tool_pose_derivs`]). The built-in points lie at
+//! least 5.2 mm of path from the vertical zone's ends, where the rates of C and Y jump; a step of
+//! 2·[`STEP_U`] is ≈ 0.15 mm of path.
+//! Units: mm, rad; columns in mm per mm of `l`, and mm per mm² of `L²`.
+
+use crate::machine::{AxisKind, AxisName, AxisValues};
+use crate::part::{MeasurementPoint, SShape, Surface};
+use crate::toolpath::flank::tool_pose_derivs;
+
+use super::defect::SensitivityOptions;
+use super::path::machine_path;
+use super::reversal::backlash_gains;
+use super::SensitivityError;
+
+/// Step of the central differences in `u` (≈ 0.08 mm of tool-tip path on the S-shape's ~300 mm
+/// passes): with `2·STEP_U` and Richardson extrapolation the columns agree with the reference's
+/// converged ones to 1.1e-8 of their largest value (steps of 1e-3: 8.8e-6; 5e-4: 3.2e-6;
+/// test `servo_signatures_match_reference`).
+pub const STEP_U: f64 = 2.5e-4;
+
+/// The servo columns at measurement points: one `servo_lag_<axis>.l` column per axis of the chain
+/// (chain order), and the `servo_common.L2` column.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ServoColumns {
+    pub lag: Vec<(AxisName, Vec<f64>)>,
+    pub common: Vec<f64>,
+}
+
+/// The axis rates of the path at one point: `dq/ds` (mm or rad per mm of path) and `d²q/ds²`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathRates {
+    pub first: AxisValues,
+    pub second: AxisValues,
+}
+
+/// `dq/ds` and `d²q/ds²` of the flank path of `surface` at each of `us` (module doc).
+pub fn path_rates(
+    part: &SShape,
+    surface: Surface,
+    us: &[f64],
+    opts: &SensitivityOptions,
+) -> Result<Vec<PathRates>, SensitivityError> {
+    let h = STEP_U;
+    // Five samples a point, kept inside [0, 1] (one-sided near an end: never at the points).
+    let offsets = [-2.0, -1.0, 0.0, 1.0, 2.0];
+    let sample_u: Vec<f64> = us
+        .iter()
+        .flat_map(|&u| {
+            let c = u.clamp(2.0 * h, 1.0 - 2.0 * h);
+            offsets.map(|o| c + o * h)
+        })
+        .collect();
+    let path = machine_path(part, &opts.chain, surface, opts.branch, &sample_u)?;
+    let speed = |u: f64| tool_pose_derivs(part, surface, u).tip_u.norm();
+    let axes: Vec<(AxisName, bool)> = opts
+        .chain
+        .axes()
+        .map(|a| (a.name, a.name.kind() == AxisKind::Rotary))
+        .collect();
+    Ok(us
+        .iter()
+        .enumerate()
+        .map(|(k, &u)| {
+            let c = u.clamp(2.0 * h, 1.0 - 2.0 * h);
+            let q = |j: usize| &path[5 * k + j].values;
+            let sp = offsets.map(|o| speed(c + o * h));
+            let s_u = speed(u);
+            let s_uu = richardson1([sp[0], sp[1], sp[3], sp[4]], h);
+            let mut first = AxisValues::default();
+            let mut second = AxisValues::default();
+            for &(a, rotary) in &axes {
+                // Differences from the centre sample, wrapped for a rotary axis.
+                let d = |j: usize| {
+                    let x = q(j).get(a) - q(2).get(a);
+                    if rotary {
+                        wrap(x)
+                    } else {
+                        x
+                    }
+                };
+                let v = [d(0), d(1), d(3), d(4)];
+                let q_u = richardson1(v, h);
+                let q_uu = richardson2(v, h);
+                first.set(a, q_u / s_u);
+                second.set(a, (q_uu - q_u * s_uu / s_u) / (s_u * s_u));
+            }
+            PathRates { first, second }
+        })
+        .collect())
+}
+
+/// `d/du` from the samples at `−2h, −h, +h, +2h`: `(4·D(h) − D(2h))/3`, `D` the central difference.
+fn richardson1(v: [f64; 4], h: f64) -> f64 {
+    let d1 = (v[2] - v[1]) / (2.0 * h);
+    let d2 = (v[3] - v[0]) / (4.0 * h);
+    (4.0 * d1 - d2) / 3.0
+}
+
+/// `d²/du²` from the differences to the centre at `−2h, −h, +h, +2h`.
+fn richardson2(v: [f64; 4], h: f64) -> f64 {
+    let d1 = (v[2] + v[1]) / (h * h);
+    let d2 = (v[3] + v[0]) / (4.0 * h * h);
+    (4.0 * d1 - d2) / 3.0
+}
+
+/// An angle difference brought into (−π, π].
+fn wrap(x: f64) -> f64 {
+    let t = std::f64::consts::TAU;
+    x - t * (x / t).round()
+}
+
+/// The servo columns (module doc) at `points` of axis values `q` (solved with the same `opts`).
+pub fn servo_signatures(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    q: &[AxisValues],
+    opts: &SensitivityOptions,
+) -> Result<ServoColumns, SensitivityError> {
+    let axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
+    let gains = backlash_gains(part, points, q, &axes, opts)?;
+    let n = points.len();
+    let mut lag = vec![vec![0.0; n]; axes.len()];
+    let mut common = vec![0.0; n];
+    for surface in Surface::BOTH {
+        let idx: Vec<usize> = (0..n).filter(|&i| points[i].surface == surface).collect();
+        if idx.is_empty() {
+            continue;
+        }
+        let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
+        let rates = path_rates(part, surface, &us, opts)?;
+        for (&i, r) in idx.iter().zip(&rates) {
+            for (a, &axis) in axes.iter().enumerate() {
+                lag[a][i] = -r.first.get(axis) * gains[a][i];
+                common[i] += 0.5 * r.second.get(axis) * gains[a][i];
+            }
+        }
+    }
+    Ok(ServoColumns {
+        lag: axes.into_iter().zip(lag).collect(),
+        common,
+    })
+}
