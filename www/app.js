@@ -64,6 +64,8 @@ function readSettings() {
     effects: $('effects').value,
     keep_outliers: $('keepOutliers').checked,
   };
+  const feed = parseFloat($('feed').value);
+  if (Number.isFinite(feed) && feed > 0) st.settings.feed = feed;
   const a = parseFloat($('mpeA').value), k = parseFloat($('mpeK').value);
   if (Number.isFinite(a) && a > 0 && Number.isFinite(k) && k > 0) st.settings.noise_mpe = { a_um: a, k_mm: k };
   st.setupPerPart = $('setupPerPart').checked;
@@ -309,7 +311,7 @@ function setupInputs() {
   drop.addEventListener('drop', (e) => { e.preventDefault(); drop.classList.remove('over'); addFiles([...e.dataTransfer.files]); });
   drop.addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); $('file').click(); } });
   $('example').addEventListener('change', () => loadExample($('example').value));
-  for (const id of ['machine', 'mode', 'branch', 'l0', 'toolRadius', 'effects', 'exclude', 'sigma', 'mpeA', 'mpeK', 'keepOutliers', 'setupPerPart']) {
+  for (const id of ['machine', 'mode', 'branch', 'l0', 'feed', 'toolRadius', 'effects', 'exclude', 'sigma', 'mpeA', 'mpeK', 'keepOutliers', 'setupPerPart']) {
     $(id).addEventListener('change', async () => {
       readSettings();
       if (id === 'setupPerPart') { await runPool(); render(); return; }

@@ -16,7 +16,7 @@ export function reportView(root, st) {
     ['software', `testpiece ${a.version}`],
     ['file', f.name], ['SHA-256', f.sha256 || ''], ['format', a.file.format.description],
     ['points used', String(a.identification.points_used)], ['rows excluded', a.file.excluded.map((p) => p.line).join(' ') || 'none'],
-    ['machine', machineName(s.machine)], ['L0', machineUsesL0(s.machine) ? `${s.l0} mm` : 'not used by this machine'], ['mode', s.mode], ['branch', s.branch],
+    ['machine', machineName(s.machine)], ['L0', machineUsesL0(s.machine) ? `${s.l0} mm` : 'not used by this machine'], ['feed', `${s.feed ?? 1000} mm/min`], ['mode', s.mode], ['branch', s.branch],
     ['tool-radius term', s.tool_radius ? 'fitted (dR)' : 'not fitted'], ['CMM σ', a.noise ? a.noise.summary : (s.noise_sigma ? `${(s.noise_sigma * 1000).toFixed(2)} µm` : 'from the residual')],
     ['outliers', a.outliers && a.outliers.summary ? a.outliers.summary : 'none found'], ['errors reported', fittedWith(a)],
   ]));

@@ -215,7 +215,9 @@ fn servo_sentence(report: &DiagnosisReport, feed: f64) -> Option<String> {
                     ("leads", "lower its Kv, or raise the others', to match")
                 };
                 out.push(format!(
-                    "Servo: the {axis} axis {who} the others by {:.3} ± {:.3} mm of path: at {feed:.0} mm/min                      (the feed the part was cut with: --feed) its position loop's time constant (1/Kv) is {:.2} ± {:.2} ms                      {} theirs; {adjust}. Only the mismatch shows on the part.",
+                    "Servo: the {axis} axis {who} the others by {:.3} ± {:.3} mm of path: at {feed:.0} mm/min \
+                     (the feed the part was cut with: --feed) its position loop's time constant (1/Kv) is {:.2} ± {:.2} ms \
+                     {} theirs; {adjust}. Only the mismatch shows on the part.",
                     est.value.abs(),
                     est.std,
                     ms.abs(),
@@ -228,7 +230,9 @@ fn servo_sentence(report: &DiagnosisReport, feed: f64) -> Option<String> {
                 let l = est.value.max(0.0).sqrt();
                 let ms = lag_ms(l, feed);
                 out.push(format!(
-                    "Servo: the path is rounded by a lag all axes share, L² = {:.3} ± {:.3} mm² (L = {l:.2} mm of path):                      at {feed:.0} mm/min (--feed) 1/Kv ≈ {ms:.1} ms on every axis (Kv ≈ {:.0} 1/s);                      a higher Kv or velocity feed-forward reduces it.",
+                    "Servo: the path is rounded by a lag all axes share, L² = {:.3} ± {:.3} mm² (L = {l:.2} mm of path): \
+                     at {feed:.0} mm/min (--feed) 1/Kv ≈ {ms:.1} ms on every axis (Kv ≈ {:.0} 1/s); \
+                     a higher Kv or velocity feed-forward reduces it.",
                     est.value,
                     est.std,
                     if ms > 0.0 { 1000.0 / ms } else { f64::INFINITY },

@@ -179,28 +179,34 @@ pub fn fit_shape(
     let dof = (n.saturating_sub(p + q)).max(1) as f64;
     let s2 = given_s2.unwrap_or(rss_min / dof).max(f64::MIN_POSITIVE);
     let bound = f_quantile(SHAPE_CONFIDENCE, dof);
-    let z: Vec<f64> = prof.iter().map(|(r, _)| (r - rss_min) / s2).collect();
+    let mut z: Vec<f64> = prof.iter().map(|(r, _)| (r - rss_min) / s2).collect();
     let coords = coordinates(grid);
-    // the parabola through the least and its neighbours
-    let refined = if best > 0 && best + 1 < grid.len() {
+    // the parabola through the least and its neighbours: its vertex is the estimate, and the
+    // profile is measured from the vertex's value (below the grid's least)
+    let mut refined = coords[best];
+    let mut curvature = None;
+    if best > 0 && best + 1 < grid.len() {
         let (x0, x1, x2) = (coords[best - 1], coords[best], coords[best + 1]);
         let (y0, y1, y2) = (z[best - 1], z[best], z[best + 1]);
         let den = (x0 - x1) * (x0 - x2) * (x1 - x2);
         let a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den;
         let b = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / den;
         if a > 0.0 {
-            (-b / (2.0 * a)).clamp(x0, x2)
-        } else {
-            x1
+            refined = (-b / (2.0 * a)).clamp(x0, x2);
+            let c = y1 - a * x1 * x1 - b * x1;
+            let vertex = (a * refined * refined + b * refined + c).min(0.0);
+            for v in &mut z {
+                *v -= vertex;
+            }
+            curvature = Some(a);
         }
-    } else {
-        coords[best]
-    };
-    // the interval's ends: walk out from the least until the profile passes the bound
+    }
+    // the interval's ends: walk out from the least until the profile passes the bound; between
+    // the least and a neighbour already past it, the parabola's root
     let cross = |from: usize, to: usize| -> f64 {
         let (xa, xb, za, zb) = (coords[from], coords[to], z[from], z[to]);
         if zb > za {
-            xa + (bound - za) / (zb - za) * (xb - xa)
+            xa + ((bound - za) / (zb - za)).clamp(0.0, 1.0) * (xb - xa)
         } else {
             xb
         }
@@ -213,17 +219,18 @@ pub fn fit_shape(
     while hi_k + 1 < grid.len() && z[hi_k + 1] <= bound {
         hi_k += 1;
     }
+    let half = curvature.map(|a| (bound / a).sqrt());
     let low_open = lo_k == 0;
     let high_open = hi_k + 1 == grid.len();
-    let low = if low_open {
-        grid[0]
-    } else {
-        value_at(grid, &coords, cross(lo_k, lo_k - 1))
+    let low = match (low_open, half) {
+        (true, _) => grid[0],
+        (false, Some(h)) if lo_k == best => value_at(grid, &coords, (refined - h).max(coords[best - 1])),
+        _ => value_at(grid, &coords, cross(lo_k, lo_k - 1)),
     };
-    let high = if high_open {
-        grid[grid.len() - 1]
-    } else {
-        value_at(grid, &coords, cross(hi_k, hi_k + 1))
+    let high = match (high_open, half) {
+        (true, _) => grid[grid.len() - 1],
+        (false, Some(h)) if hi_k == best => value_at(grid, &coords, (refined + h).min(coords[best + 1])),
+        _ => value_at(grid, &coords, cross(hi_k, hi_k + 1)),
     };
     Some(ShapeFit {
         name: family.shape.name,

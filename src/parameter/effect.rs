@@ -416,7 +416,15 @@ mod tests {
                 "c_index",
                 "pivot_length",
                 "backlash_a",
-                "a_index"
+                "a_index",
+                "tool_wear",
+                "servo_lag_x",
+                "servo_lag_y",
+                "servo_lag_z",
+                "servo_lag_b",
+                "servo_lag_c",
+                "servo_lag_a",
+                "servo_common"
             ]
         );
         for e in Effect::ALL {
@@ -473,15 +481,24 @@ mod tests {
                 .map(|e| e.id())
                 .collect::<Vec<_>>()
         };
-        // Paper 000: the 15 of effects.md, in their order.
+        // Paper 000: the 15 of effects.md's table, in their order, then the families of its
+        // "Shapes are families" (tool wear, the servo of each of its five axes, the common lag).
         let paper000 = Chain::paper000(499.889);
-        assert_eq!(
-            ids(&paper000),
-            Effect::ALL[..15].iter().map(|e| e.id()).collect::<Vec<_>>()
-        );
-        assert!(Effect::left_out(&paper000)
-            .iter()
-            .all(|(e, _)| matches!(e, Effect::AIndex | Effect::Backlash(AxisName::A))));
+        let mut want: Vec<&str> = Effect::ALL[..15].iter().map(|e| e.id()).collect();
+        want.extend([
+            "tool_wear",
+            "servo_lag_x",
+            "servo_lag_y",
+            "servo_lag_z",
+            "servo_lag_b",
+            "servo_lag_c",
+            "servo_common",
+        ]);
+        assert_eq!(ids(&paper000), want);
+        assert!(Effect::left_out(&paper000).iter().all(|(e, _)| matches!(
+            e,
+            Effect::AIndex | Effect::Backlash(AxisName::A) | Effect::ServoLag(AxisName::A)
+        )));
         // Paper 002's tilting table has no pivot: its B axis's height is the location error EZ0B.
         let paper002 = Chain::paper002();
         assert!(!ids(&paper002).contains(&"pivot_length"));
@@ -495,7 +512,21 @@ mod tests {
         let paper001 = Chain::paper001(499.889, 0.0);
         let a = ids(&paper001);
         assert!(!a.contains(&"c_index") && !a.contains(&"backlash_c"));
-        assert_eq!(&a[a.len() - 3..], ["pivot_length", "backlash_a", "a_index"]);
+        assert_eq!(
+            &a[a.len() - 10..],
+            [
+                "pivot_length",
+                "backlash_a",
+                "a_index",
+                "tool_wear",
+                "servo_lag_x",
+                "servo_lag_y",
+                "servo_lag_z",
+                "servo_lag_b",
+                "servo_lag_a",
+                "servo_common"
+            ]
+        );
         assert_eq!(
             Effect::CIndex.absent_from(&paper001).unwrap(),
             "the machine has no C axis"

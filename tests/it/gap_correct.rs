@@ -94,9 +94,14 @@ fn equivalent_effects_give_the_same_location_errors() {
     )
     .unwrap();
     let alt = &a.correction.alternatives;
-    assert_eq!(alt.len(), 1, "{alt:?}");
+    // tool_taper, and since issue 30 tool_wear (cosine 0.981 on these points once the location
+    // errors are fitted): the taper gives the same location errors, the wear does not (the
+    // part cannot tell them apart, and the report says the answer depends on the choice)
+    assert_eq!(alt.len(), 2, "{alt:?}");
     assert_eq!(alt[0].effect.id(), "tool_taper");
     assert!(alt[0].difference_std < 0.1 && alt[0].same_answer, "{alt:?}");
+    assert_eq!(alt[1].effect.id(), "tool_wear");
+    assert!(!alt[1].same_answer, "{alt:?}");
     assert!(a
         .correction
         .summary

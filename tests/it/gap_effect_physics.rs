@@ -218,14 +218,16 @@ fn each_machine_models_its_own_candidates() {
             .collect()
     };
     let p000 = ids(MachineChoice::Paper000);
-    assert_eq!(p000.len(), 15);
+    // the 15 of effects.md's table, then tool wear, the servo of each of its 5 axes, the common lag
+    assert_eq!(p000.len(), 22);
     assert_eq!(
-        p000,
+        p000[..15],
         Effect::ALL[..15].iter().map(|e| e.id()).collect::<Vec<_>>()
     );
     let p002 = ids(MachineChoice::Paper002);
     // No pivot; and its C index is -0.976 EC0B on the part (gap::effects::location_equivalent).
-    assert_eq!(p002.len(), 13);
+    // (13 of the table, then tool wear, the servo of X, Y, Z, B, C and the common lag)
+    assert_eq!(p002.len(), 20);
     assert!(!p002.contains(&"pivot_length"));
     assert!(!p002.contains(&"c_index"));
     let p001 = ids(MachineChoice::Paper001);
@@ -246,7 +248,14 @@ fn each_machine_models_its_own_candidates() {
             "scale_z",
             "pivot_length",
             "backlash_a",
-            "a_index"
+            "a_index",
+            "tool_wear",
+            "servo_lag_x",
+            "servo_lag_y",
+            "servo_lag_z",
+            "servo_lag_b",
+            "servo_lag_a",
+            "servo_common",
         ]
     );
     // The A axis reverses along the path and its backlash shows.

@@ -50,9 +50,11 @@ fn geometric_signatures_match_the_reference() {
         c_table_sign: testpiece::effects::machine::c_table_sign(&Chain::paper000(PAPER000_L0)),
         ..Default::default()
     };
+    // (the families of "Shapes are families" are not in effect_signatures.csv: tool_wear and
+    // servo_common are checked in gap_effects_families and sensitivity_servo)
     let geometric: Vec<Effect> = Effect::on_chain(&Chain::paper000(PAPER000_L0))
         .into_iter()
-        .filter(|e| e.axis().is_none())
+        .filter(|e| e.axis().is_none() && !matches!(e, Effect::ToolWear | Effect::ServoCommon))
         .collect();
     assert_eq!(geometric.len(), 7);
     for e in geometric {
@@ -121,7 +123,14 @@ fn full_model_matches_the_reference() {
         assert!(d < 1e-6, "{name}: {d:e}");
     }
     let sig = table("effect_signatures.csv");
-    for c in &m.candidates {
+    // the families of "Shapes are families" are not in effect_signatures.csv (servo:
+    // sensitivity_servo against servo_signatures.csv)
+    for c in m.candidates.iter().filter(|c| {
+        !matches!(
+            c.effect,
+            Effect::ToolWear | Effect::ServoLag(_) | Effect::ServoCommon
+        )
+    }) {
         for (j, p) in c.effect.parameter_names().iter().enumerate() {
             let col: Vec<f64> = c.signature.matrix.column(j).iter().copied().collect();
             let d = rel_max_diff(&col, &sig.numbers(&format!("{}.{p}", c.effect)).unwrap());

@@ -109,6 +109,11 @@ fn the_tilting_table_model_is_its_own() {
             }
             "c_index" => assert!(own.iter().zip(&other).all(|(a, b)| *a == -b)),
             "backlash_c" | "scale_y" => assert!(r_diff <= 1e-12 * r_other, "{}", c.effect),
+            // the servo columns follow each machine's own axis rates (the tilting table's Z moves
+            // along the tool axis, in the walls: its column is zero or rounding there)
+            id if id.starts_with("servo_") => {
+                assert!(own.iter().all(|v| v.is_finite()), "{}", c.effect)
+            }
             _ => assert_eq!(own, other, "{}", c.effect),
         }
     }

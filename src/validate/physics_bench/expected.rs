@@ -1,9 +1,9 @@
 //! What the diagnosis should say of a physics part: in the catalogue of effects.md (which id, and
 //! which ids count as the same), outside it, or clean; and whether a verdict is right.
 //!
-//! effects.md lists effects the product does not have as candidates yet (`tool_wear`,
-//! `servo_lag_<axis>`, `servo_common`, in "Shapes are families"): they are in the catalogue, and
-//! the product cannot name them ([`CatalogueId::Pending`]).
+//! The families of effects.md's "Shapes are families" (`tool_wear`, `servo_lag_<axis>`,
+//! `servo_common`) are candidates of the product since issue 30; their ids keep variants of their
+//! own here because the generator's physics names them, not the product's signatures.
 //!
 //! A verdict is **right** (the rule of [`super::super::single`]):
 //! - `none` when the part is clean or its visible structure is at most the detection limit;
@@ -42,12 +42,14 @@ impl CatalogueId {
             CatalogueId::ServoCommon => "servo_common".into(),
         }
     }
-    /// The product's candidate, when it has one.
+    /// The product's candidate (every id of the catalogue has one since issue 30).
     pub fn effect(&self) -> Option<Effect> {
-        match self {
-            CatalogueId::Product(e) => Some(*e),
-            _ => None,
-        }
+        Some(match self {
+            CatalogueId::Product(e) => *e,
+            CatalogueId::ToolWear => Effect::ToolWear,
+            CatalogueId::ServoLag(a) => Effect::ServoLag(*a),
+            CatalogueId::ServoCommon => Effect::ServoCommon,
+        })
     }
 }
 
