@@ -220,8 +220,9 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
                 .any(|e| e == named || equivalent.contains(e))
         })
     };
-    let shaped = crate::gap::which::at_fitted_shapes(&input.candidates, &fits);
-    if let Some(pf) = best_pair(&ctx, &shaped, &fits, base_cv_score).filter(|pf| keeps_named(pf))
+    // (the pairs fit a family's shape jointly with the other member)
+    if let Some(pf) =
+        best_pair(&ctx, &input.candidates, &fits, base_cv_score).filter(|pf| keeps_named(pf))
     {
         verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
         pair = Some(pf);

@@ -39,6 +39,7 @@ use serde::Serialize;
 
 use crate::effects::data::{Candidate, NamedColumns};
 use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
+use crate::gap::shape::rss_with;
 use crate::gap::which::{fit_candidate, CandidateFit, Context};
 use crate::numerics::order::sort_by_key_f64;
 use crate::numerics::stats;
@@ -64,6 +65,52 @@ pub struct PairFit {
     /// The joint fit (`effect` = `first`, `with` = `second`, parameters named
     /// `<effect>.<parameter>`).
     pub fit: CandidateFit,
+    /// The grid indices of the members' shapes fitted jointly (a family's lag or warm-up found
+    /// with the other member in the model, [`joint_shapes`]; `None` for one shape).
+    #[serde(skip)]
+    pub shapes: [Option<usize>; 2],
+}
+
+/// The members' shapes fitted jointly: each family member's shape chosen with the other member
+/// in the model (variable projection over its grid, the other at its shape), in turn, twice: a
+/// shape that the single fit bent towards the other effect's structure is found again once that
+/// structure is fitted. Returns the members at those shapes and the grid indices.
+fn joint_shapes(
+    ctx: &Context,
+    a: &Candidate,
+    b: &Candidate,
+    start: [Option<usize>; 2],
+) -> (Candidate, Candidate, [Option<usize>; 2]) {
+    let mut idx = start;
+    if a.family.is_none() && b.family.is_none() {
+        return (a.at_shape(None), b.at_shape(None), [None, None]);
+    }
+    let rss = |s: &DMatrix<f64>| rss_with(&ctx.baseline.factor, &ctx.baseline.residual, s);
+    for _ in 0..2 {
+        for which in 0..2 {
+            let (me, other) = if which == 0 { (a, b) } else { (b, a) };
+            let Some(family) = &me.family else { continue };
+            let fixed = other.at_shape(idx[1 - which]);
+            let best = family
+                .signatures
+                .iter()
+                .enumerate()
+                .map(|(k, m)| {
+                    let member = Candidate::new(
+                        me.effect,
+                        NamedColumns {
+                            params: me.signature.params.clone(),
+                            matrix: m.clone(),
+                        },
+                    );
+                    (k, rss(&stacked(&member, &fixed).signature.matrix))
+                })
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .map(|(k, _)| k);
+            idx[which] = best;
+        }
+    }
+    (a.at_shape(idx[0]), b.at_shape(idx[1]), idx)
 }
 
 /// The candidate `first + second`: stacked signatures, parameters named `<effect>.<name>`; it
@@ -152,7 +199,12 @@ pub fn best_pair(
             candidates.iter().find(|c| c.effect == a.effect)?,
             candidates.iter().find(|c| c.effect == b.effect)?,
         );
-        let mut fit = fit_candidate(&pair_ctx, &stacked(ca, cb));
+        let start = [
+            a.shape.as_ref().map(|s| s.grid_index),
+            b.shape.as_ref().map(|s| s.grid_index),
+        ];
+        let (ca, cb, shapes) = joint_shapes(ctx, ca, cb, start);
+        let mut fit = fit_candidate(&pair_ctx, &stacked(&ca, &cb));
         let q = fit.evidence.added_rank;
         let rss_ab = rss(&fit);
         tried.push((a.effect, b.effect, rss_ab));
@@ -194,6 +246,11 @@ pub fn best_pair(
                 p_bonferroni: (pv * tries as f64).min(1.0),
                 added_rms: v,
                 fit,
+                shapes: if first.effect == a.effect {
+                    shapes
+                } else {
+                    [shapes[1], shapes[0]]
+                },
             });
         }
     }

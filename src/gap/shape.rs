@@ -67,6 +67,16 @@ fn profile(factor: &Factor, r0: &DVector<f64>, members: &[DMatrix<f64>]) -> Vec<
         .collect()
 }
 
+/// The residual sum of squares of the baseline plus the columns `s`, on the baseline residual
+/// `r0` (Frisch–Waugh–Lovell).
+pub fn rss_with(factor: &Factor, r0: &DVector<f64>, s: &DMatrix<f64>) -> f64 {
+    let scale: Vec<f64> = (0..s.ncols()).map(|j| s.column(j).norm()).collect();
+    let u = factor.unabsorbed(s);
+    let fu = Factor::new(&u, Some(&scale));
+    let theta = &fu.pinv * r0;
+    (r0 - &u * theta).norm_squared()
+}
+
 /// `m_eff` of the family of `c` on the baseline `factor` (module doc); 1 for a candidate of one
 /// shape.
 pub fn effective_shapes(factor: &Factor, c: &Candidate) -> f64 {

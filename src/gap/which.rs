@@ -283,17 +283,33 @@ fn parameter_keys(c: &Candidate) -> Vec<String> {
         .collect()
 }
 
-/// The candidates at the shapes their fits found (a family's fitted lag or warm-up; the others as
-/// they are), each of one shape: what the pairs and the final fit use.
-pub fn at_fitted_shapes(candidates: &[Candidate], fits: &[CandidateFit]) -> Vec<Candidate> {
+/// The candidates at the shapes the diagnosis fitted (a family's lag or warm-up; the others as
+/// they are), each of one shape: what the final fit uses. The members of a pair verdict at the
+/// shapes fitted jointly ([`crate::gap::pairs::PairFit::shapes`]), every other candidate at its
+/// single fit's.
+pub fn at_fitted_shapes(
+    candidates: &[Candidate],
+    fits: &[CandidateFit],
+    pair: Option<&crate::gap::pairs::PairFit>,
+) -> Vec<Candidate> {
     candidates
         .iter()
         .map(|c| {
-            let index = fits
-                .iter()
-                .find(|f| f.effect == c.effect && f.with.is_none())
-                .and_then(|f| f.shape.as_ref())
-                .map(|s| s.grid_index);
+            let joint = pair.and_then(|p| {
+                if p.first == c.effect {
+                    Some(p.shapes[0])
+                } else if p.second == c.effect {
+                    Some(p.shapes[1])
+                } else {
+                    None
+                }
+            });
+            let index = joint.unwrap_or_else(|| {
+                fits.iter()
+                    .find(|f| f.effect == c.effect && f.with.is_none())
+                    .and_then(|f| f.shape.as_ref())
+                    .map(|s| s.grid_index)
+            });
             c.at_shape(index)
         })
         .collect()

@@ -45,13 +45,19 @@ fn accuracy_floors_on_a_fixed_seed() {
         "{}",
         table(&r)
     );
-    // The shrink achieved on a correct verdict is the achievable one (same fit).
+    // The shrink achieved on a correct verdict is the achievable one (same fit); a family's
+    // (backlash lag, warm-up) fits its shape too, so it may shrink more than the true shape's
+    // fit, never less.
     for e in &r.per_effect {
         if e.detectable.cases > 0 && e.detectable.correct == e.detectable.cases {
-            assert!(
-                (e.shrink_achieved - e.shrink_achievable).abs() < 1e-9,
-                "{e:?}"
-            );
+            if e.effect.shape().is_some() {
+                assert!(e.shrink_achieved >= e.shrink_achievable - 1e-9, "{e:?}");
+            } else {
+                assert!(
+                    (e.shrink_achieved - e.shrink_achievable).abs() < 1e-9,
+                    "{e:?}"
+                );
+            }
         }
     }
 }
