@@ -8,7 +8,7 @@
 //!   neighbours in the grid's coordinate (`ln τ`; for the warm-up the index, whose last value is
 //!   the linear law `f = ∞`).
 //! - **Interval** (95 %): the profile `{τ : (RSS(τ) − RSS_min)/s² ≤ F₀.₉₅(1, n − p − q)}`, `s²`
-//!   the decision's σ² (the part's σ when it is fixed, else `RSS_min/(n − p − q)`), its ends
+//!   the larger of the decision's σ² (the part's σ when it is fixed) and `RSS_min/(n − p − q)`, its ends
 //!   interpolated linearly between the grid values where the profile crosses the bound; an end
 //!   that reaches the grid's is open (the part cannot bound the shape on that side).
 //! - **The search's cost** (effects.md: "the significance test must account for the search"): the
@@ -187,7 +187,13 @@ pub fn fit_shape(
     let (rss_min, q) = prof[best];
     let n = r0.len();
     let dof = (n.saturating_sub(p + q)).max(1) as f64;
-    let s2 = given_s2.unwrap_or(rss_min / dof).max(f64::MIN_POSITIVE);
+    // σ² of the profile: the part's (when fixed), or the fit's residual mean square when that
+    // is larger (structure the family does not model widens the interval instead of being read
+    // as a sharp shape)
+    let s2 = given_s2
+        .unwrap_or(0.0)
+        .max(rss_min / dof)
+        .max(f64::MIN_POSITIVE);
     let bound = f_quantile(SHAPE_CONFIDENCE, dof);
     let mut z: Vec<f64> = prof.iter().map(|(r, _)| (r - rss_min) / s2).collect();
     let coords = coordinates(grid);

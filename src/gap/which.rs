@@ -366,7 +366,21 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
         (rss / (n - ctx.smooth.factor.rank - fs.rank).max(1) as f64).sqrt()
     });
     let keys = parameter_keys(c);
-    let parameters = estimates(&keys, &theta, &fu.cov, s2);
+    let mut parameters = estimates(&keys, &theta, &fu.cov, s2);
+    // a servo lag's std holds the first-order formula's own uncertainty
+    // ([`crate::sensitivity::servo::FIRST_ORDER_REL`])
+    for (id, key) in c.signature.params.iter().zip(&keys) {
+        if matches!(
+            id.effect(),
+            Some(Effect::ServoLag(_) | Effect::ServoCommon)
+        ) {
+            if let Some(e) = parameters.get_mut(key) {
+                e.std = e
+                    .std
+                    .hypot(crate::sensitivity::servo::FIRST_ORDER_REL * e.value.abs());
+            }
+        }
+    }
     let (f, p_value) = if q > 0 && rss1 > 0.0 {
         let f = ((rss0 - rss1).max(0.0) / q as f64) / s2;
         (f, stats::f_sf(f, q as f64, dof1))

@@ -39,6 +39,12 @@ use super::SensitivityError;
 /// test `servo_signatures_match_reference`).
 pub const STEP_U: f64 = 2.5e-4;
 
+/// The relative uncertainty of the first-order formulas against servos simulated in time, added
+/// in quadrature to a fitted servo lag's std: the reference README (servo_signatures.csv) measures
+/// fitted lags 1.6-2.7 % from the true `l` and the signatures 2-7 % RMS from the simulated
+/// defects (more for second-order loops and once `L` passes about 0.6 mm): 5 %.
+pub const FIRST_ORDER_REL: f64 = 0.05;
+
 /// The servo columns at measurement points: one `servo_lag_<axis>.l` column per axis of the chain
 /// (chain order), and the `servo_common.L2` column.
 #[derive(Debug, Clone, PartialEq)]

@@ -720,9 +720,6 @@ fn summarise(
                 r.correct && (r.spike.is_none() && r.outliers.is_empty() || spike_named),
             );
         }
-        if std::env::var_os("TP_DEBUG").is_some() && !r.correct {
-            eprintln!("DEBUG case {} truth {:?} ratio {:.2} expected {} verdict {}", r.case, r.truth, r.ratio, r.expected, r.verdict);
-        }
         *confusion
             .entry(r.expected.to_string())
             .or_default()

@@ -20,6 +20,7 @@
 pub mod expected;
 pub mod report;
 pub mod score;
+pub mod shape_check;
 
 pub use report::{physics_table, PhysicsCase, PhysicsReport};
 

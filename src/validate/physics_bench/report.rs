@@ -122,6 +122,9 @@ pub struct Summary {
     pub in_catalogue_right: f64,
     pub in_catalogue_product_right: f64,
     pub out_of_catalogue_right: f64,
+    /// Named families whose fitted shape lies within its 95 % interval, per kind of shape
+    /// (`backlash lag`, `warm-up`, `servo lag`): (within, scored).
+    pub shape_within: BTreeMap<String, (usize, usize)>,
 }
 
 /// The report of a physics run.
@@ -249,6 +252,15 @@ impl PhysicsReport {
                 &|c: &&PhysicsCase| matches!(&c.catalogue, Catalogue::In { id, .. } if id.effect().is_some()),
             ),
             out_of_catalogue_right: right_rate(&out_cat),
+            shape_within: r
+                .iter()
+                .filter_map(|c| c.judged.shape)
+                .fold(BTreeMap::new(), |mut m, sc| {
+                    let e: &mut (usize, usize) = m.entry(sc.what.to_string()).or_default();
+                    e.0 += usize::from(sc.within);
+                    e.1 += 1;
+                    m
+                }),
         };
         PhysicsReport {
             seed,
@@ -336,6 +348,21 @@ pub fn physics_table(r: &PhysicsReport) -> String {
         pct(s_.in_catalogue_product_right).trim(),
         pct(s_.out_of_catalogue_right).trim()
     );
+    if !s_.shape_within.is_empty() {
+        let (w, n) = s_
+            .shape_within
+            .values()
+            .fold((0, 0), |(a, b), (w, n)| (a + w, b + n));
+        let each: Vec<String> = s_
+            .shape_within
+            .iter()
+            .map(|(k, (w, n))| format!("{k} {w}/{n}"))
+            .collect();
+        s += &format!(
+            "done when (issue 30): fitted shape within its 95 % interval, named families: {w}/{n} ({}) (target >= 90 %)\n",
+            each.join(", ")
+        );
+    }
     s += "coverage: location errors of the final answer (baseline) within 2 std of the truth; \
           std/true: median final std over the true model's fit's; ρ: visible structure / limit\n";
     s += &rows("group (by truth)", &r.groups);

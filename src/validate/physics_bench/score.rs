@@ -28,6 +28,7 @@ use crate::validate::physics::GeneratedPart;
 use crate::validate::{ValidateError, ValidationModel};
 
 use super::expected::{Catalogue, Expected};
+use super::shape_check::ShapeCheck;
 
 /// What the analysis said of a part.
 #[derive(Debug, Clone)]
@@ -43,6 +44,8 @@ pub struct Analysed {
     pub outliers: usize,
     pub baseline: Identification,
     pub answer: Identification,
+    /// The named family's fitted shape against the physics ([`super::shape_check`]).
+    pub shape: Option<ShapeCheck>,
 }
 
 /// The judged case.
@@ -58,6 +61,9 @@ pub struct Judged {
     pub final_error: AnswerError,
     /// Per location error, the final std over the true model's std (NaN without a std).
     pub std_ratio: Vec<f64>,
+    /// The named family's fitted shape against the physics.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<ShapeCheck>,
 }
 
 /// The model a run scores against: the part, its points, the baseline design and candidates.
@@ -164,6 +170,7 @@ impl<'a> Scorer<'a> {
             equivalent.extend(w.equivalent.iter().copied());
         }
         Ok(Analysed {
+            shape: super::shape_check::check(&part.physics, report),
             verdict: v.id(),
             named: v.finding.effects(),
             equivalent,
@@ -235,6 +242,7 @@ impl<'a> Scorer<'a> {
             baseline_error: answer_error(params, &xi, &a.baseline),
             final_error: answer_error(params, &xi, &a.answer),
             std_ratio,
+            shape: a.shape,
         }
     }
 
