@@ -35,7 +35,8 @@ export function gapView(root, a) {
   root.append(table('gap-candidates', `Candidate effects, each added alone to the baseline (folds: ${d.folds.join(', ')})`,
     ['effect', 'parameters', 'RMS (µm)', 'withheld RMS (µm)', 'shrink', 'F-test p (Bonferroni)', 'unabsorbed RMS (µm)', 'significant'],
     d.candidates.map((c) => [c.effect,
-      Object.entries(c.parameters).map(([k, p]) => `${k} = ${Number(p.value.toPrecision(4))} ± ${Number(p.std.toPrecision(2))}`).join('; '),
+      Object.entries(c.parameters).map(([k, p]) => `${k} = ${Number(p.value.toPrecision(4))} ± ${Number(p.std.toPrecision(2))}`).join('; ')
+        + (c.shape ? `; ${shapeText(c.shape)}` : ''),
       { text: um(c.rms), num: true, value: c.rms * 1000 }, { text: um(c.cv_rms), num: true, value: c.cv_rms * 1000 },
       { text: `${(c.shrink * 100).toFixed(0)} %`, num: true, value: c.shrink },
       { text: c.evidence.p_bonferroni.toExponential(1), num: true, value: c.evidence.p_bonferroni },
@@ -52,4 +53,12 @@ export function gapView(root, a) {
   root.append(h('h2', {}, 'Where, on the plots and the plan view'),
     h('p', {}, 'The shaded points are those of the chosen group of the table above (by default the curve or region where the core finds the baseline residual concentrated); the ▼ marks are the axis reversals of the tool path that the core marks. The plots show the baseline identification\'s residual (the location errors alone) at the same points: the gap the diagnosis explains.'),
     whereControl(a, 'gap'), residualChart(a, 'gap-where-residual', a.baseline.identification), planView(a, 'gap-where-plan', a.baseline.identification));
+}
+
+/** A family's fitted shape with its 95 % interval (the core's `shape`: a backlash's lag `tau` in
+ * mm of tool-tip path, a warm-up constant `f`; an open end is not bounded by the part). */
+function shapeText(sh) {
+  const v = (x) => (x === null || !Number.isFinite(x) ? '∞ (linear)' : String(Number(x.toPrecision(3))));
+  const unit = sh.unit === 'mm' ? ' mm of path' : '';
+  return `${sh.name} = ${v(sh.value)}${unit} (95 %: ${sh.low_open ? '≤ ' : ''}${v(sh.low)} to ${sh.high_open ? '≥ ' : ''}${v(sh.high)})`;
 }

@@ -79,16 +79,18 @@ pub fn fit_points(
     let outliers = outliers_of(&modelled, ids, opts.keep_outliers);
     let diagnosis = modelled.diagnosis;
     // the candidates at the shapes the diagnosis fitted (a backlash's lag, a warm-up)
-    let shaped = modelled.model.map_or_else(Vec::new, |m| match diagnosis.report() {
-        Some(r) => crate::gap::which::at_fitted_shapes(
-            &m.candidates,
-            &r.candidates,
-            r.pair
-                .as_ref()
-                .filter(|_| r.verdict.finding.with().is_some()),
-        ),
-        None => m.candidates.clone(),
-    });
+    let shaped = modelled
+        .model
+        .map_or_else(Vec::new, |m| match diagnosis.report() {
+            Some(r) => crate::gap::which::at_fitted_shapes(
+                &m.candidates,
+                &r.candidates,
+                r.pair
+                    .as_ref()
+                    .filter(|_| r.verdict.finding.with().is_some()),
+            ),
+            None => m.candidates.clone(),
+        });
     let (final_design, final_id, final_refinement, correction) = final_answer(
         FinalInput {
             candidates: &shaped,

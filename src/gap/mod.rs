@@ -43,8 +43,8 @@ pub mod folds;
 pub mod location;
 pub mod pairs;
 pub mod regions;
-pub mod shape;
 pub mod report;
+pub mod shape;
 pub mod verdict;
 pub mod which;
 

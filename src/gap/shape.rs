@@ -240,12 +240,16 @@ pub fn fit_shape(
     let high_open = hi_k + 1 == grid.len();
     let low = match (low_open, half) {
         (true, _) => grid[0],
-        (false, Some(h)) if lo_k == best => value_at(grid, &coords, (refined - h).max(coords[best - 1])),
+        (false, Some(h)) if lo_k == best => {
+            value_at(grid, &coords, (refined - h).max(coords[best - 1]))
+        }
         _ => value_at(grid, &coords, cross(lo_k, lo_k - 1)),
     };
     let high = match (high_open, half) {
         (true, _) => grid[grid.len() - 1],
-        (false, Some(h)) if hi_k == best => value_at(grid, &coords, (refined + h).min(coords[best + 1])),
+        (false, Some(h)) if hi_k == best => {
+            value_at(grid, &coords, (refined + h).min(coords[best + 1]))
+        }
         _ => value_at(grid, &coords, cross(hi_k, hi_k + 1)),
     };
     Some(ShapeFit {
@@ -282,10 +286,7 @@ mod tests {
         let a = DMatrix::from_element(n, 1, 1.0);
         let factor = Factor::new(&a, None);
         let mut rng = Sampler::new(7);
-        let y = DVector::from_iterator(
-            n,
-            col(3.1).iter().map(|v| 0.5 * v + 0.01 * rng.normal()),
-        );
+        let y = DVector::from_iterator(n, col(3.1).iter().map(|v| 0.5 * v + 0.01 * rng.normal()));
         let r0 = factor.unabsorbed_vec(&y);
         let c = Candidate {
             effect: Effect::ThermalDrift,

@@ -370,10 +370,7 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
     // a servo lag's std holds the first-order formula's own uncertainty
     // ([`crate::sensitivity::servo::FIRST_ORDER_REL`])
     for (id, key) in c.signature.params.iter().zip(&keys) {
-        if matches!(
-            id.effect(),
-            Some(Effect::ServoLag(_) | Effect::ServoCommon)
-        ) {
+        if matches!(id.effect(), Some(Effect::ServoLag(_) | Effect::ServoCommon)) {
             if let Some(e) = parameters.get_mut(key) {
                 e.std = e
                     .std

@@ -252,15 +252,15 @@ impl PhysicsReport {
                 &|c: &&PhysicsCase| matches!(&c.catalogue, Catalogue::In { id, .. } if id.effect().is_some()),
             ),
             out_of_catalogue_right: right_rate(&out_cat),
-            shape_within: r
-                .iter()
-                .filter_map(|c| c.judged.shape)
-                .fold(BTreeMap::new(), |mut m, sc| {
+            shape_within: r.iter().filter_map(|c| c.judged.shape).fold(
+                BTreeMap::new(),
+                |mut m, sc| {
                     let e: &mut (usize, usize) = m.entry(sc.what.to_string()).or_default();
                     e.0 += usize::from(sc.within);
                     e.1 += 1;
                     m
-                }),
+                },
+            ),
         };
         PhysicsReport {
             seed,
