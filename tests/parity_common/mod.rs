@@ -51,8 +51,11 @@ pub const LM_FTOL_REL: f64 = 3e-7;
 /// statistics formed by cancellation (residuals ≈ 1e-5 mm of deviations ≈ 1e-2 mm,
 /// linearisation error, shrink, F, χ² p-values) carry the ≤ 1-ulp differences of sin, cos,
 /// atan2 between glibc (native) and Rust's libm port (wasm32), amplified ~1e3; measured at most
-/// 2.2e-10 relative (absolute ≤ 2e-12).
-pub const LOOSE_REL: f64 = 1e-9;
+/// 2.2e-10 relative (absolute ≤ 2e-12). Since issue 30 the servo candidates' columns are central
+/// differences of the inverse kinematics in `u` (step 2.5e-4, the second difference divided by
+/// its square: `sensitivity::servo`), which amplify the same ulp differences further: measured
+/// 1.3e-9 relative on a candidate's statistics (the clean example's `cv_shrink`).
+pub const LOOSE_REL: f64 = 5e-9;
 pub const LOOSE_ABS: f64 = 1e-15;
 
 /// The three example files of the page (tests/data/reference/examples/).

@@ -3,7 +3,7 @@
 //! as the native core, and its `verdict_line` is the first line of the summary.
 //!
 //! Expected ids: the native `testpiece diagnose tests/data/reference/examples/<file> --json`
-//! (`none`; `tool_radius` with `tool_taper` equivalent; `backlash_c`), each also in the key's
+//! (`none`; `tool_radius` with `tool_taper` and, since issue 30, `tool_wear` equivalent; `backlash_c`), each also in the key's
 //! `accept` list. The in-sample RMS after the verdict must agree with the native figures to
 //! 1e-9 mm.
 
@@ -21,7 +21,7 @@ const CASES: [(&str, &[u8], &str, &[&str], f64); 3] = [
         "example_tool_radius.csv",
         TOOL_RADIUS,
         "tool_radius",
-        &["tool_taper"],
+        &["tool_taper", "tool_wear"],
         1.536_512_9e-3,
     ),
     (
