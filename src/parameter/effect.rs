@@ -67,7 +67,8 @@ pub fn backlash_axes(chain: &Chain) -> Vec<AxisName> {
 pub const SCALE_AXES: [AxisName; 3] = [AxisName::X, AxisName::Y, AxisName::Z];
 
 impl Effect {
-    /// Every candidate, in the order of effects.md (then those added for paper 001's A-B head).
+    /// Every candidate, in the order of effects.md's table (then those added for paper 001's A-B
+    /// head, then the families of its "Shapes are families").
     pub const ALL: [Effect; 25] = [
         Effect::ToolRadius,
         Effect::ToolTaper,

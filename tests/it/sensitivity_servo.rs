@@ -7,16 +7,7 @@ use testpiece::part::{builtin_points, SShape};
 use testpiece::sensitivity::servo::servo_signatures;
 use testpiece::sensitivity::{axis_values, SensitivityOptions};
 
-const SERVO: &str = include_str!("../data/reference/servo_signatures.csv");
-
-fn column(name: &str) -> Vec<f64> {
-    let mut lines = SERVO.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let j = header.iter().position(|h| *h == name).unwrap();
-    lines
-        .map(|l| l.split(',').nth(j).unwrap().parse().unwrap())
-        .collect()
-}
+use crate::validate_physics::servo_column as column;
 
 fn worst(got: &[f64], want: &[f64]) -> f64 {
     let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));

@@ -10,8 +10,9 @@ use testpiece::validate::physics::servo::{AxisLoop, Response};
 const SERVO: &str = include_str!("../data/reference/servo_signatures.csv");
 use testpiece::tolerance::SERVO_COLUMNS_MM;
 
-/// Column `name` of `servo_signatures.csv` (mm), in point order.
-fn servo_column(name: &str) -> Vec<f64> {
+/// Column `name` of `servo_signatures.csv` (mm), in point order (also read by
+/// `sensitivity_servo`).
+pub(crate) fn servo_column(name: &str) -> Vec<f64> {
     let mut lines = SERVO.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let j = header.iter().position(|h| *h == name).unwrap();
