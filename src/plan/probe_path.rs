@@ -59,7 +59,7 @@ pub const MAX_ESCAPE: f64 = 40.0;
 /// Largest spacing of the part's sample grid and of a move's samples (mm).
 pub const GRID_MM: f64 = 0.5;
 /// Distances beyond this (mm) are reported as this: nothing is near.
-pub const FAR: f64 = 50.0;
+pub const FAR: f64 = 10.0;
 
 /// One touch: the nominal surface point and its outward unit normal (mm, part frame), and the
 /// stylus's orientation ([`Stylus::for_normal`]).
@@ -131,45 +131,51 @@ impl Obstacles {
         let v_at = |j: usize| v0 + (1.0 - v0) * j as f64 / nv as f64;
         let mut tiles = Vec::new();
         let mut diag = 0.0f64;
-        // The walls: grid (u_i, v_j) per surface, in tiles.
+        // The walls: grid (u_i, v_j) per surface, in tiles; the curves evaluated once per u_i.
+        let dv_max = (HEIGHT * (1.0 - v0) * 1.25) / nv as f64;
+        let mut columns = Vec::new();
         for s in Surface::BOTH {
+            let [c0, c1] = part.curves(s);
+            let col: Vec<(Vector3<f64>, Vector3<f64>)> = (0..=nu)
+                .map(|i| (c0.point_at(u_at(i)), c1.point_at(u_at(i))))
+                .collect();
+            let at = |i: usize, v: f64| col[i].0 * (1.0 - v) + col[i].1 * v;
+            for i in 1..=nu {
+                for v in [v0, 1.0] {
+                    let du = (at(i, v) - at(i - 1, v)).norm();
+                    diag = diag.max((du * du + dv_max * dv_max).sqrt());
+                }
+            }
             for i0 in (0..nu).step_by(TILE) {
                 for j0 in (0..nv).step_by(TILE) {
                     let mut pts = Vec::new();
                     for i in i0..=(i0 + TILE).min(nu) {
                         for j in j0..=(j0 + TILE).min(nv) {
-                            let p = part.point_at(s, u_at(i), v_at(j));
-                            if i > 0 && j > 0 {
-                                let du = p - part.point_at(s, u_at(i - 1), v_at(j));
-                                let dv = p - part.point_at(s, u_at(i), v_at(j - 1));
-                                diag = diag.max((du.norm_squared() + dv.norm_squared()).sqrt());
-                            }
-                            pts.push(p);
+                            pts.push(at(i, v_at(j)));
                         }
                     }
                     tiles.push(Tile::new(pts));
                 }
             }
+            columns.push(col);
         }
         // The top face (v = 1) and the end faces (u = 0, 1): segments from A to B.
-        let across = |u: f64, v: f64| {
-            let (a, b) = (
-                part.point_at(Surface::A, u, v),
-                part.point_at(Surface::B, u, v),
-            );
+        let across = |i: usize, v: f64| {
+            let (ca, cb) = (&columns[0][i], &columns[1][i]);
+            let (a, b) = (ca.0 * (1.0 - v) + ca.1 * v, cb.0 * (1.0 - v) + cb.1 * v);
             let n = ((b - a).norm() / GRID_MM).ceil().max(1.0) as usize;
             (0..=n).map(move |k| a + (b - a) * (k as f64 / n as f64))
         };
         for i0 in (0..nu).step_by(TILE) {
             let pts = (i0..=(i0 + TILE).min(nu))
-                .flat_map(|i| across(u_at(i), 1.0))
+                .flat_map(|i| across(i, 1.0))
                 .collect();
             tiles.push(Tile::new(pts));
         }
-        for u in [0.0, 1.0] {
+        for i in [0, nu] {
             for j0 in (0..nv).step_by(TILE) {
                 let pts = (j0..=(j0 + TILE).min(nv))
-                    .flat_map(|j| across(u, v_at(j)))
+                    .flat_map(|j| across(i, v_at(j)))
                     .collect();
                 tiles.push(Tile::new(pts));
             }
@@ -215,12 +221,27 @@ impl Obstacles {
     /// Smallest distance (mm, at most [`FAR`]) over the straight move from `a` to `b` with the
     /// stylus `s`, sampled every [`GRID_MM`] at most; the number of samples.
     pub fn move_distance(&self, a: &Vector3<f64>, b: &Vector3<f64>, s: &Stylus) -> (f64, usize) {
+        self.move_distance_until(a, b, s, f64::NEG_INFINITY)
+    }
+
+    /// [`Self::move_distance`], stopping at the first sample closer than `floor` (the move is
+    /// then known not to keep `floor`; the distance returned is below it).
+    fn move_distance_until(
+        &self,
+        a: &Vector3<f64>,
+        b: &Vector3<f64>,
+        s: &Stylus,
+        floor: f64,
+    ) -> (f64, usize) {
         let w = s.direction();
         let n = ((b - a).norm() / GRID_MM).ceil().max(1.0) as usize;
         let mut best = FAR;
         for k in 0..=n {
             let c = a + (b - a) * (k as f64 / n as f64);
             best = best.min(self.probe_distance(&c, &w, best));
+            if best < floor {
+                return (best, k + 1);
+            }
         }
         (best, n + 1)
     }
@@ -305,9 +326,13 @@ fn way_up(
     for k in 0..=steps {
         let out = a + h * (k as f64 * ESCAPE_STEP);
         let up = Vector3::new(out.x, out.y, SAFE_Z.max(out.z));
-        let (d1, n1) = obs.move_distance(&a, &out, &t.stylus);
-        let (d2, n2) = obs.move_distance(&out, &up, &t.stylus);
-        *samples += n1 + n2;
+        let (d1, n1) = obs.move_distance_until(&a, &out, &t.stylus, need);
+        *samples += n1;
+        if d1 < need {
+            continue;
+        }
+        let (d2, n2) = obs.move_distance_until(&out, &up, &t.stylus, need);
+        *samples += n2;
         if d1.min(d2) >= need {
             let way = if k == 0 { vec![up] } else { vec![out, up] };
             return Some((way, d1.min(d2)));
@@ -358,24 +383,35 @@ pub fn probe_path(
     let high = |p: &Vector3<f64>| Vector3::new(p.x, p.y, INDEX_Z);
     let mut before = Vec::with_capacity(touches.len());
     let mut samples = 0;
+    let mut ways: Vec<Option<(Vec<Vector3<f64>>, f64)>> = vec![None; touches.len()];
+    let mut way = |k: usize, samples: &mut usize| -> Result<(Vec<Vector3<f64>>, f64), PlanError> {
+        if ways[k].is_none() {
+            ways[k] = Some(way_up(obs, &touches[k], need, samples).ok_or(stuck(k))?);
+        }
+        Ok(ways[k].clone().unwrap_or_default())
+    };
     for (k, t) in touches.iter().enumerate() {
         let b = t.approach_point();
-        let (mut down, db) = way_up(obs, t, need, &mut samples).ok_or(stuck(k))?;
+        if let Some(prev) = k.checked_sub(1).map(|j| &touches[j]) {
+            if prev.stylus == t.stylus {
+                let (d, n) = obs.move_distance_until(&prev.approach_point(), &b, &t.stylus, need);
+                samples += n;
+                if d >= need {
+                    r.straight_moves += 1;
+                    note(&mut r, d, k);
+                    before.push(Vec::new());
+                    continue;
+                }
+            }
+        }
+        let (mut down, db) = way(k, &mut samples)?;
         down.reverse();
         let mut steps: Vec<PathStep> = Vec::new();
         let mut worst = db;
         match k.checked_sub(1).map(|j| &touches[j]) {
             Some(prev) if prev.stylus == t.stylus => {
-                let (d, n) = obs.move_distance(&prev.approach_point(), &b, &t.stylus);
-                samples += n;
-                if d >= need {
-                    r.straight_moves += 1;
-                    note(&mut r, d, k);
-                    before.push(steps);
-                    continue;
-                }
                 r.cleared_moves += 1;
-                let (up, da) = way_up(obs, prev, need, &mut samples).ok_or(stuck(k - 1))?;
+                let (up, da) = way(k - 1, &mut samples)?;
                 let (top_a, top_b) = (up[up.len() - 1], down[0]);
                 let (dt, n) = obs.move_distance(&top_a, &top_b, &t.stylus);
                 samples += n;
@@ -390,10 +426,10 @@ pub fn probe_path(
                 worst = worst.min(da).min(dt);
                 steps.extend(up.into_iter().map(PathStep::Goto));
             }
-            Some(prev) => {
+            Some(_) => {
                 // Another stylus: up to the indexing height, index there.
                 r.cleared_moves += 1;
-                let (up, da) = way_up(obs, prev, need, &mut samples).ok_or(stuck(k - 1))?;
+                let (up, da) = way(k - 1, &mut samples)?;
                 worst = worst.min(da);
                 let top = up[up.len() - 1];
                 steps.extend(up.into_iter().map(PathStep::Goto));
@@ -412,8 +448,8 @@ pub fn probe_path(
         before.push(steps);
     }
     let after = match touches.last() {
-        Some(t) => {
-            let (up, d) = way_up(obs, t, need, &mut samples).ok_or(stuck(touches.len() - 1))?;
+        Some(_) => {
+            let (up, d) = way(touches.len() - 1, &mut samples)?;
             note(&mut r, d, touches.len());
             up.into_iter().map(PathStep::Goto).collect()
         }
