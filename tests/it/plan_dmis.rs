@@ -369,3 +369,54 @@ fn the_plate_is_the_programs() {
         testpiece::program::motion::PLATE_TOP_Z
     );
 }
+
+/// `identify` reads the DMIS output of a measured part (`FA(P<id>_<curve>)=FEAT/POINT,CART,…`,
+/// the form of `src/cmm/dmis_output.rs`, long statements continued with `$`) with the same
+/// result as the CSV `id,curve,x,y,z,nx,ny,nz` of the same measured points: the example part
+/// `backlash_c` (its deviations along the normals of `testpiece points`).
+#[test]
+fn the_dmis_output_identifies_as_the_csv() {
+    let points = crate::cli_common::testpiece_ok(&["points"]);
+    let devs: Vec<f64> = include_str!("../../src/examples/backlash_c.deviation")
+        .split_whitespace()
+        .map(|d| d.parse().unwrap())
+        .collect();
+    let mut csv = String::from("id,curve,x,y,z,nx,ny,nz\n");
+    let mut dmo = String::from("DMISMN/'testpiece measured S-shape',05.3\nUNITS/MM,ANGDEC\n");
+    for (row, d) in points.lines().skip(1).zip(&devs) {
+        let f: Vec<&str> = row.split(',').collect();
+        let v = |k: usize| f[k].parse::<f64>().unwrap();
+        let (p, n) = (
+            Vector3::new(v(4), v(5), v(6)),
+            Vector3::new(v(7), v(8), v(9)),
+        );
+        let m = p + n * *d;
+        let nums = format!(
+            "{:.9},{:.9},{:.9},{:.9},{:.9},{:.9}",
+            m.x, m.y, m.z, n.x, n.y, n.z
+        );
+        csv.push_str(&format!("{},{},{nums}\n", f[0], f[1]));
+        let stmt = format!("FA(P{}_{})=FEAT/POINT,CART,{nums}", f[0], f[1]);
+        for l in testpiece::plan::dmis::statement_lines(&stmt) {
+            dmo.push_str(&l);
+            dmo.push('\n');
+        }
+    }
+    dmo.push_str("ENDFIL\n");
+    assert!(dmo.contains("$\n"), "some statements continued");
+    let dir = std::env::temp_dir().join(format!("testpiece-dmo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (fc, fd) = (dir.join("part.csv"), dir.join("part.dmo"));
+    std::fs::write(&fc, csv).unwrap();
+    std::fs::write(&fd, dmo).unwrap();
+    let id = |f: &std::path::Path| {
+        let out = crate::cli_common::testpiece_ok(&["identify", f.to_str().unwrap(), "--json"]);
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let (a, b) = (id(&fc), id(&fd));
+    assert_eq!(a["points_used"], 100);
+    assert_eq!(a, b, "identify on the DMIS output differs from the CSV");
+    let file = testpiece::cmm::read_cmm(&std::fs::read(&fd).unwrap(), "part.dmo").unwrap();
+    assert_eq!(file.format.kind, testpiece::cmm::FormatKind::DmisOutput);
+    assert_eq!(file.points.len(), 100);
+}
