@@ -24,10 +24,13 @@ export function setupPlan(root, ctx) {
   const downloads = h('div', { class: 'bar' },
     h('button', { type: 'button', id: 'plan-dmis', onclick: () => last && download('testpiece-plan.dms', last.dmis, 'text/plain') }, 'Download DMIS program (ISO 22093)'),
     h('button', { type: 'button', id: 'plan-csv', onclick: () => last && download('testpiece-plan.csv', last.csv, 'text/csv') }, 'Download nominal table (CSV)'));
+  const dmisInfo = h('p', { id: 'plan-dmis-replay' });
   const out = h('div', { id: 'plan-out' });
   root.append(h('h2', {}, 'Measurement plan: where to probe the part, and what it will tell'),
     h('p', {}, 'The points per curve lie at equal arc length from 5 % to 95 % of each measurement curve. The predicted std is what the identification (location errors alone, this σ given) will report on a part measured at these points; the detection limit of an effect is the size at which the part of it that the location errors cannot absorb reaches the diagnosis\'s detection rule (k σ, with the k of the table below).'),
-    controls, downloads, out);
+    controls, downloads,
+    h('p', {}, 'The DMIS program runs on the CMM: it defines the probe (tip diameter 4 mm, on an indexable head that tilts the stylus away from the wall where the wall overhangs), aligns on the fixture plate (its top face and two edge faces: datums A, B, C; the flanks themselves are what is measured, so they are not used for the alignment), measures the points with clearance moves over the part wherever the straight move between two touches would come near it (found by replaying the probe path against the walls and plate), and outputs the measured points. ASCII, lines of at most 80 characters.'),
+    dmisInfo, out);
   const value = (id) => parseFloat(root.querySelector(`#${id}`).value);
 
   async function refresh() {
@@ -43,6 +46,7 @@ export function setupPlan(root, ctx) {
       const r = await ctx.callPrepared(options, 'measurementPlan', options);
       if (mine !== seq) return;
       last = r;
+      renderReplay(dmisInfo, r.dmis_replay);
       render(out, r.plan);
     } catch (e) {
       if (mine !== seq) return;
@@ -58,6 +62,13 @@ export function setupPlan(root, ctx) {
     document.getElementById(id)?.addEventListener('change', () => { if (root.hidden) last = null; else refresh(); });
   }
   return { refresh };
+}
+
+/** The replay of the DMIS program's probe path (crate::plan::probe_path::ProbeReplay). */
+function renderReplay(el, r) {
+  const moves = r.straight_moves + r.cleared_moves;
+  el.dataset.minCertain = String(r.min_distance_certain);
+  el.textContent = `DMIS probe path: ${r.cleared_moves} of ${moves} moves between touches go over the part (${r.gotos} GOTOs, ${r.index_changes} head indexings); every move keeps ${fmtNum(r.min_distance_certain, 'mm')} mm from the part and plate (replayed: ${fmtNum(r.min_distance, 'mm')} mm sampled less the sampling bound ${fmtNum(r.sampling_bound, 'mm')} mm; ${r.clearance} mm required).`;
 }
 
 function render(out, p) {

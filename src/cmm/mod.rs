@@ -1,8 +1,8 @@
 //! Reading CMM exports (`shared/spec/cmm-csv.md`) and matching points to the nominal part.
 //!
 //! Bytes → text ([`decode`]) → lines without comments and blanks ([`lines`]) → a table: a
-//! delimited table with a header ([`delimited`], [`header`]) or a fixed format ([`fixed`]:
-//! PC-DMIS XYZIJK, PowerInspect ASCII) → numbers in mm ([`rows`], [`number`], [`units`]) →
+//! delimited table with a header ([`delimited`], [`header`]), a fixed format ([`fixed`]:
+//! PC-DMIS XYZIJK, PowerInspect ASCII) or a DMIS output ([`dmis_output`]) → numbers in mm ([`rows`], [`number`], [`units`]) →
 //! checks of ids, units and count ([`plausibility`]) → [`CmmFile`].
 //!
 //! Tolerant in what it accepts, strict in what it reports: every non-blank, non-comment row is
@@ -16,6 +16,7 @@
 
 pub mod decode;
 pub mod delimited;
+pub mod dmis_output;
 pub mod error;
 pub mod fixed;
 pub mod header;
@@ -53,6 +54,9 @@ fn parse_table(content: &[(usize, &str)]) -> Result<ParsedTable, CmmError> {
     let (first_line, first) = content[0];
     if fixed::is_xyzijk(first) {
         return fixed::xyzijk(content);
+    }
+    if dmis_output::is_dmis_output(first) {
+        return dmis_output::dmis_output(content);
     }
     if let Some(h) = delimited::find_header(content) {
         let layout = header::layout_from_header(&h.fields, h.line)?;

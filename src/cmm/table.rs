@@ -80,6 +80,8 @@ pub enum FormatKind {
     Xyzijk,
     /// Autodesk PowerInspect ASCII (`name X Y Z I J K offset lowTol highTol`).
     PowerInspect,
+    /// DMIS output (ISO 22093): `FA(label)=FEAT/POINT,CART,x,y,z,i,j,k` per measured point.
+    DmisOutput,
 }
 
 /// What the reader found about the file's format.

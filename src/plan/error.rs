@@ -19,6 +19,25 @@ pub enum PlanError {
     Identify(crate::identify::IdentifyError),
     #[error("effect signatures at the plan's points: {0}")]
     Effects(crate::effects::GapError),
+    #[error(
+        "probe path: no way up from the touch of point {id}: moving out along its normal by up \
+         to {escape} mm, the probe does not keep {clearance} mm from the part on the way up"
+    )]
+    ProbeNoWayUp {
+        id: usize,
+        escape: f64,
+        clearance: f64,
+    },
+    #[error(
+        "probe path: the clearance move from point {from} to point {to} comes within \
+         {distance:.3} mm of the part (expected at least {clearance} mm)"
+    )]
+    ProbeMove {
+        from: usize,
+        to: usize,
+        distance: f64,
+        clearance: f64,
+    },
     #[error("DMIS line {line}: {message} (found `{text}`)")]
     Dmis {
         line: usize,

@@ -9,7 +9,10 @@
 //!   figures equal those of `identify --sigma σ --effects none` on a part measured there);
 //! - the detection limit of every effect of `shared/spec/effects.md` ([`detection`]: the size
 //!   whose unabsorbed part reaches the `2.5 σ` rule);
-//! - the CMM program ([`dmis`], ISO 22093) and the nominal table ([`nominal_csv`]).
+//! - the CMM program ([`dmis`], ISO 22093: probe, datum alignment on the fixture
+//!   ([`fixture`]), clearance moves from the replay of the probe path ([`probe_path`]), output
+//!   of the measured points; read back by [`dmis_read`]) and the nominal table
+//!   ([`nominal_csv`]).
 //!
 //! σ is the CMM's standard uncertainty of one deviation: given (mm), or from its MPE
 //! `A + L/K` µm by the analysis's own rule ([`crate::settings::cmm_noise::noise_from_mpe`]: the median over
@@ -18,15 +21,20 @@
 
 pub mod detection;
 pub mod dmis;
+pub mod dmis_read;
 mod error;
+pub mod fixture;
 pub mod layout;
 pub mod predict;
+pub mod probe_path;
+pub mod stylus;
 
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Serialize, Serializer};
 
 pub use detection::{detection_limits, DetectionLimit, DetectionLimits, ParameterLimit};
-pub use dmis::{read_dmis_points, write_dmis, DmisPoint};
+pub use dmis::{write_dmis, DmisProgram};
+pub use dmis_read::{dmis_statements, read_dmis_points, DmisPoint};
 pub use error::PlanError;
 pub use layout::{plan_points, split_total, MAX_PER_CURVE};
 pub use predict::{predicted_identification, PredictedParameter, Prediction};
@@ -250,9 +258,10 @@ pub fn plan(prepared: &Prepared, opts: &PlanOptions) -> Result<Plan, PlanError> 
 }
 
 impl Plan {
-    /// The DMIS program of the plan ([`write_dmis`]), its header naming the software version,
-    /// the points per curve, the σ and the machine.
-    pub fn dmis(&self) -> String {
+    /// The DMIS program of the plan ([`write_dmis`]), its probe path replayed against the part
+    /// on its plate; its header names the software version, the points per curve, the σ and
+    /// the machine.
+    pub fn dmis(&self) -> Result<DmisProgram, PlanError> {
         let header = format!(
             "testpiece {} measurement plan: {} points ({} per curve A_Z11, A_Z25, B_Z11, B_Z25)\n{}\nmachine: {}",
             self.version,
@@ -261,7 +270,11 @@ impl Plan {
             self.noise.summary,
             self.settings.machine.describe()
         );
-        write_dmis(&self.points, &header)
+        write_dmis(
+            &self.points,
+            &header,
+            &probe_path::Obstacles::s_shape_on_plate(),
+        )
     }
 }
 

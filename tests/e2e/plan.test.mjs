@@ -1,7 +1,8 @@
 // Browser end-to-end test of the Plan view (issue 19, step 1): the plan computed by the wasm core
 // equals the native CLI's `testpiece plan --json` (predicted std of EX0B, the detection limit of
 // backlash_c), changing the points per curve or the CMM σ updates the figures at once, and the
-// DMIS download reads back to the plan's 100 points.
+// DMIS download reads back to the plan's 100 points, is ASCII with lines of at most 80
+// characters, and its probe path keeps 2 mm from the part (the view's replay line).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
@@ -53,7 +54,12 @@ test('the Plan view equals the CLI and follows its inputs at once', async () => 
   await page.waitForFunction(() => document.querySelector('#plan-out')?.dataset.points === '100', null, { timeout: 30000 });
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#plan-dmis')]);
   const dmis = fs.readFileSync(await download.path(), 'utf8');
-  const feats = dmis.split('\n').filter((l) => l.includes('=FEAT/POINT,CART,'));
+  // ASCII, lines of at most 80 characters; `$` at a line's end continues the statement.
+  assert.ok(/^[\x20-\x7e\n]*$/.test(dmis), 'DMIS not printable ASCII');
+  assert.ok(dmis.split('\n').every((l) => l.length <= 80), 'DMIS line over 80 characters');
+  const minCertain = Number(await page.getAttribute('#plan-dmis-replay', 'data-min-certain'));
+  assert.ok(minCertain >= 2, `probe path keeps ${minCertain} mm`);
+  const feats = dmis.replace(/\$\n/g, '').split('\n').filter((l) => l.includes('=FEAT/POINT,CART,'));
   assert.equal(feats.length, 100);
   const points = execFileSync('cargo', ['run', '--quiet', '--bin', 'testpiece', '--', 'points'], { cwd: ROOT, encoding: 'utf8' }).trim().split('\n').slice(1);
   feats.forEach((f, i) => {

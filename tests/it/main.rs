@@ -59,6 +59,7 @@ mod kinematics_inverse;
 mod kinematics_jacobian;
 mod kinematics_peer;
 mod machine_error_set;
+mod plan_dmis;
 mod pool_identify;
 mod pool_refine;
 mod program_dialects;

@@ -25,7 +25,12 @@ fn the_exported_plan_equals_the_core() {
         v["plan"]["parameters"]["EX0B"]["std"].as_f64().unwrap(),
         std
     );
-    assert_eq!(v["dmis"].as_str().unwrap(), core.dmis());
+    let dmis = core.dmis().unwrap();
+    assert_eq!(v["dmis"].as_str().unwrap(), dmis.text);
+    assert_eq!(
+        v["dmis_replay"]["min_distance"].as_f64().unwrap(),
+        dmis.replay.min_distance
+    );
 }
 
 #[wasm_bindgen_test]

@@ -55,9 +55,12 @@ pub struct Args {
     /// detection_limits: {effect: {parameter: size}}, detection_detail, noise, notes}
     #[arg(long, verbatim_doc_comment)]
     json: bool,
-    /// writes the plan as a DMIS program (ISO 22093): per point a point feature with its nominal
-    /// position and outward normal, and its measurement (PTMEAS) with the approach vector;
-    /// coordinates in the part frame (mm)
+    /// writes the plan as a DMIS program (ISO 22093) a CMM runs: the probe (tip 4 mm,
+    /// SNSDEF/SNSLCT), the alignment on the fixture plate's top and edge faces (DATDEF/DATSET,
+    /// TRANS to the part origin), per point a point feature with its nominal position and
+    /// outward normal and its measurement (PTMEAS), GOTOs over the part wherever the straight
+    /// move between touches would come within 2 mm of it, OUTPUT of the measured points; ASCII,
+    /// lines of at most 80 characters ($ continues); coordinates in the part frame (mm)
     #[arg(long, value_name = "FILE", verbatim_doc_comment)]
     dmis: Option<String>,
     /// writes the nominal table id,curve,x,y,z,nx,ny,nz (mm)
@@ -70,7 +73,21 @@ pub fn run(a: Args) -> Result<(), String> {
     let prepared = opts.prepare().map_err(|e| e.to_string())?;
     let p = plan(&prepared, &opts).map_err(|e| e.to_string())?;
     if let Some(path) = &a.dmis {
-        std::fs::write(path, p.dmis()).map_err(|e| format!("{path}: {e}"))?;
+        let d = p.dmis().map_err(|e| e.to_string())?;
+        std::fs::write(path, &d.text).map_err(|e| format!("{path}: {e}"))?;
+        let r = &d.replay;
+        eprintln!(
+            "{path}: DMIS program, probe tip {} mm; moves between touches keep {:.3} mm from \
+             the part (replayed, {:.3} mm sampled less the {:.3} mm sampling bound; {} of {} \
+             moves cleared by {} GOTOs)",
+            r.tip_diameter,
+            r.min_distance_certain,
+            r.min_distance,
+            r.sampling_bound,
+            r.cleared_moves,
+            r.cleared_moves + r.straight_moves,
+            r.gotos
+        );
     }
     if let Some(path) = &a.csv {
         std::fs::write(path, nominal_csv(&p.points)).map_err(|e| format!("{path}: {e}"))?;

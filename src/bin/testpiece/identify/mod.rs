@@ -24,7 +24,8 @@ use crate::common::{
 /// Identifies the 8 ISO 230-1 location errors (EC0Y EA0Z EB0Z EA0C EB0C EX0B EA0B EC0B; rad, EX0B
 /// in mm) and, with --tool-radius, the tool-radius error dR (mm, + = a larger tool) from the
 /// measured deviations of FILE: any CMM export of shared/spec/cmm-csv.md (delimited tables with
-/// header synonyms, any separator, decimal comma, µm or inch columns; PC-DMIS XYZIJK; PowerInspect).
+/// header synonyms, any separator, decimal comma, µm or inch columns; PC-DMIS XYZIJK; PowerInspect;
+/// the DMIS output of the plan's program, FA(P<id>_<curve>)=FEAT/POINT,CART,x,y,z,i,j,k).
 /// Weighted least squares on the linearised defect (paper 000 eq. 14), SVD of the unit-scaled
 /// design: rank, condition number, and the groups of parameters the part cannot separate
 /// (condition index >= 30) or sees only weakly (std above 1/4 of a typical error, 1e-4 rad or
