@@ -75,7 +75,7 @@ impl Default for ProgramOptions {
             l0: PAPER000_L0,
             branch: Branch::Signed,
             tolerance: 0.001,
-            feed: 1000.0,
+            feed: crate::settings::feed::PROGRAMME_FEED,
             dialect: Dialect::Iso,
             tcp: false,
             spindle: 6000.0,
