@@ -195,19 +195,11 @@ fn servo_sentence(report: &DiagnosisReport, feed: f64) -> Option<String> {
     use crate::settings::feed::lag_ms;
     let v = &report.verdict;
     let effects = v.finding.effects();
-    let param = |effect: Effect, name: &str| {
-        let key = if v.finding.with().is_some() {
-            format!("{effect}.{name}")
-        } else {
-            name.to_string()
-        };
-        v.parameters.get(&key).copied()
-    };
     let mut out = Vec::new();
     for e in effects {
         match e {
             Effect::ServoLag(axis) => {
-                let est = param(e, "l")?;
+                let est = v.parameter(e, "l")?;
                 let (ms, sd) = (lag_ms(est.value, feed), lag_ms(est.std, feed));
                 let (who, adjust) = if est.value >= 0.0 {
                     ("trails", "raise its Kv (or feed-forward) to match theirs")
@@ -226,7 +218,7 @@ fn servo_sentence(report: &DiagnosisReport, feed: f64) -> Option<String> {
                 ));
             }
             Effect::ServoCommon => {
-                let est = param(e, "L2")?;
+                let est = v.parameter(e, "L2")?;
                 let l = est.value.max(0.0).sqrt();
                 let ms = lag_ms(l, feed);
                 out.push(format!(

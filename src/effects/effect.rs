@@ -58,11 +58,6 @@ impl Effect {
     /// the model has no column for the effect's axis.
     pub fn signature(self, m: &SignatureModel) -> Option<Vec<Vec<f64>>> {
         let per_point = |f: &dyn Fn(&EffectPoint) -> f64| m.points.iter().map(f).collect();
-        let axis_column = |cols: &[(AxisName, Vec<f64>)], a: AxisName| {
-            cols.iter()
-                .find(|(b, _)| *b == a)
-                .map(|(_, c)| vec![c.clone()])
-        };
         Some(match self {
             Effect::ToolRadius => vec![vec![-1.0; m.points.len()]],
             Effect::ToolTaper => vec![vec![-1.0; m.points.len()], per_point(&|p| -p.h)],
@@ -98,11 +93,7 @@ impl Effect {
             Effect::Backlash(a) if m.backlash_family.len() == shape.grid.len() => m
                 .backlash_family
                 .iter()
-                .map(|cols| {
-                    cols.iter()
-                        .find(|(b, _)| *b == a)
-                        .map(|(_, c)| vec![c.clone()])
-                })
+                .map(|cols| axis_column(cols, a))
                 .collect(),
             Effect::ThermalDrift => Some(
                 shape
@@ -142,6 +133,14 @@ fn thermal_column(m: &SignatureModel, f: f64) -> Vec<f64> {
             .map(|(p, z)| -warm_up(p.s / m.s_total, f) * z.dot(&p.n))
             .collect(),
     }
+}
+
+/// The column of axis `a` among per-axis columns, as a one-column signature (`None` when the
+/// model has no column for that axis).
+fn axis_column(cols: &[(AxisName, Vec<f64>)], a: AxisName) -> Option<Vec<Vec<f64>>> {
+    cols.iter()
+        .find(|(b, _)| *b == a)
+        .map(|(_, c)| vec![c.clone()])
 }
 
 /// `(ẑ × p)·N` per rad: the deviation of a rotation of the part about Z.

@@ -1,5 +1,5 @@
 //! Signatures that need the machine's axis path (kinematics stage, [`crate::sensitivity`]):
-//! `scale_x/y/z`, `backlash_<axis>` of the chain's axes ([`crate::parameter::backlash_axes`]), the index columns
+//! `scale_x/y/z`, the index columns
 //! of `a_index` (and of `c_index` where the C axis is not the table next to the part), machine Z
 //! in the part frame for `thermal_drift`, and the axis reversals along the path.
 //!
@@ -13,8 +13,9 @@
 //! coefficient (power 1) of the axis's own positioning error motion, evaluated by
 //! [`crate::sensitivity::jacobian_rows`] like the location errors (defect per unit at the point,
 //! minus the tip displacement at the reference pose `(0, 0, L0, 0, 0)` where the part origin is
-//! set, which removes the constant `k·L0` of Z). Backlash: the first-order-lag reversal model of
-//! [`crate::sensitivity::reversal`] (lag of 2 mm of tool-tip path, settled at each pass start).
+//! set, which removes the constant `k·L0` of Z). The backlash columns, at the reference lag and
+//! at each lag of the family, are [`crate::sensitivity::reversal::lagged_columns`] on the path
+//! model's lags ([`crate::effects::builtin`]).
 
 use nalgebra::{Rotation3, Vector3};
 
@@ -28,7 +29,7 @@ use crate::parameter::SCALE_AXES;
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::defect::check_poses;
 use crate::sensitivity::defect::jacobian_rows;
-use crate::sensitivity::reversal::{backlash_signatures_lagged, grid_u, Lag, Pass};
+use crate::sensitivity::reversal::{grid_u, Pass};
 use crate::sensitivity::SensitivityOptions;
 
 /// `scale_<axis>.k` columns (mm/mm), axes of [`SCALE_AXES`], at the points of axis values `q`.
@@ -52,20 +53,6 @@ pub fn scale_signatures(
         .enumerate()
         .map(|(j, &a)| (a, m.column(j).iter().copied().collect()))
         .collect())
-}
-
-/// `backlash_<axis>.b` columns (mm/mm or mm/rad), axes of the lags, on the lags of the passes
-/// of [`crate::sensitivity::reversal::passes`] ([`crate::effects::path_model::PathModel::lags`]: the
-/// axes of [`crate::parameter::BACKLASH_AXES`]).
-pub fn backlash_columns(
-    lags: &[Lag; 2],
-    part: &SShape,
-    points: &[MeasurementPoint],
-    q: &[AxisValues],
-    opts: &SensitivityOptions,
-) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
-    let cols = backlash_signatures_lagged(lags, part, points, q, opts)?;
-    Ok(lags[0].axes.iter().copied().zip(cols).collect())
 }
 
 /// Where each axis of `axes` reverses along the passes (A then B): tool-tip path length from the

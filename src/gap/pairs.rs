@@ -41,6 +41,7 @@ use crate::effects::data::{Candidate, NamedColumns};
 use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
 use crate::gap::shape::rss_with;
 use crate::gap::which::{fit_candidate, CandidateFit, Context};
+use crate::identify::solve::hstack;
 use crate::numerics::order::sort_by_key_f64;
 use crate::numerics::stats;
 use crate::numerics::stats::CHI2_1_95;
@@ -95,16 +96,7 @@ fn joint_shapes(
                 .signatures
                 .iter()
                 .enumerate()
-                .map(|(k, m)| {
-                    let member = Candidate::new(
-                        me.effect,
-                        NamedColumns {
-                            params: me.signature.params.clone(),
-                            matrix: m.clone(),
-                        },
-                    );
-                    (k, rss(&stacked(&member, &fixed).signature.matrix))
-                })
+                .map(|(k, m)| (k, rss(&hstack(m, &fixed.signature.matrix))))
                 .min_by(|x, y| x.1.total_cmp(&y.1))
                 .map(|(k, _)| k);
             idx[which] = best;

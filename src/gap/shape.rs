@@ -52,29 +52,20 @@ pub struct ShapeFit {
     pub effective_shapes: f64,
 }
 
-/// The residual sum of squares of the baseline plus each member of the family, on the baseline
-/// residual `r0`.
-fn profile(factor: &Factor, r0: &DVector<f64>, members: &[DMatrix<f64>]) -> Vec<(f64, usize)> {
-    members
-        .iter()
-        .map(|s| {
-            let scale: Vec<f64> = (0..s.ncols()).map(|j| s.column(j).norm()).collect();
-            let u = factor.unabsorbed(s);
-            let fu = Factor::new(&u, Some(&scale));
-            let theta = &fu.pinv * r0;
-            ((r0 - &u * theta).norm_squared(), fu.rank)
-        })
-        .collect()
+/// The residual sum of squares of the baseline plus the columns `s` on the baseline residual
+/// `r0` (Frisch–Waugh–Lovell), and the rank `s` adds.
+fn fwl(factor: &Factor, r0: &DVector<f64>, s: &DMatrix<f64>) -> (f64, usize) {
+    let scale: Vec<f64> = (0..s.ncols()).map(|j| s.column(j).norm()).collect();
+    let u = factor.unabsorbed(s);
+    let fu = Factor::new(&u, Some(&scale));
+    let theta = &fu.pinv * r0;
+    ((r0 - &u * theta).norm_squared(), fu.rank)
 }
 
 /// The residual sum of squares of the baseline plus the columns `s`, on the baseline residual
 /// `r0` (Frisch–Waugh–Lovell).
 pub fn rss_with(factor: &Factor, r0: &DVector<f64>, s: &DMatrix<f64>) -> f64 {
-    let scale: Vec<f64> = (0..s.ncols()).map(|j| s.column(j).norm()).collect();
-    let u = factor.unabsorbed(s);
-    let fu = Factor::new(&u, Some(&scale));
-    let theta = &fu.pinv * r0;
-    (r0 - &u * theta).norm_squared()
+    fwl(factor, r0, s).0
 }
 
 /// `m_eff` of the family of `c` on the baseline `factor` (module doc); 1 for a candidate of one
@@ -126,7 +117,7 @@ fn f_quantile(confidence: f64, dof: f64) -> f64 {
 /// The grid coordinate in which the profile is interpolated: `ln τ`, or the index when the grid
 /// holds the linear law (`inf`).
 fn coordinates(grid: &[f64]) -> Vec<f64> {
-    if grid.iter().all(|v| v.is_finite() && *v > 0.0) {
+    if coords_are_logs(grid) {
         grid.iter().map(|v| v.ln()).collect()
     } else {
         (0..grid.len()).map(|k| k as f64).collect()
@@ -160,6 +151,7 @@ fn value_at(grid: &[f64], coords: &[f64], x: f64) -> f64 {
     }
 }
 
+/// Whether the grid's coordinate is `ln` of its values (every value finite and positive).
 fn coords_are_logs(grid: &[f64]) -> bool {
     grid.iter().all(|v| v.is_finite() && *v > 0.0)
 }
@@ -180,7 +172,11 @@ pub fn fit_shape(
     if family.signatures.len() != grid.len() || grid.len() < 2 {
         return None;
     }
-    let prof = profile(factor, r0, &family.signatures);
+    let prof: Vec<(f64, usize)> = family
+        .signatures
+        .iter()
+        .map(|s| fwl(factor, r0, s))
+        .collect();
     let best = (0..prof.len())
         .min_by(|&a, &b| prof[a].0.total_cmp(&prof[b].0))
         .unwrap_or(0);

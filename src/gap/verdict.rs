@@ -183,6 +183,16 @@ impl Verdict {
     pub fn plain_name(&self) -> &'static str {
         self.id().plain_name()
     }
+
+    /// The fitted parameter `name` of the named `effect`: keyed by its own name for one effect,
+    /// `<effect>.<name>` in a pair ([`crate::gap::which`]'s keys).
+    pub fn parameter(&self, effect: Effect, name: &str) -> Option<&Estimate> {
+        if self.finding.with().is_some() {
+            self.parameters.get(&format!("{effect}.{name}"))
+        } else {
+            self.parameters.get(name)
+        }
+    }
 }
 
 /// The flat JSON of a verdict (module doc).

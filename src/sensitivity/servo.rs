@@ -90,8 +90,9 @@ pub fn path_rates(
         .map(|(k, &u)| {
             let c = u.clamp(2.0 * h, 1.0 - 2.0 * h);
             let q = |j: usize| &path[5 * k + j].values;
+            // the tip speed at the five samples; s_u at the centre, where the rates are taken
             let sp = offsets.map(|o| speed(c + o * h));
-            let s_u = speed(u);
+            let s_u = sp[2];
             let s_uu = richardson1([sp[0], sp[1], sp[3], sp[4]], h);
             let mut first = AxisValues::default();
             let mut second = AxisValues::default();

@@ -77,12 +77,7 @@ pub fn check(physics: &Physics, report: &DiagnosisReport) -> Option<ShapeCheck> 
     }
     let (low, high) = match effect {
         Effect::ServoLag(_) => {
-            let key = if report.verdict.finding.with().is_some() {
-                format!("{effect}.l")
-            } else {
-                "l".to_string()
-            };
-            let e = report.verdict.parameters.get(&key)?;
+            let e = report.verdict.parameter(effect, "l")?;
             (e.value - 1.96 * e.std, e.value + 1.96 * e.std)
         }
         _ => {
