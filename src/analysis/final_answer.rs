@@ -5,11 +5,12 @@ use crate::effects::prepared::Prepared;
 use crate::final_fit::correct::{
     correct, shifts, summary, Basis, Correction, CorrectionInput, EffectsChoice, Final,
 };
-use crate::final_fit::model_spread::model_spread;
+use crate::final_fit::model_spread::{model_spread, Answer, ModelSpread};
 use crate::identify::correlated::{whiten, whitened_limit, Whitened, Whitener};
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{Design, Identification, IdentifyOptions, Observations};
 use crate::identify::{Status, NONZERO_T};
+use crate::numerics::stats;
 use crate::parameter::Effect;
 use crate::simulate::ExactDefectModel;
 
@@ -123,18 +124,95 @@ pub(super) fn final_answer(
     };
     if opts.effects == EffectsChoice::Auto {
         if let (Some(_), Some(v)) = (f.model, f.verdict) {
-            widen_by_model_spread(&f, v, &design, &mut identification, &mut correction);
+            widen_by_model_spread(
+                &f,
+                v,
+                &design,
+                whitener.as_ref(),
+                &mut identification,
+                &mut correction,
+            );
         }
     }
     Ok((design, identification, refinement, correction))
 }
 
+/// Confidence of the band within which the residual's RMS is taken as noise (the baseline's
+/// σ a posteriori, [`noise_share`]).
+const NOISE_BAND: f64 = 0.95;
+
+/// The factor on the baseline's std that states them at the part's noise (issue 29 item 3).
+///
+/// The baseline's std use σ a posteriori, the residual's RMS, which holds whatever structure
+/// the location errors leave: an effect below the detection limit counted a second time as
+/// white noise (it is a bias, and [`model_spread`] accounts for it). The std are stated at
+/// `σ_s = max(σ, min(σ_post, σ·q))`: the residual's RMS where it is within the two-sided
+/// [`NOISE_BAND`] of a χ² with the residual's dof about the diagnosis's σ (`q² = χ²_{0.975}/dof`;
+/// it estimates the same noise with more dof), never beyond it, never below the noise σ. The
+/// named and `unexplained` answers keep theirs (their residual is the named effect's or holds
+/// the structure's covariance).
+fn noise_share(basis: Basis, post: Option<f64>, dof: usize, sigma: f64) -> f64 {
+    match (basis, post) {
+        (Basis::Baseline, Some(post)) if post > 0.0 && sigma > 0.0 => {
+            let dof = dof.max(1) as f64;
+            let q = (stats::chi2_isf(0.5 * (1.0 - NOISE_BAND), dof) / dof).sqrt();
+            post.min(sigma * q).max(sigma) / post
+        }
+        _ => 1.0,
+    }
+}
+
+/// The identification's covariance stated at the part's noise (`rescale²`, [`noise_share`])
+/// plus the model spread's second moment on the location errors (`names`, its order), and the
+/// correlations from it; the std are widened by the caller.
+fn widen_covariance(
+    identification: &mut Identification,
+    names: &[String],
+    spread: &ModelSpread,
+    rescale: f64,
+) {
+    let order = identification.names();
+    let n = order.len();
+    let cov = &mut identification.covariance;
+    if cov.len() != n || spread.covariance.len() != names.len() {
+        return;
+    }
+    let at: Vec<Option<usize>> = names
+        .iter()
+        .map(|name| order.iter().position(|o| o == name))
+        .collect();
+    for row in cov.iter_mut() {
+        for c in row.iter_mut() {
+            *c *= rescale * rescale;
+        }
+    }
+    for (a, ia) in at.iter().enumerate() {
+        for (b, ib) in at.iter().enumerate() {
+            if let (Some(i), Some(j)) = (ia, ib) {
+                cov[*i][*j] += spread.covariance[a][b];
+            }
+        }
+    }
+    for i in 0..n {
+        for j in 0..n {
+            if let Some(r) = identification.correlation[i][j].as_mut() {
+                let d = (cov[i][i] * cov[j][j]).sqrt();
+                if d > 0.0 {
+                    *r = cov[i][j] / d;
+                }
+            }
+        }
+    }
+}
+
 /// The location errors' std widened by what the choice among the candidate models can move
-/// them by ([`model_spread`]), about the chosen model's estimate.
+/// them by ([`model_spread`]), about the answer's estimate; the baseline's first stated at the
+/// part's noise ([`noise_share`]).
 fn widen_by_model_spread(
     f: &FinalInput,
     v: &crate::gap::verdict::Verdict,
     design: &Design,
+    whitener: Option<&Whitener>,
     identification: &mut Identification,
     correction: &mut Correction,
 ) {
@@ -151,14 +229,34 @@ fn widen_by_model_spread(
         &obs.deviation,
         &used,
         f.candidates,
-        chosen.as_ref(),
+        Answer {
+            chosen: chosen.as_ref(),
+            whitener,
+        },
         v.sigma,
     );
+    let rescale = noise_share(
+        correction.basis,
+        identification.sigma,
+        identification.dof,
+        v.sigma,
+    );
+    widen_covariance(identification, &f.design.names(), &spread, rescale);
+    if let (true, Some(post)) = (rescale < 1.0, identification.sigma) {
+        correction.notes.push(format!(
+            "The std are stated at σ = {:.2} µm, the part's noise: the residual's RMS ({:.2} µm) \
+             holds structure below the detection limit, a bias of the location errors that the \
+             spread over the candidate models carries, not noise.",
+            post * rescale * 1e3,
+            post * 1e3
+        ));
+    }
     let mut widened = 0;
     for pe in identification.parameters.0.iter_mut() {
         let (Some(std), Some(extra)) = (pe.std, spread.std.get(&pe.name())) else {
             continue;
         };
+        let std = std * rescale;
         let new = std.hypot(*extra);
         if new > std {
             widened += 1;
@@ -180,4 +278,35 @@ fn widen_by_model_spread(
         ));
     }
     correction.model_spread = Some(spread);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assert_near;
+
+    /// σ a posteriori within the χ² band of the noise σ stands; beyond it, the band's edge;
+    /// below the noise σ, the noise σ; answers other than the baseline keep theirs.
+    #[test]
+    fn the_baseline_std_are_stated_at_the_noise() {
+        // 100 dof: χ²₀.₉₇₅(100) = 129.561 (table), q = √1.29561 = 1.13825
+        let q = 1.138_25;
+        assert_near!(
+            noise_share(Basis::Baseline, Some(2.0), 100, 1.0),
+            q / 2.0,
+            1e-5
+        );
+        assert_near!(
+            noise_share(Basis::Baseline, Some(1.05), 100, 1.0),
+            1.0,
+            1e-12
+        );
+        assert_near!(
+            noise_share(Basis::Baseline, Some(0.9), 100, 1.0),
+            1.0 / 0.9,
+            1e-12
+        );
+        assert_near!(noise_share(Basis::Effects, Some(2.0), 100, 1.0), 1.0, 0.0);
+        assert_near!(noise_share(Basis::Baseline, None, 100, 1.0), 1.0, 0.0);
+    }
 }

@@ -12,10 +12,17 @@
 //! about it, `v_j = Σ_c w_c (β̂_{c,j} − β̂_{0,j})²`, and each identified location error's std
 //! becomes `√(std_j² + v_j)`.
 //!
-//! Models: the baseline `A` and `[A | S_c]` for every candidate `c` (its signature columns), each
-//! fitted by least squares on the points used; the chosen model's own linear fit is `β̂_0`. The
-//! weights are BIC's (Schwarz 1978): `w_c ∝ exp(−½ (RSS_c/σ² + q_c ln n))`, `q_c` the columns
-//! the model adds, σ the part's noise. Unidentified parameters (no std) are left as they are.
+//! Models: the answer's (`A`, or `[A | S_0]` with the named effect's columns `S_0`), the
+//! baseline `A`, `[A | S_c]` for every other candidate `c` (its signature columns) and, for a
+//! named answer, `[A | S_0 | S_c]` (the named effect with another: a tool's wear with a run-in is
+//! a radius change and a wear), each fitted by least squares on the points used. `β̂_0` is the
+//! answer's own linear estimate: by generalised least squares in the whitened problem when the
+//! answer has the structure as a correlated error (`unexplained`), so that the spread is about
+//! the value reported. The weights are BIC's (Schwarz 1978): `w_c ∝ π_c exp(−½ (RSS_c/σ² +
+//! q_c ln n))`, `q_c` the columns the model adds, σ the part's noise, with the prior `π` half on
+//! the answer's model (the diagnosis chose it) and half shared by the alternatives. The spread's
+//! whole second moment `Σ_c w_c (β̂_c − β̂_0)(β̂_c − β̂_0)ᵀ` is added to the answer's covariance.
+//! Unidentified parameters (no std) are left as they are.
 
 use std::collections::BTreeMap;
 
@@ -23,6 +30,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use crate::effects::data::Candidate;
+use crate::identify::correlated::Whitener;
 use crate::identify::solve::{hstack, Factor};
 
 /// The model spread of each location error.
@@ -30,8 +38,23 @@ use crate::identify::solve::{hstack, Factor};
 pub struct ModelSpread {
     /// `√v_j` per parameter (its unit).
     pub std: BTreeMap<String, f64>,
-    /// The weight of each model whose weight is at least 1 % (`baseline` or an effect id).
+    /// The weight of each model whose weight is at least 1 % (`baseline`, `answer` (the named
+    /// answer's model), an effect id, or `answer+<id>`: the answer's effect with another).
     pub weights: BTreeMap<String, f64>,
+    /// The whole second moment `Σ_c w_c (β̂_c − β̂_0)(β̂_c − β̂_0)ᵀ` (units² of the
+    /// parameters), rows and columns in the order of the names given; `std` is the root of its
+    /// diagonal.
+    #[serde(skip)]
+    pub covariance: Vec<Vec<f64>>,
+}
+
+/// The answer the spread is about: the columns its model adds to the location errors' (the named
+/// effect's; none for the baseline and `unexplained`), and its whitener when it has the structure
+/// as a correlated error.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Answer<'a> {
+    pub chosen: Option<&'a DMatrix<f64>>,
+    pub whitener: Option<&'a Whitener>,
 }
 
 /// Least-squares estimate of the first `p` coefficients and the RSS of `x` on `y`.
@@ -52,50 +75,89 @@ pub fn model_spread(
     y: &[f64],
     used: &[usize],
     candidates: &[Candidate],
-    chosen: Option<&DMatrix<f64>>,
+    answer: Answer,
     sigma: f64,
 ) -> ModelSpread {
+    let Answer { chosen, whitener } = answer;
     let p = a.ncols();
     let n = used.len();
     if n <= p || sigma <= 0.0 || !sigma.is_finite() {
         return ModelSpread::default();
     }
+    // the answer's estimate: generalised least squares in the whitened problem when the answer
+    // has a correlated error, else ordinary
+    let white = |m: &DMatrix<f64>| match whitener {
+        Some(w) => w.apply(m).select_rows(used),
+        None => m.select_rows(used),
+    };
+    let yfull = DMatrix::from_column_slice(y.len(), 1, y);
+    let wy = DVector::from_iterator(n, white(&yfull).iter().copied());
+    let (b0, _) = match chosen {
+        Some(s) => fit(&hstack(&white(a), &white(s)), &wy, p),
+        None => fit(&white(a), &wy, p),
+    };
     let au = a.select_rows(used);
     let yu = DVector::from_iterator(n, used.iter().map(|&i| y[i]));
-    let (b0, _) = match chosen {
-        Some(s) => fit(&hstack(&au, &s.select_rows(used)), &yu, p),
-        None => fit(&au, &yu, p),
-    };
     let ln_n = (n as f64).ln();
-    let mut models: Vec<(String, DVector<f64>, f64)> = Vec::new();
-    let (b, rss) = fit(&au, &yu, p);
-    models.push(("baseline".into(), b, rss / (sigma * sigma)));
     let base_rank = Factor::new(&au, None).rank;
+    // (id, estimate, BIC) of every model; the answer's own first
+    let mut models: Vec<(String, DVector<f64>, f64)> = Vec::new();
+    let mut add = |id: String, x: &DMatrix<f64>| {
+        if x.nrows() <= x.ncols() {
+            return;
+        }
+        let (b, rss) = fit(x, &yu, p);
+        let added = Factor::new(x, None).rank.saturating_sub(base_rank);
+        models.push((id, b, rss / (sigma * sigma) + added as f64 * ln_n));
+    };
+    let answer = chosen.map_or_else(|| au.clone(), |s| hstack(&au, &s.select_rows(used)));
+    let answer_rank = Factor::new(&answer, None).rank;
+    add(
+        if chosen.is_some() {
+            "answer"
+        } else {
+            "baseline"
+        }
+        .into(),
+        &answer,
+    );
+    if chosen.is_some() {
+        add("baseline".into(), &au);
+    }
     for c in candidates {
         let s = c.signature.matrix.select_rows(used);
-        let x = hstack(&au, &s);
-        if x.nrows() <= x.ncols() {
-            continue;
+        let single = hstack(&au, &s);
+        let with = hstack(&answer, &s);
+        let with_rank = Factor::new(&with, None).rank;
+        // the answer's own effect is not an alternative to it
+        if !(with_rank == answer_rank && Factor::new(&single, None).rank == answer_rank) {
+            add(c.effect.id().to_string(), &single);
         }
-        let (b, rss) = fit(&x, &yu, p);
-        let added = Factor::new(&x, None).rank.saturating_sub(base_rank);
-        models.push((
-            c.effect.id().to_string(),
-            b,
-            rss / (sigma * sigma) + added as f64 * ln_n,
-        ));
+        if chosen.is_some() && with_rank > answer_rank {
+            add(format!("answer+{}", c.effect.id()), &with);
+        }
     }
+    // prior: half the mass on the answer's model (the diagnosis chose it), the other half
+    // shared by the alternatives
+    let k = (models.len() - 1).max(1) as f64;
+    models[0].2 -= 2.0 * k.ln();
     let best = models.iter().map(|m| m.2).fold(f64::INFINITY, f64::min);
     let raw: Vec<f64> = models.iter().map(|m| (-0.5 * (m.2 - best)).exp()).collect();
     let total: f64 = raw.iter().sum();
-    let mut out = ModelSpread::default();
+    let mut out = ModelSpread {
+        covariance: vec![vec![0.0; p]; p],
+        ..ModelSpread::default()
+    };
+    for ((_, b, _), w) in models.iter().zip(&raw) {
+        let d = b - &b0;
+        for i in 0..p {
+            for j in 0..p {
+                out.covariance[i][j] += w / total * d[i] * d[j];
+            }
+        }
+    }
     for (j, name) in names.iter().enumerate().take(p) {
-        let v: f64 = models
-            .iter()
-            .zip(&raw)
-            .map(|((_, b, _), w)| w / total * (b[j] - b0[j]).powi(2))
-            .sum();
-        out.std.insert(name.clone(), v.sqrt());
+        out.std.insert(name.clone(), out.covariance[j][j].sqrt());
     }
     for ((id, _, _), w) in models.iter().zip(&raw) {
         if w / total >= 0.01 {
@@ -108,6 +170,7 @@ pub fn model_spread(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::assert_near;
     use crate::effects::data::NamedColumns;
     use crate::numerics::random::Sampler;
     use crate::parameter::{Effect, ParamId};
@@ -145,7 +208,7 @@ mod tests {
             &y,
             &used,
             std::slice::from_ref(&c),
-            None,
+            Answer::default(),
             0.01,
         );
         assert!(s.weights["tool_radius"] > 0.99, "{:?}", s.weights);
@@ -159,9 +222,68 @@ mod tests {
             &y,
             &used,
             std::slice::from_ref(&c),
-            Some(&c.signature.matrix),
+            Answer {
+                chosen: Some(&c.signature.matrix),
+                whitener: None,
+            },
             0.01,
         );
         assert!(s.std["c"] < 0.01, "{:?}", s.std);
+    }
+
+    /// A named effect that is half the part's (a tool's wear with a run-in: a wear and a radius
+    /// change) leaves the other half to bias the location errors; the model of the two together
+    /// holds the weight, and the spread is the bias.
+    #[test]
+    fn the_answer_with_a_second_effect_shows_its_bias() {
+        let n = 80;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();
+        let a = DMatrix::from_fn(n, 1, |i, _| t[i]);
+        let radius = vec![-1.0; n];
+        let wear: Vec<f64> = t.iter().map(|x| x * x).collect();
+        let mut rng = Sampler::new(2);
+        let y: Vec<f64> = (0..n)
+            .map(|i| 0.3 * t[i] + 0.05 * radius[i] + 0.1 * wear[i] + 0.002 * rng.normal())
+            .collect();
+        let candidate = |effect: Effect, col: &[f64]| Candidate {
+            effect,
+            signature: NamedColumns::try_new(
+                vec![ParamId::Effect { effect, index: 0 }],
+                DMatrix::from_column_slice(n, 1, col),
+            )
+            .unwrap(),
+            family: None,
+        };
+        let c = [
+            candidate(Effect::ToolRadius, &radius),
+            candidate(Effect::ToolWear, &wear),
+        ];
+        let used: Vec<usize> = (0..n).collect();
+        let chosen = DMatrix::from_column_slice(n, 1, &wear);
+        let s = model_spread(
+            &a,
+            &["m".into()],
+            &y,
+            &used,
+            &c,
+            Answer {
+                chosen: Some(&chosen),
+                whitener: None,
+            },
+            0.002,
+        );
+        assert!(s.weights["answer+tool_radius"] > 0.99, "{:?}", s.weights);
+        // the answer's slope with the wear alone, against the pair's (≈ the true 0.3)
+        let x = hstack(&a, &chosen);
+        let (b0, _) = fit(&x, &DVector::from_column_slice(&y), 1);
+        let full = hstack(&x, &DMatrix::from_column_slice(n, 1, &radius));
+        let (b1, _) = fit(&full, &DVector::from_column_slice(&y), 1);
+        assert!((b1[0] - 0.3).abs() < 0.01, "{b1}");
+        assert_near!(
+            s.std["m"],
+            (b1[0] - b0[0]).abs(),
+            0.01 * (b1[0] - b0[0]).abs()
+        );
+        assert_near!(s.covariance[0][0], s.std["m"].powi(2), 1e-15);
     }
 }

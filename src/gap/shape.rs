@@ -102,16 +102,7 @@ pub fn effective_shapes(factor: &Factor, c: &Candidate) -> f64 {
 
 /// The upper `1 − confidence` quantile of `F(1, dof)`, by bisection on its survival function.
 fn f_quantile(confidence: f64, dof: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, 1e4);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if stats::f_sf(mid, 1.0, dof) > 1.0 - confidence {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+    stats::sf_inverse(|f| stats::f_sf(f, 1.0, dof), 1.0 - confidence, 1e4)
 }
 
 /// The grid coordinate in which the profile is interpolated: `ln τ`, or the index when the grid

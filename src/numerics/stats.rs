@@ -168,6 +168,26 @@ pub fn chi2_sf(x: f64, k: f64) -> f64 {
     1.0 - gamma_p(k / 2.0, x / 2.0)
 }
 
+/// The `x` in `[0, hi]` where the decreasing survival function `sf` falls to `tail`, by
+/// bisection (200 halvings: to the last bit of `hi`).
+pub fn sf_inverse(sf: impl Fn(f64) -> f64, tail: f64, hi: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, hi);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if sf(mid) > tail {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The upper-`tail` quantile of `χ²_k`: `x` with `P(χ²_k > x) = tail`.
+pub fn chi2_isf(tail: f64, k: f64) -> f64 {
+    sf_inverse(|x| chi2_sf(x, k), tail, k + 40.0 * (2.0 * k).sqrt() + 100.0)
+}
+
 /// Complementary error function (Numerical Recipes `erfcc`, |relative error| < 1.2e-7).
 pub fn erfc(x: f64) -> f64 {
     let z = x.abs();
@@ -216,5 +236,8 @@ mod tests {
         assert_near!(chi2_sf(3.841_459, 1.0), 0.05, 1e-6);
         // F(1, 90) critical value at 5 %: 3.9469 (table).
         assert_near!(f_sf(3.946_9, 1.0, 90.0), 0.05, 1e-4);
+        // χ² quantiles (tables: χ²₀.₉₅(1) = 3.841459, χ²₀.₉₇₅(10) = 20.483177).
+        assert_near!(chi2_isf(0.05, 1.0), 3.841_459, 1e-6);
+        assert_near!(chi2_isf(0.025, 10.0), 20.483_177, 1e-6);
     }
 }

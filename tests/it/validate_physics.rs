@@ -373,3 +373,33 @@ fn a_few_parts_through_the_benchmark() {
         assert_eq!(c.judged.final_error.parameters, 8);
     }
 }
+
+/// Issue 29's figures on the development seed 1 (300 parts; the held-out seeds 101-103 are
+/// scored by `validate --generator physics --seed 101` and reported in the README, never tuned
+/// on): `none` never when the visible structure exceeds twice the limit; clean parts and repeats
+/// of a scattered part `none` at least 95 %; the final location errors within 2 std of the truth
+/// in at least 90 % in every group of the report but the mixed 1-2x one (measured: min 92.3 %, the named verdicts; 93.8 %
+/// clean, 92.5 % below the limit, 95.1 % in-catalogue above 2x, 94.6 % out-of-catalogue above
+/// 2x, 93.5 % wrong verdicts); and the std not inflated where the model can be right: median
+/// final std over the true model's fit's <= 2 on clean parts and on in-catalogue parts above 2x
+/// the limit (measured 1.05 and 1.10).
+#[test]
+fn the_final_errors_are_covered_by_their_std_in_every_group() {
+    let bench = PhysicsBench::builtin().unwrap();
+    let r = bench
+        .run(&PhysicsOptions {
+            cases: 300,
+            seed: 1,
+            cmm_sigma: false,
+        })
+        .unwrap();
+    let s = &r.summary;
+    println!("{}", physics_table(&r));
+    assert_eq!(s.none_above_twice, 0, "{s:?}");
+    assert!(s.clean_none >= 0.95 && s.repeats_none >= 0.95, "{s:?}");
+    assert!(s.min_coverage >= 0.9, "{s:?}");
+    for name in ["clean", "in-catalogue > 2x"] {
+        let g = r.groups.iter().find(|g| g.group == name).unwrap();
+        assert!(g.median_std_ratio <= 2.0, "{name}: {}", g.median_std_ratio);
+    }
+}
