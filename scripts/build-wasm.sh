@@ -36,9 +36,11 @@ ms() { date +%s%3N; }
 # an optimised wasm.
 opt=node_modules/.bin/wasm-opt
 # -Oz, not -O3: speed-neutral on the bench stages and smaller (the figures: BENCHMARKS.md);
-# --converge: the passes repeated until the size stops falling;
+# one pass, not --converge (the passes repeated until the size stops falling): measured 35.6 s
+# and 1,436,288 bytes against 75.2 s and 1,435,265 bytes, 1,023 bytes (0.07 %) for ~40 s of
+# every cold build of each module (issue 33 item 5, BENCHMARKS.md);
 # rustc's own level for this crate is in Cargo.toml [profile.wasm-release].
-opt_flags=(-Oz --converge --strip-debug --strip-producers
+opt_flags=(-Oz --strip-debug --strip-producers
   --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext
   --enable-mutable-globals --enable-reference-types --enable-multivalue)
 cache="$target/wasm-opt-cache"
