@@ -253,6 +253,25 @@ fn notes(a: &Analysis, c: &Compensation) -> Vec<String> {
         for h in &ctl.homes {
             notes.push(home_sentence(h));
         }
+        let tilt: Vec<&controller::ControllerParameter> = ctl
+            .parameters
+            .iter()
+            .filter(|p| p.group == controller::ParameterGroup::Nowhere)
+            .collect();
+        let (x, y) = (tilt[0].value, tilt[1].value);
+        let angle = x.hypot(y);
+        let h_max = a.points.iter().map(|p| p.h).fold(0.0, f64::max);
+        if angle > 0.0 {
+            notes.push(format!(
+                "The spindle tilt at zero angles, ({x:.2e} ± {:.1e}, {y:.2e} ± {:.1e}) = {angle:.2e} \
+                 rad, has no home in the toolholder (its tool points along z at zero angles): \
+                 with the tip compensated, the part keeps at most {:.2} µm from it at the highest \
+                 measured contact height ({h_max:.1} mm above the tip).",
+                tilt[0].std,
+                tilt[1].std,
+                angle * h_max * 1e3
+            ));
+        }
     }
     if let Some(why) = &c.controller_unavailable {
         notes.push(format!("No SINUMERIK toolholder: {why}."));

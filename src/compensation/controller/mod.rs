@@ -4,9 +4,11 @@
 //!
 //! Controller: SINUMERIK (orientable toolholder `$TC_CARR`, [`siemens`]), checked by an
 //! implementation written from Siemens' documentation ([`siemens_kinematics`]). Where an error
-//! goes is read from the derivatives of the written numbers: an error goes where a typical
-//! error of its size ([`crate::machine::location_errors::kind_typical`]) moves a written number
-//! by more than [`HOME_FLOOR`].
+//! goes is read from the first-order derivatives of the written numbers at the nominal machine
+//! (at the identified values, second-order cross terms of two errors would add spurious homes):
+//! an error goes where a typical error of its size
+//! ([`crate::machine::location_errors::kind_typical`]) moves a written number by more than
+//! [`HOME_FLOOR`].
 
 pub mod siemens;
 pub mod siemens_kinematics;
@@ -195,6 +197,7 @@ pub fn siemens_compensation(
             group,
         })
         .collect();
+    let j0 = jacobian(&f, &vec![0.0; values.len()], &steps);
     let homes = errors
         .iter()
         .enumerate()
@@ -202,7 +205,7 @@ pub fn siemens_compensation(
             let moved: Vec<&ControllerParameter> = parameters
                 .iter()
                 .enumerate()
-                .filter(|(i, _)| (j[(*i, k)] * typical[k]).abs() > HOME_FLOOR)
+                .filter(|(i, _)| (j0[(*i, k)] * typical[k]).abs() > HOME_FLOOR)
                 .map(|(_, p)| p)
                 .collect();
             let mut groups: Vec<ParameterGroup> = moved.iter().map(|p| p.group).collect();
