@@ -51,6 +51,9 @@ pub struct ErrorEntry {
     /// `None`: entered.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub not_entered: Option<NotEnteredReason>,
+    /// Why it is not entered, in a sentence ([`why_not`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub why: Option<String>,
 }
 
 impl ErrorEntry {
@@ -94,7 +97,7 @@ pub fn entry_rule(id: &Identification, errors: &[(String, LocationError)]) -> Ve
                     Some(_) => None,
                 }
             };
-            ErrorEntry {
+            let mut e = ErrorEntry {
                 name: name.clone(),
                 error: *l,
                 value,
@@ -102,7 +105,10 @@ pub fn entry_rule(id: &Identification, errors: &[(String, LocationError)]) -> Ve
                 std,
                 status,
                 not_entered,
-            }
+                why: None,
+            };
+            e.why = why_not(&e);
+            e
         })
         .collect()
 }

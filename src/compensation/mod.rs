@@ -26,7 +26,7 @@ pub use remedy::{remedy, Remedy};
 pub use withheld::{withheld, Withheld};
 
 use controller::{siemens_compensation, ControllerCompensation};
-use entry::{entry_rule, why_not, ErrorEntry};
+use entry::{entry_rule, ErrorEntry};
 use propagate::{entered_covariance, has_covariance};
 
 use crate::analysis::Analysis;
@@ -237,7 +237,7 @@ fn notes(a: &Analysis, c: &Compensation) -> Vec<String> {
             c.withheld.points.len()
         ));
     }
-    notes.extend(c.not_entered.iter().filter_map(why_not).map(|w| {
+    notes.extend(c.not_entered.iter().filter_map(|e| e.why.clone()).map(|w| {
         let kept = part
             .left_in
             .iter()
@@ -251,7 +251,7 @@ fn notes(a: &Analysis, c: &Compensation) -> Vec<String> {
     }));
     if let Some(ctl) = &c.controller {
         for h in &ctl.homes {
-            notes.push(home_sentence(h));
+            notes.push(h.sentence.clone());
         }
         let tilt: Vec<&controller::ControllerParameter> = ctl
             .parameters
@@ -307,33 +307,4 @@ fn notes(a: &Analysis, c: &Compensation) -> Vec<String> {
         );
     }
     notes
-}
-
-/// Where one entered error goes, in a sentence.
-fn home_sentence(h: &controller::ErrorHome) -> String {
-    use controller::ParameterGroup as G;
-    let of = |g: G| -> Vec<&str> {
-        h.parameters
-            .iter()
-            .zip(&h.groups_of)
-            .filter(|(_, k)| **k == g)
-            .map(|(p, _)| p.as_str())
-            .collect()
-    };
-    let mut parts = Vec::new();
-    for g in &h.groups {
-        let names = of(*g).join(", ");
-        parts.push(match g {
-            G::Kinematic => format!("the toolholder's kinematic parameters ({names})"),
-            G::Squareness => format!("the squareness (CEC) table ({names})"),
-            G::WorkOffset => format!("the part program's work offset ({names})"),
-            G::Nowhere => "nowhere for its tilt of the tool at zero angles (no toolholder \
-                 parameter holds a spindle tilt: the part keeps it)"
-                .to_string(),
-        });
-    }
-    if parts.is_empty() {
-        parts.push("no written number (it moves none by more than 1e-9)".to_string());
-    }
-    format!("{} goes to {}.", h.name, parts.join("; "))
 }

@@ -36,6 +36,8 @@ pub struct ControllerParameter {
     pub std: f64,
     pub unit: Unit,
     pub group: ParameterGroup,
+    /// Where it lives, in words.
+    pub place: &'static str,
 }
 
 /// Where a written number lives.
@@ -52,6 +54,18 @@ pub enum ParameterGroup {
     Nowhere,
 }
 
+impl ParameterGroup {
+    /// Where a number of the group lives, in words.
+    pub fn place(self) -> &'static str {
+        match self {
+            ParameterGroup::Kinematic => "toolholder / tool table",
+            ParameterGroup::Squareness => "squareness table (CEC)",
+            ParameterGroup::WorkOffset => "part program: work offset",
+            ParameterGroup::Nowhere => "nowhere (no parameter)",
+        }
+    }
+}
+
 /// Where one entered error goes.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ErrorHome {
@@ -62,6 +76,8 @@ pub struct ErrorHome {
     pub parameters: Vec<String>,
     #[serde(skip)]
     pub groups_of: Vec<ParameterGroup>,
+    /// Where it goes, in a sentence.
+    pub sentence: String,
 }
 
 /// The compensation as one controller holds it.
@@ -195,6 +211,7 @@ pub fn siemens_compensation(
             std: std[i],
             unit,
             group,
+            place: group.place(),
         })
         .collect();
     let j0 = jacobian(&f, &vec![0.0; values.len()], &steps);
@@ -215,7 +232,12 @@ pub fn siemens_compensation(
                 groups,
                 parameters: moved.iter().map(|p| p.name.clone()).collect(),
                 groups_of: moved.iter().map(|p| p.group).collect(),
+                sentence: String::new(),
             }
+        })
+        .map(|mut h| {
+            h.sentence = home_sentence(&h);
+            h
         })
         .collect();
     Ok(ControllerCompensation {
@@ -225,4 +247,33 @@ pub fn siemens_compensation(
         parameters,
         homes,
     })
+}
+
+/// Where one entered error goes, in a sentence.
+fn home_sentence(h: &ErrorHome) -> String {
+    use ParameterGroup as G;
+    let of = |g: G| -> Vec<&str> {
+        h.parameters
+            .iter()
+            .zip(&h.groups_of)
+            .filter(|(_, k)| **k == g)
+            .map(|(p, _)| p.as_str())
+            .collect()
+    };
+    let mut parts = Vec::new();
+    for g in &h.groups {
+        let names = of(*g).join(", ");
+        parts.push(match g {
+            G::Kinematic => format!("the toolholder's kinematic parameters ({names})"),
+            G::Squareness => format!("the squareness (CEC) table ({names})"),
+            G::WorkOffset => format!("the part program's work offset ({names})"),
+            G::Nowhere => "nowhere for its tilt of the tool at zero angles (no toolholder \
+                 parameter holds a spindle tilt: the part keeps it)"
+                .to_string(),
+        });
+    }
+    if parts.is_empty() {
+        parts.push("no written number (it moves none by more than 1e-9)".to_string());
+    }
+    format!("{} goes to {}.", h.name, parts.join("; "))
 }
