@@ -17,31 +17,34 @@ use testpiece::sensitivity::Mode;
 use testpiece::simulate::simulate_exact;
 use testpiece::tolerance::COMPENSATED_PART_MM as AFTER_MM;
 
-#[test]
-fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
-    let truth = [
-        ("EX0B", 0.03),
-        ("EA0B", 3e-4),
-        ("EC0B", 1e-4),
-        ("EB0C", -5e-5),
-    ];
-    let errors = truth
+/// The location errors the compensation tests simulate (mm, rad).
+pub(crate) const TRUTH: [(&str, f64); 4] = [
+    ("EX0B", 0.03),
+    ("EA0B", 3e-4),
+    ("EC0B", 1e-4),
+    ("EB0C", -5e-5),
+];
+
+/// The analysis of a part simulated with [`TRUTH`], CMM noise 1 µm (seed 7) and `extra`
+/// arguments of `simulate`.
+pub(crate) fn simulated(extra: &[&str]) -> testpiece::analysis::Analysis {
+    let errors = TRUTH
         .iter()
         .map(|(n, v)| format!("{n}={v}"))
         .collect::<Vec<_>>()
         .join(",");
-    let csv = testpiece_ok(&[
-        "simulate",
-        "--errors",
-        &errors,
-        "--effect",
-        "backlash_c=1e-3",
-        "--noise",
-        "0.001",
-        "--seed",
-        "7",
-    ]);
-    let a = analyse_once(csv.as_bytes(), "part.csv", &AnalysisOptions::default()).unwrap();
+    let mut args = vec![
+        "simulate", "--errors", &errors, "--noise", "0.001", "--seed", "7",
+    ];
+    args.extend_from_slice(extra);
+    let csv = testpiece_ok(&args);
+    analyse_once(csv.as_bytes(), "part.csv", &AnalysisOptions::default()).unwrap()
+}
+
+#[test]
+fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
+    let truth = TRUTH;
+    let a = simulated(&["--effect", "backlash_c=1e-3"]);
     let c = compensation(&a);
     assert_eq!(
         c.entered.len() + c.not_entered.len(),
@@ -134,7 +137,8 @@ fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
     assert!((d[2] - val("EA0B") - val("EA0Z")).abs() <= 2e-7, "{d:?}");
 }
 
-/// `identify --compensation --json` carries the field; the text names before and after.
+/// `identify --compensation --json` carries the field; the text names before and after, the
+/// SINUMERIK parameters and the withheld curves.
 #[test]
 fn identify_surfaces_the_compensation() {
     let csv = testpiece_ok(&[
@@ -165,6 +169,12 @@ fn identify_surfaces_the_compensation() {
             < comp["part"]["before"]["rms"].as_f64().unwrap()
     );
     let text = testpiece_ok(&["identify", path, "--compensation"]);
-    assert!(text.contains("before (nominal") && text.contains("after (with the identified"));
+    assert!(text.contains("before (nominal") && text.contains("after (with the entered"));
+    // Issue 32 item 4: the std of the description, the SINUMERIK parameters, withheld curves.
+    assert!(
+        text.contains("$TC_CARR1 ") && text.contains("withheld A_Z11"),
+        "{text}"
+    );
+    assert!(comp["after_std"]["tool_tip"][0].as_f64().unwrap() > 0.0);
     std::fs::remove_dir_all(&dir).ok();
 }

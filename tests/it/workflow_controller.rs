@@ -11,8 +11,7 @@
 //!    exact eq. 12 model of the compensated machine (true − entered errors) cuts there, to
 //!    `COMPENSATED_PART_MM`.
 
-use crate::cli_common::testpiece_ok;
-use testpiece::analysis::{analyse_once, AnalysisOptions};
+use crate::workflow_compensation::{simulated, TRUTH};
 use testpiece::compensation::compensation;
 use testpiece::compensation::controller::siemens::{toolholder, toolholder_axes};
 use testpiece::compensation::controller::siemens_kinematics::tool_pose;
@@ -160,21 +159,8 @@ fn siemens_toolholder_reproduces_the_corrected_chain() {
 
 #[test]
 fn withheld_curves_are_predicted_as_the_compensated_machine_cuts_them() {
-    let truth = [
-        ("EX0B", 0.03),
-        ("EA0B", 3e-4),
-        ("EC0B", 1e-4),
-        ("EB0C", -5e-5),
-    ];
-    let list = truth
-        .iter()
-        .map(|(n, v)| format!("{n}={v}"))
-        .collect::<Vec<_>>()
-        .join(",");
-    let csv = testpiece_ok(&[
-        "simulate", "--errors", &list, "--noise", "0.001", "--seed", "7",
-    ]);
-    let a = analyse_once(csv.as_bytes(), "part.csv", &AnalysisOptions::default()).unwrap();
+    let truth = TRUTH;
+    let a = simulated(&[]);
     let c = compensation(&a);
     let w = &c.withheld;
     assert_eq!(w.curves.len(), 4, "{:?}", w.skipped);
