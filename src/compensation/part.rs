@@ -86,7 +86,9 @@ pub struct PredictedPart {
 }
 
 /// The prediction from the final design's columns (`columns[j][i]`, mm per unit), their
-/// parameters, values, which of them are location errors, and the measured deviations.
+/// parameters, values, which of them the compensation removes (the entered location errors,
+/// [`super::entry`]; a location error not entered stays like an effect), and the measured
+/// deviations.
 #[allow(clippy::too_many_arguments)]
 pub fn predicted_part(
     ids: &[String],

@@ -85,15 +85,16 @@ fn foot(x: &Vector3<f64>, (p, d): (Vector3<f64>, Vector3<f64>)) -> Vector3<f64> 
     p + d * (x - p).dot(&d)
 }
 
-/// The offset vectors of one side's rotary lines (module docs); `tip` on the tool side.
-fn side_offsets(lines: &[&AxisLine], tip: Option<Vector3<f64>>) -> Vec<OffsetVector> {
+/// The rotation centres of one side's rotary lines, in order (module docs); `tip` on the tool
+/// side.
+pub fn rotation_centres(lines: &[&AxisLine], tip: Option<Vector3<f64>>) -> Vec<Vector3<f64>> {
     let line = |l: &AxisLine| {
         (
             Vector3::from(l.point.unwrap_or([0.0; 3])),
             Vector3::from(l.direction),
         )
     };
-    let centres: Vec<Vector3<f64>> = match lines {
+    match lines {
         [a, b] => match common_perpendicular(line(a), line(b)) {
             Some((x, y)) => vec![x, y],
             None => vec![line(a).0, line(b).0],
@@ -103,7 +104,12 @@ fn side_offsets(lines: &[&AxisLine], tip: Option<Vector3<f64>>) -> Vec<OffsetVec
             None => line(a).0,
         }],
         _ => lines.iter().map(|l| line(l).0).collect(),
-    };
+    }
+}
+
+/// The offset vectors of one side's rotary lines (module docs); `tip` on the tool side.
+fn side_offsets(lines: &[&AxisLine], tip: Option<Vector3<f64>>) -> Vec<OffsetVector> {
+    let centres = rotation_centres(lines, tip);
     let mut names: Vec<String> = vec!["machine zero".to_string()];
     names.extend(lines.iter().map(|l| format!("{} centre", l.axis)));
     let mut pts = vec![Vector3::zeros()];
@@ -164,6 +170,14 @@ fn side_lines(axes: &[ChainAxis], errors: &MachineErrors) -> (Vec<AxisLine>, Mat
         prefix = p;
     }
     (out, prefix)
+}
+
+/// The workpiece frame in the machine frame `b` with every axis at 0: the product of the
+/// workpiece side's factors `Trans(o_i)·D_i` (module docs), with the location errors of `errors`.
+/// A controller that holds the rotary axes' lines but not this frame needs it as the part
+/// program's work offset.
+pub fn workpiece_frame_at_zero(chain: &Chain, errors: &MachineErrors) -> Matrix4<f64> {
+    side_lines(chain.workpiece_axes(), errors).1
 }
 
 /// The description of `chain` with the location errors of `errors` (none: the nominal one).

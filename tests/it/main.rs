@@ -76,5 +76,6 @@ mod sensitivity_servo;
 mod validate_physics;
 mod wasm_examples;
 mod workflow_compensation;
+mod workflow_controller;
 mod workflow_plan;
 mod workflow_program;

@@ -5,7 +5,7 @@
 //! predicted part after compensation to 0.5 µm (the exact and linear models differ by < 0.3 µm
 //! at these sizes: `simulate_exact`'s docs); the backlash, not a location error, is left in and
 //! said so; the B axis of the description moves by the identified EX0B and turns by EA0B + EA0Z
-//! and EC0B.
+//! and EC0B (those entered: only separable errors with |value| ≥ 2 std are).
 
 use crate::cli_common::testpiece_ok;
 use testpiece::analysis::{analyse_once, AnalysisOptions};
@@ -17,47 +17,60 @@ use testpiece::sensitivity::Mode;
 use testpiece::simulate::simulate_exact;
 use testpiece::tolerance::COMPENSATED_PART_MM as AFTER_MM;
 
-#[test]
-fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
-    let truth = [
-        ("EX0B", 0.03),
-        ("EA0B", 3e-4),
-        ("EC0B", 1e-4),
-        ("EB0C", -5e-5),
-    ];
-    let errors = truth
+/// The location errors the compensation tests simulate (mm, rad).
+pub(crate) const TRUTH: [(&str, f64); 4] = [
+    ("EX0B", 0.03),
+    ("EA0B", 3e-4),
+    ("EC0B", 1e-4),
+    ("EB0C", -5e-5),
+];
+
+/// The analysis of a part simulated with [`TRUTH`], CMM noise 1 µm (seed 7) and `extra`
+/// arguments of `simulate`.
+pub(crate) fn simulated(extra: &[&str]) -> testpiece::analysis::Analysis {
+    let errors = TRUTH
         .iter()
         .map(|(n, v)| format!("{n}={v}"))
         .collect::<Vec<_>>()
         .join(",");
-    let csv = testpiece_ok(&[
-        "simulate",
-        "--errors",
-        &errors,
-        "--effect",
-        "backlash_c=1e-3",
-        "--noise",
-        "0.001",
-        "--seed",
-        "7",
-    ]);
-    let a = analyse_once(csv.as_bytes(), "part.csv", &AnalysisOptions::default()).unwrap();
+    let mut args = vec![
+        "simulate", "--errors", &errors, "--noise", "0.001", "--seed", "7",
+    ];
+    args.extend_from_slice(extra);
+    let csv = testpiece_ok(&args);
+    analyse_once(csv.as_bytes(), "part.csv", &AnalysisOptions::default()).unwrap()
+}
+
+#[test]
+fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
+    let truth = TRUTH;
+    let a = simulated(&["--effect", "backlash_c=1e-3"]);
     let c = compensation(&a);
     assert_eq!(
-        c.entered.len(),
+        c.entered.len() + c.not_entered.len(),
         8,
-        "the 8 location errors of paper 000's machine"
+        "the 8 location errors of paper 000's machine, entered or listed"
     );
-    // The compensated machine keeps true − identified.
+    // Only separable errors with |value| ≥ 2 std are entered (issue 32 item 4).
+    for e in &c.entered {
+        let s = e.std.expect("an entered error has a std");
+        assert!(e.value.abs() >= 2.0 * s, "{} = {} ± {}", e.name, e.value, s);
+    }
+    for n in ["EX0B", "EA0B"] {
+        assert!(c.entered.iter().any(|e| e.name == n), "{n} entered");
+    }
+    // The compensated machine keeps true − entered (a not-entered error keeps its true value).
     let residual_errors: Vec<(ParamId, f64)> = c
         .entered
         .iter()
+        .chain(&c.not_entered)
         .map(|e| {
             let t = truth
                 .iter()
                 .find(|(n, _)| *n == e.name)
                 .map_or(0.0, |t| t.1);
-            (e.name.parse().unwrap(), t - e.value)
+            let x = if e.entered() { e.value } else { 0.0 };
+            (e.name.parse().unwrap(), t - x)
         })
         .collect();
     let true_errors: Vec<(ParamId, f64)> = truth
@@ -107,7 +120,12 @@ fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
     );
     // Its direction carries the tilts of B and of Z, which carries it (first order:
     // (−EC0B, 1, EA0B + EA0Z); second-order terms ~ (3e-4)² ≈ 1e-7).
-    let val = |n: &str| c.entered.iter().find(|e| e.name == n).unwrap().value;
+    let val = |n: &str| {
+        c.entered
+            .iter()
+            .find(|e| e.name == n)
+            .map_or(0.0, |e| e.value)
+    };
     let d = c
         .after
         .axes
@@ -119,7 +137,8 @@ fn predicted_part_after_compensation_is_what_the_compensated_machine_cuts() {
     assert!((d[2] - val("EA0B") - val("EA0Z")).abs() <= 2e-7, "{d:?}");
 }
 
-/// `identify --compensation --json` carries the field; the text names before and after.
+/// `identify --compensation --json` carries the field; the text names before and after, the
+/// SINUMERIK parameters and the withheld curves.
 #[test]
 fn identify_surfaces_the_compensation() {
     let csv = testpiece_ok(&[
@@ -150,6 +169,12 @@ fn identify_surfaces_the_compensation() {
             < comp["part"]["before"]["rms"].as_f64().unwrap()
     );
     let text = testpiece_ok(&["identify", path, "--compensation"]);
-    assert!(text.contains("before (nominal") && text.contains("after (with the identified"));
+    assert!(text.contains("before (nominal") && text.contains("after (with the entered"));
+    // Issue 32 item 4: the std of the description, the SINUMERIK parameters, withheld curves.
+    assert!(
+        text.contains("$TC_CARR1 ") && text.contains("withheld A_Z11"),
+        "{text}"
+    );
+    assert!(comp["after_std"]["tool_tip"][0].as_f64().unwrap() > 0.0);
     std::fs::remove_dir_all(&dir).ok();
 }

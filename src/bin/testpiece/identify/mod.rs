@@ -75,12 +75,17 @@ pub struct Args {
     json: bool,
     /// the correction in the controller's terms
     ///
-    /// Each axis's line (rotary: point and direction; linear: direction), the tool tip at the
-    /// reference pose and the offset vectors machine zero -> rotation centres -> tool tip, in the
-    /// machine frame, before (nominal) and after entering the identified location errors, and the
-    /// predicted part after compensation (measured minus the location errors' part: a named
-    /// effect or dR is not a location error and stays, said in the notes); with --json the field
-    /// `compensation`
+    /// Only separable location errors with |value| >= 2 std are entered (the others listed with
+    /// why, and kept on the part). Each axis's line (rotary: point and direction; linear:
+    /// direction), the tool tip at the reference pose and the offset vectors machine zero ->
+    /// rotation centres -> tool tip, in the machine frame, before (nominal) and after entering
+    /// them, each number with its std propagated from the entered errors; the same as a
+    /// SINUMERIK orientable toolholder ($TC_CARR1..20, type M/T/P), tool length, CEC squareness
+    /// slopes and work offset, with std, and where each entered error goes (a kinematic
+    /// parameter, the squareness table, the work offset, or nowhere); the predicted part after
+    /// compensation on the measured points (measured minus the entered errors' part: a named
+    /// effect or dR is not a location error and stays, said in the notes) and on withheld curves
+    /// (each curve predicted by the fit of the others); with --json the field `compensation`
     #[arg(long, verbatim_doc_comment)]
     compensation: bool,
     /// the compensation table of the final answer: name, iso_230_1, value, unit, std, status,
