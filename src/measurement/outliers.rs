@@ -126,19 +126,11 @@ pub fn t_two_sided_quantile(p: f64, nu: f64) -> f64 {
             stats::normal_two_sided(t)
         }
     };
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let mut hi = 1.0f64;
     while tail(hi) > p && hi < 1e6 {
         hi *= 2.0;
     }
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if tail(mid) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+    stats::sf_inverse(tail, p, hi)
 }
 
 /// Residual, leverage and rank of the fit of `y` by `x` restricted to the rows `keep`
