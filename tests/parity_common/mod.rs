@@ -108,6 +108,38 @@ pub fn compare(a: &Value, b: &Value, rel: f64) -> Vec<String> {
     compare_abs(a, b, rel, 0.0)
 }
 
+/// Differences between two covariance matrices (arrays of rows) beyond `rel` of the scale of
+/// each entry, `|a_ij − b_ij| <= rel·√(a_ii·a_jj)`: an entry near zero is formed by cancellation
+/// of terms of that scale (since issue 29 the covariance holds the model spread's second moment,
+/// `Σ_c w_c d_c d_cᵀ`, differences of fits), so its own magnitude is no measure of its error.
+pub fn compare_covariance(a: &Value, b: &Value, rel: f64) -> Vec<String> {
+    let m = |v: &Value| -> Option<Vec<Vec<f64>>> {
+        v.as_array()?
+            .iter()
+            .map(|r| r.as_array()?.iter().map(Value::as_f64).collect())
+            .collect()
+    };
+    let (Some(x), Some(y)) = (m(a), m(b)) else {
+        return compare(a, b, rel);
+    };
+    if x.len() != y.len() || x.iter().zip(&y).any(|(p, q)| p.len() != q.len()) {
+        return compare(a, b, rel);
+    }
+    let mut out = Vec::new();
+    for i in 0..x.len() {
+        for j in 0..x[i].len().min(x.len()) {
+            let scale = (x[i][i].abs() * x[j][j].abs()).sqrt();
+            if (x[i][j] - y[i][j]).abs() > rel * scale {
+                out.push(format!(
+                    "$[{i}][{j}]: {:e} vs {:e} (scale {scale:e})",
+                    x[i][j], y[i][j]
+                ));
+            }
+        }
+    }
+    out
+}
+
 /// [`compare`] with an absolute floor: `|a-b| <= rel·max(|a|,|b|) + abs`.
 pub fn compare_abs(a: &Value, b: &Value, rel: f64, abs: f64) -> Vec<String> {
     let mut out = Vec::new();
