@@ -167,7 +167,7 @@ pub(crate) fn every_candidate_model(
     use crate::effects::machine::{
         c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
-    use crate::sensitivity::reversal::{backlash_gains, lagged_columns};
+    use crate::sensitivity::reversal::{backlash_gains, grid_spots, lagged_columns_at};
     let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
     let baseline = NamedColumns::try_new(
         sens.errors.iter().map(|e| ParamId::Machine(*e)).collect(),
@@ -184,15 +184,17 @@ pub(crate) fn every_candidate_model(
     let axes = &path.lags[0].axes;
     let gains = backlash_gains(part, points, q, axes, opts)?;
     let named = |cols: Vec<Vec<f64>>| axes.iter().copied().zip(cols).collect::<Vec<_>>();
+    // where each point falls on the passes' grid, shared by every lag (the passes' lengths)
+    let spots = grid_spots(&path.lags, part, points);
     let servo = crate::sensitivity::servo::servo_signatures(part, points, q, opts)?;
     let model = SignatureModel {
         s_total: path.s_total(),
         envelope,
-        backlash: named(lagged_columns(&path.lags, part, points, &gains)),
+        backlash: named(lagged_columns_at(&path.lags, &spots, &gains)),
         backlash_family: path
             .lag_family
             .iter()
-            .map(|lags| named(lagged_columns(lags, part, points, &gains)))
+            .map(|lags| named(lagged_columns_at(lags, &spots, &gains)))
             .collect(),
         servo: servo.lag,
         servo_common: servo.common,
