@@ -14,7 +14,11 @@ const filter = process.argv[2];
 const budget = Number(process.env.BENCH_BUDGET_MS || 500);
 
 function median(f) {
+  // a call longer than the budget (a 200,000-point scan) is timed once: its first call
+  const first = performance.now();
   f();
+  const once = performance.now() - first;
+  if (once > budget) return once * 1000;
   const times = [];
   const start = performance.now();
   while ((performance.now() - start < budget || times.length < 5) && times.length < 100000) {
@@ -31,6 +35,7 @@ const STAGES = [
   'inverse_kinematics_path', 'figure19_matrix', 'read_cmm_100', 'read_cmm_100000', 'identify_100',
   'identify_100000', 'analyse_100', 'analyse_100_further', 'analyse_100_again',
   'diagnose_100', 'diagnose_100_further', 'diagnose_100_again',
+  'diagnose_scan_1000', 'diagnose_scan_20000', 'diagnose_scan_200000',
 ];
 let native = {};
 try {

@@ -8,3 +8,5 @@ export PATH="$HOME/.cargo/bin:$PATH"
 TESTPIECE_WASM_FEATURES=bench bash scripts/build-wasm.sh
 cargo bench --quiet --features bench --bench stages -- "$@"
 node scripts/bench-wasm.mjs "$@"
+# peak memory of diagnose on scans, one process each (issue 31)
+bash scripts/bench-memory.sh

@@ -19,7 +19,9 @@
 //! other matched points): the stage holds one [`Session`] and forgets its point models before
 //! each call. `analyse_100_again` and `diagnose_100_again` are the same points again (a
 //! re-analysis after a change of σ, outliers or effects; several parts of one design): the
-//! session keeps the points' model.
+//! session keeps the points' model. `diagnose_scan_1000`, `_20000` and `_200000` (issue 31) are
+//! `testpiece diagnose` of a scanning CMM's file (2 surfaces × 20 × 25, 40 × 250, 100 × 1000
+//! points, [`SCAN_STAGES`]) as a first file: read, match, identify and diagnose.
 
 use nalgebra::{DMatrix, Vector3};
 
@@ -27,14 +29,14 @@ use crate::analysis::{analyse, AnalysisOptions, Session};
 use crate::cmm::write::{canonical_csv, Precision};
 use crate::identify::{identify, Design, IdentifyOptions, Observations, Parameter};
 use crate::machine::ErrorParam;
-use crate::part::{builtin_points, MeasurementPoint, SShape, Surface};
+use crate::part::{builtin_points, MeasurementPoint, SShape, ScanLayout, Surface};
 use crate::sensitivity::defect::axis_values;
 use crate::sensitivity::error_set::error_set;
 use crate::sensitivity::path::machine_path;
 use crate::sensitivity::{sensitivity_matrix, SensitivityOptions};
 
 /// The stage names, in table order.
-pub const STAGES: [&str; 17] = [
+pub const STAGES: [&str; 20] = [
     "bspline_eval_1000",
     "builtin_points",
     "projection_100",
@@ -52,7 +54,59 @@ pub const STAGES: [&str; 17] = [
     "diagnose_100",
     "diagnose_100_further",
     "diagnose_100_again",
+    "diagnose_scan_1000",
+    "diagnose_scan_20000",
+    "diagnose_scan_200000",
 ];
+
+/// The scans of the `diagnose_scan_*` stages: points and their layout (lines a surface ×
+/// points a line; the 1,000-point scan is the 20,000-point one thinned).
+pub const SCAN_STAGES: [(&str, ScanLayout); 3] = [
+    (
+        "diagnose_scan_1000",
+        ScanLayout {
+            heights: 20,
+            rulings: 25,
+        },
+    ),
+    (
+        "diagnose_scan_20000",
+        ScanLayout {
+            heights: 40,
+            rulings: 250,
+        },
+    ),
+    (
+        "diagnose_scan_200000",
+        ScanLayout {
+            heights: 100,
+            rulings: 1000,
+        },
+    ),
+];
+
+/// A scanning CMM's file of `layout` (`testpiece simulate --scan HxR --errors EX0B=0.01
+/// --noise 0.0015`: the exact defect of EX0B = 0.01 mm, noise σ = 1.5 µm, seed 7).
+pub fn scan_text(layout: ScanLayout) -> Result<String, BenchError> {
+    let part = SShape::iso();
+    let pts = layout.scan_points(&part);
+    let ex0b =
+        crate::parameter::ParamId::parse("EX0B").map_err(|e| BenchError::Scan(e.to_string()))?;
+    let dev = crate::simulate::simulate_at(
+        &part,
+        &pts,
+        &SensitivityOptions::default(),
+        &[(ex0b, 0.01)],
+        0.0015,
+        7,
+    )
+    .map_err(|e| BenchError::Scan(e.to_string()))?;
+    Ok(crate::cmm::write::scan_csv(
+        pts.iter().zip(dev),
+        Precision::Shortest,
+        None,
+    ))
+}
 
 /// A canonical CMM file of `rows` rows: the 100 built-in points repeated with unique ids and a
 /// small deterministic deviation.
@@ -186,6 +240,9 @@ pub enum BenchError {
     Gap(#[from] crate::effects::GapError),
     #[error(transparent)]
     Analysis(#[from] crate::analysis::AnalysisError),
+    /// The scan of a `diagnose_scan_*` stage could not be simulated.
+    #[error("the scan could not be simulated: {0}")]
+    Scan(String),
 }
 
 impl Stage {
@@ -238,6 +295,14 @@ impl Stage {
             "diagnose_100_again" => {
                 let (pts, devs) = matched(&part, &cmm_text_with(100, 5))?;
                 Stage::Diagnose(pts, devs, Kept::Everything, session()?)
+            }
+            scan if scan.starts_with("diagnose_scan_") => {
+                let Some((_, layout)) = SCAN_STAGES.iter().find(|(n, _)| *n == scan) else {
+                    return Err(BenchError::UnknownStage {
+                        name: name.to_string(),
+                    });
+                };
+                Stage::Analyse(scan_text(*layout)?, Kept::Nothing, session()?)
             }
             _ => {
                 return Err(BenchError::UnknownStage {

@@ -279,6 +279,27 @@ pub fn simulate_on(
     noise_sigma: f64,
     seed: u64,
 ) -> Result<Vec<f64>, SimulateError> {
+    let part = SShape::iso();
+    simulate_at(
+        &part,
+        &builtin_points(&part),
+        opts,
+        errors,
+        noise_sigma,
+        seed,
+    )
+}
+
+/// [`simulate_on`] at any points of `part` (a scan's, [`crate::part::ScanLayout`]): the exact
+/// eq. 12 defect of the location errors, `-dR`, plus the seeded noise in point order.
+pub fn simulate_at(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+    errors: &[(ParamId, f64)],
+    noise_sigma: f64,
+    seed: u64,
+) -> Result<Vec<f64>, SimulateError> {
     check_noise(noise_sigma)?;
     let mut params: Vec<ErrorParam> = Vec::new();
     let mut values = Vec::new();
@@ -295,10 +316,8 @@ pub fn simulate_on(
             }
         }
     }
-    let part = SShape::iso();
-    let points = builtin_points(&part);
     let errors = crate::machine::MachineErrors::from_pairs(&params, &values);
-    let mut y = crate::sensitivity::defect(&part, &points, &errors, opts)?;
+    let mut y = crate::sensitivity::defect(part, points, &errors, opts)?;
     for v in y.iter_mut() {
         *v -= d_r;
     }

@@ -52,12 +52,8 @@ pub fn fit_points(
     let points = at.points();
     let (design, columns) = design_at(prepared, points, at.axis_values()?, opts)?;
     let modelled = diagnose_modelled(prepared, at, deviations, opts);
-    let obs = Observations::new(
-        ids.to_vec(),
-        points.iter().map(|p| p.curve.name().to_string()).collect(),
-        deviations.to_vec(),
-    )
-    .excluding(&modelled.excluded);
+    let obs = Observations::new(ids.to_vec(), at.labels(), deviations.to_vec())
+        .excluding(&modelled.excluded);
     let mut iopts = IdentifyOptions::default();
     // With the CMM's share given, the std use the total σ the diagnosis found: that share, or
     // with the part's own scatter added ([`crate::measurement::noise::NoiseEstimate`]).

@@ -196,6 +196,8 @@ pub fn analyse_parts(
     };
     let deviations = minus_known(matched.deviations(), opts.known.as_ref())?;
     let ids: Vec<String> = matched.points.iter().map(|p| p.file.id.clone()).collect();
+    let model = session.points_model(&points);
+    let scan = model.scan().map(|s| s.layout.clone());
     let PointsFit {
         mut diagnosis,
         outliers,
@@ -205,13 +207,7 @@ pub fn analyse_parts(
         refinement: final_refinement,
         correction,
         observations: obs,
-    } = fit_points(
-        prepared,
-        &session.points_model(&points),
-        &deviations,
-        &ids,
-        opts,
-    )?;
+    } = fit_points(prepared, &model, &deviations, &ids, opts)?;
     let repeat = pure.map(|pe| {
         let baseline = &baseline.identification;
         let used: Vec<f64> = baseline
@@ -249,6 +245,7 @@ pub fn analyse_parts(
             opts.known.as_ref(),
             &noise,
             opts.feed,
+            scan.as_ref(),
         );
     }
     let analysis = Analysis {
@@ -258,6 +255,7 @@ pub fn analyse_parts(
         outliers,
         noise,
         repeat,
+        scan,
         file: matched,
         points,
         design: columns_of(&final_design),

@@ -3,6 +3,8 @@
 use serde::ser::SerializeStruct;
 use serde::{Serialize, Serializer};
 
+use crate::measurement::scan_lines::ScanLayout;
+
 use crate::cmm::MatchedPart;
 use crate::final_fit::correct::Correction;
 use crate::gap::verdict::VerdictId;
@@ -84,6 +86,10 @@ pub struct Analysis {
     /// file).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub repeat: Option<RepeatReport>,
+    /// The points read as a scan: surfaces, lines, points per line, spacing (absent for a
+    /// discrete layout; [`crate::measurement::scan_lines`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scan: Option<ScanLayout>,
 }
 
 /// What repeat measurements of the part gave ([`crate::measurement::repeat`]).
@@ -161,8 +167,16 @@ pub(super) fn diagnosis_summary(
     known: Option<&KnownDeviation>,
     noise: &NoiseSource,
     feed: f64,
+    scan: Option<&ScanLayout>,
 ) -> String {
     let mut s = crate::gap::report::summary(report);
+    if let Some(l) = scan {
+        s = format!(
+            "{}\n{}\n",
+            s.trim_end(),
+            crate::measurement::scan_lines::sentence(l)
+        );
+    }
     if let Some(servo) = servo_sentence(report, feed) {
         s = format!("{}\n{servo}\n", s.trim_end());
     }

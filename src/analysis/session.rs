@@ -22,6 +22,7 @@ use crate::effects::prepared::Prepared;
 use crate::effects::GapError;
 use crate::final_fit::structure::Decompositions;
 use crate::machine::AxisValues;
+use crate::measurement::scan_lines::{read_scan, ScanReading};
 use crate::numerics::memo::Memo;
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::SensitivityError;
@@ -84,23 +85,53 @@ pub struct PointsModel {
     axis_values: Result<Vec<AxisValues>, SensitivityError>,
     /// The part model of the diagnosis (or why there is none: the diagnosis is then not made).
     part_model: Result<PartModel, GapError>,
+    /// The points read as a scan, when they are one ([`read_scan`]).
+    scan: Option<ScanReading>,
     decompositions: Decompositions,
 }
 
 impl PointsModel {
-    /// Solves the points' axis values and builds their part model on `prepared`.
+    /// Solves the points' axis values and builds their part model on `prepared`; the points of
+    /// a scan are grouped by their scan lines ([`read_scan`]), the others by the nearer
+    /// measurement curve.
     pub fn new(prepared: &Prepared, points: &[MeasurementPoint]) -> Self {
         let axis_values = prepared.axis_values(points);
+        let scan = read_scan(points);
         let part_model = match &axis_values {
-            Ok(q) => prepared.part_model(points, q),
+            Ok(q) => prepared.part_model(points, q).map(|mut m| {
+                if let Some(s) = &scan {
+                    for (p, l) in m.points.iter_mut().zip(&s.labels) {
+                        p.curve.clone_from(l);
+                    }
+                }
+                m
+            }),
             Err(e) => Err(e.clone().into()),
         };
         Self {
             points: points.to_vec(),
             axis_values,
             part_model,
+            scan,
             decompositions: Decompositions::default(),
         }
+    }
+
+    /// The points' group labels: their scan lines for a scan, else their measurement curves.
+    pub fn labels(&self) -> Vec<String> {
+        match &self.scan {
+            Some(s) => s.labels.clone(),
+            None => self
+                .points
+                .iter()
+                .map(|p| p.curve.name().to_string())
+                .collect(),
+        }
+    }
+
+    /// The points read as a scan, when they are one.
+    pub fn scan(&self) -> Option<&ScanReading> {
+        self.scan.as_ref()
     }
 
     /// The measured points.

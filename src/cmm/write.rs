@@ -26,27 +26,57 @@ pub fn canonical_csv<'a>(
     precision: Precision,
     comment: Option<&str>,
 ) -> String {
+    let mut s = header(CANONICAL_HEADER, comment);
+    for (p, d) in rows {
+        // Writing to a String cannot fail.
+        let _ = write!(s, "{},{},", p.id, p.curve.name());
+        row(&mut s, p, d, precision);
+    }
+    s
+}
+
+/// The `# ` comment lines of `comment`, then the header row `names`.
+fn header(names: &str, comment: Option<&str>) -> String {
     let mut s = String::new();
     for line in comment.into_iter().flat_map(str::lines) {
         s.push_str("# ");
         s.push_str(line);
         s.push('\n');
     }
-    s.push_str(CANONICAL_HEADER);
+    s.push_str(names);
     s.push('\n');
-    for (p, d) in rows {
-        let values = [
-            p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z, d,
-        ];
+    s
+}
+
+/// `x,y,z,nx,ny,nz,deviation` of one point and its line end.
+fn row(s: &mut String, p: &MeasurementPoint, d: f64, precision: Precision) {
+    let values = [
+        p.point.x, p.point.y, p.point.z, p.normal.x, p.normal.y, p.normal.z, d,
+    ];
+    for (k, v) in values.into_iter().enumerate() {
+        let sep = if k == 0 { "" } else { "," };
         // Writing to a String cannot fail.
-        let _ = write!(s, "{},{}", p.id, p.curve.name());
-        for v in values {
-            let _ = match precision {
-                Precision::Shortest => write!(s, ",{v}"),
-                Precision::Decimals(n) => write!(s, ",{v:.n$}"),
-            };
-        }
-        s.push('\n');
+        let _ = match precision {
+            Precision::Shortest => write!(s, "{sep}{v}"),
+            Precision::Decimals(n) => write!(s, "{sep}{v:.n$}"),
+        };
+    }
+    s.push('\n');
+}
+
+/// The header row of a scan ([`scan_csv`]): no id, no curve label.
+pub const SCAN_HEADER: &str = "x,y,z,nx,ny,nz,deviation";
+
+/// A scan as a scanning CMM exports it: `x,y,z,nx,ny,nz,deviation` per point in scan order
+/// (mm), no point id and no curve label, each line of `comment` written first as a `# ` line.
+pub fn scan_csv<'a>(
+    rows: impl IntoIterator<Item = (&'a MeasurementPoint, f64)>,
+    precision: Precision,
+    comment: Option<&str>,
+) -> String {
+    let mut s = header(SCAN_HEADER, comment);
+    for (p, d) in rows {
+        row(&mut s, p, d, precision);
     }
     s
 }

@@ -5,7 +5,7 @@ use crate::effects::effect::SignatureModel;
 use crate::effects::path_model::PathModel;
 use crate::effects::EffectPoint;
 use crate::effects::GapError;
-use crate::machine::{AxisValues, ErrorParam};
+use crate::machine::{AxisName, AxisValues, ErrorParam};
 use crate::numerics::order::argsort;
 use crate::parameter::{Effect, ParamId};
 use crate::part::points::MeasurementPoint;
@@ -167,7 +167,7 @@ pub(crate) fn every_candidate_model(
     use crate::effects::machine::{
         c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
-    use crate::sensitivity::reversal::{backlash_gains, lagged_columns};
+    use crate::sensitivity::reversal::{backlash_gains, grid_spots, lagged_columns_at};
     let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
     let baseline = NamedColumns::try_new(
         sens.errors.iter().map(|e| ParamId::Machine(*e)).collect(),
@@ -181,18 +181,30 @@ pub(crate) fn every_candidate_model(
         .collect();
     // the backlash columns at the reference lag and at each lag of the family, from the gains
     // (∂x/∂q)·N computed once
+    // the gains (∂x/∂q)·N of every axis of the chain, once: the servo signatures read them
+    // all, the backlash columns those of the lags' axes
     let axes = &path.lags[0].axes;
-    let gains = backlash_gains(part, points, q, axes, opts)?;
+    let chain_axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
+    let all_gains = backlash_gains(part, points, q, &chain_axes, opts)?;
+    let gains: Vec<Vec<f64>> = axes
+        .iter()
+        .map(|a| match chain_axes.iter().position(|c| c == a) {
+            Some(k) => Ok(all_gains[k].clone()),
+            None => backlash_gains(part, points, q, &[*a], opts).map(|mut g| g.remove(0)),
+        })
+        .collect::<Result<_, _>>()?;
     let named = |cols: Vec<Vec<f64>>| axes.iter().copied().zip(cols).collect::<Vec<_>>();
-    let servo = crate::sensitivity::servo::servo_signatures(part, points, q, opts)?;
+    // where each point falls on the passes' grid, shared by every lag (the passes' lengths)
+    let spots = grid_spots(&path.lags, part, points);
+    let servo = crate::sensitivity::servo::servo_signatures_with(part, points, opts, &all_gains)?;
     let model = SignatureModel {
         s_total: path.s_total(),
         envelope,
-        backlash: named(lagged_columns(&path.lags, part, points, &gains)),
+        backlash: named(lagged_columns_at(&path.lags, &spots, &gains)),
         backlash_family: path
             .lag_family
             .iter()
-            .map(|lags| named(lagged_columns(lags, part, points, &gains)))
+            .map(|lags| named(lagged_columns_at(lags, &spots, &gains)))
             .collect(),
         servo: servo.lag,
         servo_common: servo.common,

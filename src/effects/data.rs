@@ -269,14 +269,36 @@ impl GapInput {
 /// Indices of the points of each curve, in increasing `u`, curves in order of first appearance.
 pub fn curve_sequences(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
     let mut out: Vec<(String, Vec<usize>)> = Vec::new();
+    let mut at: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
     for (i, p) in points.iter().enumerate() {
-        match out.iter_mut().find(|(c, _)| *c == p.curve) {
-            Some((_, v)) => v.push(i),
-            None => out.push((p.curve.clone(), vec![i])),
+        match at.get(p.curve.as_str()) {
+            Some(&k) => out[k].1.push(i),
+            None => {
+                at.insert(p.curve.as_str(), out.len());
+                out.push((p.curve.clone(), vec![i]));
+            }
         }
     }
     for (_, v) in &mut out {
         sort_by_key_f64(v, |&i| points[i].u);
     }
     out
+}
+
+/// Whether the points' groups are a scan's lines ([`crate::measurement::scan_lines`]): more
+/// than two on a surface. A discrete layout labels each point with one of its surface's two
+/// measurement curves.
+pub fn is_scan(points: &[PointMeta]) -> bool {
+    Surface::BOTH.into_iter().any(|s| {
+        let mut labels: Vec<&str> = Vec::new();
+        for p in points.iter().filter(|p| p.surface == s) {
+            if !labels.contains(&p.curve.as_str()) {
+                labels.push(&p.curve);
+                if labels.len() > 2 {
+                    return true;
+                }
+            }
+        }
+        false
+    })
 }

@@ -12,10 +12,12 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::effects::data::curve_sequences;
 use crate::effects::data::PointMeta;
+use crate::effects::data::{curve_sequences, is_scan};
 use crate::gap::regions::Region;
 use crate::identify::solve::Factor;
+use crate::numerics::order::sort_by_key_f64;
+use crate::part::Surface;
 
 /// One fold: which points are fitted and which are withheld, with the baseline factorised on the
 /// fitted ones.
@@ -34,16 +36,51 @@ pub struct FoldFactor {
 
 /// The withheld sets: `(name, test indices)`, curve folds then region folds; empty ones skipped.
 pub fn withheld_sets(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
-    let mut out: Vec<(String, Vec<usize>)> = curve_sequences(points)
-        .into_iter()
-        .map(|(c, idx)| (format!("curve:{c}"), idx))
-        .collect();
+    let mut out: Vec<(String, Vec<usize>)> = if is_scan(points) {
+        height_bands(points)
+    } else {
+        curve_sequences(points)
+            .into_iter()
+            .map(|(c, idx)| (format!("curve:{c}"), idx))
+            .collect()
+    };
     for reg in Region::ALL {
         let idx: Vec<usize> = (0..points.len())
             .filter(|&i| Region::of_u(points[i].u) == reg)
             .collect();
         if !idx.is_empty() {
             out.push((format!("region:{}", reg.name()), idx));
+        }
+    }
+    out
+}
+
+/// A scan's lines withheld in two bands a surface, the lower and the upper half of its lines by
+/// mean contact height (`band:A_low`, …): as many folds as the four curves of a discrete layout,
+/// whatever the number of lines.
+fn height_bands(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
+    let mut out = Vec::new();
+    for s in Surface::BOTH {
+        let mut lines: Vec<(f64, Vec<usize>)> = curve_sequences(points)
+            .into_iter()
+            .filter(|(_, idx)| idx.first().is_some_and(|&i| points[i].surface == s))
+            .map(|(_, idx)| {
+                let h = idx.iter().map(|&i| points[i].h).sum::<f64>() / idx.len() as f64;
+                (h, idx)
+            })
+            .collect();
+        if lines.is_empty() {
+            continue;
+        }
+        sort_by_key_f64(&mut lines, |l| l.0);
+        let half = lines.len().div_ceil(2);
+        for (name, part) in [("low", &lines[..half]), ("high", &lines[half..])] {
+            let mut idx: Vec<usize> = part.iter().flat_map(|l| l.1.iter().copied()).collect();
+            if idx.is_empty() {
+                continue;
+            }
+            idx.sort_unstable();
+            out.push((format!("band:{}_{name}", s.name()), idx));
         }
     }
     out

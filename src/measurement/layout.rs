@@ -16,8 +16,8 @@
 
 use serde::Serialize;
 
-use crate::effects::data::curve_sequences;
 use crate::effects::data::PointMeta;
+use crate::effects::data::{curve_sequences, is_scan};
 use crate::measurement::noise::LJUNG_BOX_LAGS;
 use crate::measurement::smooth_noise::SMOOTH_DEGREE;
 use crate::parameter::Effect;
@@ -68,10 +68,12 @@ pub fn layout(points: &[PointMeta], invisible: Vec<Effect>) -> Layout {
             smooth_degree: curve_degree(idx.len(), SMOOTH_DEGREE),
         })
         .collect();
+    // a scan's lines are not the measurement curves: none of those is missing
+    let scan = is_scan(points);
     let not_measured: Vec<String> = Curve::ALL
         .iter()
         .map(|c| c.name().to_string())
-        .filter(|name| !curves.iter().any(|c| &c.curve == name))
+        .filter(|name| !scan && !curves.iter().any(|c| &c.curve == name))
         .collect();
     // by id, inserted one at a time (a few effects; no instance of the standard sort for it,
     // numerics::order)
@@ -81,7 +83,15 @@ pub fn layout(points: &[PointMeta], invisible: Vec<Effect>) -> Layout {
         by_id.insert(at, e);
     }
     let invisible = by_id;
-    let full = not_measured.is_empty() && curves.iter().all(|c| c.points >= FULL_BASIS_POINTS);
+    let full = not_measured.is_empty()
+        && curves.iter().all(|c| {
+            c.points
+                >= if scan {
+                    LJUNG_BOX_LAGS + 3
+                } else {
+                    FULL_BASIS_POINTS
+                }
+        });
     let mut notes = Vec::new();
     if !not_measured.is_empty() {
         notes.push(format!(
@@ -89,9 +99,10 @@ pub fn layout(points: &[PointMeta], invisible: Vec<Effect>) -> Layout {
             not_measured.join(", ")
         ));
     }
+    // a scan's smooth basis is over its surfaces, not per line (smooth_noise::surface_basis)
     let short: Vec<String> = curves
         .iter()
-        .filter(|c| c.points < FULL_BASIS_POINTS)
+        .filter(|c| !scan && c.points < FULL_BASIS_POINTS)
         .map(|c| {
             format!(
                 "{} ({} points, degree {})",

@@ -9,7 +9,8 @@
 //! - [`outliers`]: single-point faults (a chip, dirt, a probing error), by externally studentised
 //!   residuals against a robust σ with a Bonferroni bound;
 //! - [`repeat`]: repeat measurements of one part, pure error and lack of fit;
-//! - [`layout`]: what a layout of measured points limits (points per curve, curves not measured).
+//! - [`layout`]: what a layout of measured points limits (points per curve, curves not measured);
+//! - [`scan_lines`]: a scanning CMM's points grouped by surface and scan line, from the data.
 //!
 //! Units: mm (deviations, σ). Sign: deviation = `(measured − nominal)·N`.
 
@@ -18,4 +19,5 @@ pub mod noise;
 pub mod outliers;
 pub mod repeat;
 pub mod ruling_pairs;
+pub mod scan_lines;
 pub mod smooth_noise;

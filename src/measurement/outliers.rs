@@ -140,13 +140,85 @@ fn fit(x: &DMatrix<f64>, y: &DVector<f64>, keep: &[usize]) -> (Vec<f64>, Vec<f64
     let ys = DVector::from_iterator(keep.len(), keep.iter().map(|&i| y[i]));
     let f = Factor::new(&xs, None);
     let e = f.unabsorbed_vec(&ys);
-    let n = x.nrows();
+    let (r, h) = spread(x.nrows(), keep, &e, &f.basis);
+    (r, h, f.rank)
+}
+
+/// Above this many kept rows a candidate's columns join a fit as an update of the fit without
+/// them ([`Base::with`]); below it, as on the built-in layout, the whole design is factorised
+/// again (the same projection, to rounding).
+pub const UPDATE_ROWS: usize = 2000;
+
+/// The fit of `y` by `x` on the rows `keep`, kept for adding a candidate's columns to it.
+struct Base<'a> {
+    factor: Factor,
+    keep: &'a [usize],
+    /// `y` on the kept rows.
+    y: DVector<f64>,
+    /// The residual and leverage ([`fit`]).
+    r: Vec<f64>,
+    h: Vec<f64>,
+}
+
+impl<'a> Base<'a> {
+    fn new(x: &DMatrix<f64>, y: &DVector<f64>, keep: &'a [usize]) -> Self {
+        let xs = x.select_rows(keep);
+        let ys = DVector::from_iterator(keep.len(), keep.iter().map(|&i| y[i]));
+        let factor = Factor::new(&xs, None);
+        let e = factor.unabsorbed_vec(&ys);
+        let (r, h) = spread(x.nrows(), keep, &e, &factor.basis);
+        Self {
+            factor,
+            keep,
+            y: ys,
+            r,
+            h,
+        }
+    }
+
+    /// Residual, leverage and rank of the fit with the columns `c` added: the columns' part
+    /// outside the fit `C' = C − QQᵀC` (its rank judged against the norms of `C`, as the whole
+    /// design's SVD judges each column against its own norm) spans what they add, so
+    /// `e = e₀ − Q'Q'ᵀe₀`-wise the residual of the larger fit and `h = h₀ + ‖Q' row‖²`.
+    fn with(&self, c: &DMatrix<f64>) -> (Vec<f64>, Vec<f64>, usize) {
+        let cs = c.select_rows(self.keep);
+        let norms: Vec<f64> = (0..cs.ncols()).map(|j| cs.column(j).norm()).collect();
+        let added = Factor::new(&self.factor.unabsorbed(&cs), Some(&norms));
+        let e = added.unabsorbed_vec(&self.factor.unabsorbed_vec(&self.y));
+        let (r, extra) = spread(self.r.len(), self.keep, &e, &added.basis);
+        let h = self.h.iter().zip(extra).map(|(a, b)| a + b).collect();
+        (r, h, self.factor.rank + added.rank)
+    }
+}
+
+/// The residual `e` and the squared row norms of `basis` (rows of `keep`) spread to `n` rows
+/// (0 elsewhere).
+fn spread(
+    n: usize,
+    keep: &[usize],
+    e: &DVector<f64>,
+    basis: &DMatrix<f64>,
+) -> (Vec<f64>, Vec<f64>) {
     let (mut r, mut h) = (vec![0.0; n], vec![0.0; n]);
     for (k, &i) in keep.iter().enumerate() {
         r[i] = e[k];
-        h[i] = f.basis.row(k).norm_squared();
+        h[i] = basis.row(k).norm_squared();
     }
-    (r, h, f.rank)
+    (r, h)
+}
+
+/// [`fit`] of `[x | c]`: by [`Base::with`] above [`UPDATE_ROWS`] kept rows, else afresh.
+fn fit_added(
+    base: &Base,
+    x: &DMatrix<f64>,
+    c: &DMatrix<f64>,
+    y: &DVector<f64>,
+) -> (Vec<f64>, Vec<f64>, usize) {
+    if base.keep.len() > UPDATE_ROWS {
+        base.with(c)
+    } else {
+        fit(&hstack(x, c), y, base.keep)
+    }
 }
 
 /// `t_i` of every kept row (0 where the leverage is 1).
@@ -205,6 +277,20 @@ fn neighbours(input: &GapInput) -> Vec<Vec<usize>> {
     let pts = &input.points;
     let mut nb = vec![Vec::new(); pts.len()];
     let seqs = curve_sequences(pts);
+    // each curve's points by `s`, with their position in the curve's order (the first of equal
+    // `s` first: the point `min_by` over the curve would return)
+    let by_s: Vec<Vec<(f64, usize, usize)>> = seqs
+        .iter()
+        .map(|(_, idx)| {
+            let mut v: Vec<(f64, usize, usize)> = idx
+                .iter()
+                .enumerate()
+                .map(|(k, &j)| (pts[j].s, k, j))
+                .collect();
+            v.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            v
+        })
+        .collect();
     for (c, (_, idx)) in seqs.iter().enumerate() {
         let mut gaps: Vec<f64> = idx
             .windows(2)
@@ -219,22 +305,44 @@ fn neighbours(input: &GapInput) -> Vec<Vec<usize>> {
             if k + 1 < idx.len() {
                 nb[i].push(idx[k + 1]);
             }
-            for (d, (_, other)) in seqs.iter().enumerate() {
+            for (d, other) in by_s.iter().enumerate() {
                 if d == c {
                     continue;
                 }
-                let near = other.iter().copied().min_by(|&a, &b| {
-                    (pts[a].s - pts[i].s)
-                        .abs()
-                        .total_cmp(&(pts[b].s - pts[i].s).abs())
-                });
-                if let Some(j) = near.filter(|&j| (pts[j].s - pts[i].s).abs() < half) {
+                if let Some(j) =
+                    nearest_in_s(other, pts[i].s).filter(|&j| (pts[j].s - pts[i].s).abs() < half)
+                {
                     nb[i].push(j);
                 }
             }
         }
     }
     nb
+}
+
+/// The point of a curve (its points by `s`, [`neighbours`]) nearest to `s` in `s`; of equally
+/// near points the first in the curve's order. A binary search: the nearest lie at the
+/// insertion point or just before it (with any points of equal `s` beside them).
+fn nearest_in_s(by_s: &[(f64, usize, usize)], s: f64) -> Option<usize> {
+    let at = by_s.partition_point(|e| e.0 < s);
+    let dist = |e: &(f64, usize, usize)| (e.0 - s).abs();
+    let mut best: Option<&(f64, usize, usize)> = None;
+    // the candidates: the run of equal `s` ending before `at`, and the run starting at `at`
+    let before = at.checked_sub(1).map(|b| {
+        let v = by_s[b].0;
+        by_s[..=b].partition_point(|e| e.0 < v)..b + 1
+    });
+    let after = (at < by_s.len()).then(|| {
+        let v = by_s[at].0;
+        at..by_s[at..].partition_point(|e| e.0 <= v) + at
+    });
+    for e in before.into_iter().chain(after).flat_map(|r| by_s[r].iter()) {
+        best = match best {
+            Some(b) if (dist(b), b.1) <= (dist(e), e.1) => Some(b),
+            _ => Some(e),
+        };
+    }
+    best.map(|e| e.2)
 }
 
 /// Finds the single-point outliers of a measured part by the rule of the module doc (α =
@@ -344,20 +452,20 @@ fn with_best_candidate(
     y: &DVector<f64>,
     keep: &[usize],
 ) -> DMatrix<f64> {
-    let scale = |m: &DMatrix<f64>| {
-        let (r, h, _) = fit(m, y, keep);
-        robust_sigma(&r, &h, keep)
-    };
-    let plain = scale(x);
-    let mut best = (CANDIDATE_GAIN * plain, x.clone());
+    let base = Base::new(x, y, keep);
+    let plain = robust_sigma(&base.r, &base.h, keep);
+    let mut best = (CANDIDATE_GAIN * plain, None);
     for c in &input.candidates {
-        let xc = hstack(x, &c.signature.matrix);
-        let s = scale(&xc);
+        let (r, h, _) = fit_added(&base, x, &c.signature.matrix, y);
+        let s = robust_sigma(&r, &h, keep);
         if s < best.0 {
-            best = (s, xc);
+            best = (s, Some(c));
         }
     }
-    best.1
+    match best.1 {
+        Some(c) => hstack(x, &c.signature.matrix),
+        None => x.clone(),
+    }
 }
 
 /// Whether no neighbour of row `i` shares its excursion `d` (deleted residuals, in the fit
@@ -390,9 +498,9 @@ fn explained(
     sigma: f64,
     crit: f64,
 ) -> bool {
+    let base = Base::new(x, y, keep);
     input.candidates.iter().any(|c| {
-        let xc = hstack(x, &c.signature.matrix);
-        let (r, h, _) = fit(&xc, y, keep);
+        let (r, h, _) = fit_added(&base, x, &c.signature.matrix, y);
         let t = statistics(&r, &h, keep, sigma);
         t[i].abs() <= crit
     })

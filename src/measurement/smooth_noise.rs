@@ -12,10 +12,11 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::effects::data::curve_sequences;
 use crate::effects::data::PointMeta;
+use crate::effects::data::{curve_sequences, is_scan};
 use crate::identify::solve::{hstack, Factor};
 use crate::measurement::layout::curve_degree;
+use crate::part::Surface;
 
 /// Degree of the per-curve Legendre basis.
 pub const SMOOTH_DEGREE: usize = 5;
@@ -35,7 +36,11 @@ pub fn legendre(t: f64, d: usize) -> Vec<f64> {
 /// The per-curve smooth basis: on a curve of `m` points the Legendre polynomials up to degree
 /// [`curve_degree`]`(m, degree)` (`degree` on the built-in layout's 25 points a curve), so that
 /// half of a curve's points always remain to measure the noise ([`crate::measurement::layout`]).
+/// A scan's points ([`is_scan`]) have the two-dimensional basis of [`surface_basis`] instead.
 pub fn smooth_basis(points: &[PointMeta], degree: usize) -> DMatrix<f64> {
+    if is_scan(points) {
+        return surface_basis(points, degree, HEIGHT_DEGREE);
+    }
     let seqs = curve_sequences(points);
     let widths: Vec<usize> = seqs
         .iter()
@@ -60,6 +65,57 @@ pub fn smooth_basis(points: &[PointMeta], degree: usize) -> DMatrix<f64> {
             }
         }
         first += k;
+    }
+    m
+}
+
+/// Degree in height of a scan's smooth basis ([`surface_basis`]).
+pub const HEIGHT_DEGREE: usize = 3;
+
+/// The smooth basis of a scan: on each surface, with `t ∈ [−1, 1]` the tool-path length `s` and
+/// `η ∈ [−1, 1]` the contact height `h` mapped linearly over the surface's points, the products
+/// `P_i(t)·P_j(η)`, `i ≤ degree`, `j ≤ min(height_degree, lines − 1)`: smooth along the path and
+/// over the heights, the same `(degree + 1)(height_degree + 1)` columns a surface whatever the
+/// number of lines (a basis per line would grow with them, and its fit as the square).
+pub fn surface_basis(points: &[PointMeta], degree: usize, height_degree: usize) -> DMatrix<f64> {
+    let seqs = curve_sequences(points);
+    let mut blocks: Vec<(Vec<usize>, usize)> = Vec::new();
+    for s in Surface::BOTH {
+        let idx: Vec<usize> = (0..points.len())
+            .filter(|&i| points[i].surface == s)
+            .collect();
+        if idx.is_empty() {
+            continue;
+        }
+        let lines = seqs
+            .iter()
+            .filter(|(_, l)| l.first().is_some_and(|&i| points[i].surface == s))
+            .count();
+        blocks.push((idx, height_degree.min(lines.saturating_sub(1))));
+    }
+    let width: usize = blocks.iter().map(|(_, hd)| (degree + 1) * (hd + 1)).sum();
+    let mut m = DMatrix::zeros(points.len(), width);
+    let mut first = 0;
+    for (idx, hd) in blocks {
+        let range = |f: &dyn Fn(usize) -> f64| {
+            idx.iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &i| {
+                    (a.min(f(i)), b.max(f(i)))
+                })
+        };
+        let (s0, s1) = range(&|i| points[i].s);
+        let (h0, h1) = range(&|i| points[i].h);
+        let unit = |v: f64, lo: f64, hi: f64| 2.0 * (v - lo) / (hi - lo).max(1e-12) - 1.0;
+        for &i in &idx {
+            let pt = legendre(unit(points[i].s, s0, s1), degree);
+            let ph = legendre(unit(points[i].h, h0, h1), hd);
+            for (a, pa) in pt.iter().enumerate() {
+                for (b, pb) in ph.iter().enumerate() {
+                    m[(i, first + a * (hd + 1) + b)] = pa * pb;
+                }
+            }
+        }
+        first += (degree + 1) * (hd + 1);
     }
     m
 }

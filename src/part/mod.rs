@@ -9,6 +9,7 @@ pub mod points;
 pub mod projection;
 pub mod ruled;
 pub mod s_shape;
+pub mod scan;
 
 pub use cone::{ConeFrustum, ConePoint};
 pub use flat::{Flat, FLAT_COLUMNS};
@@ -17,3 +18,4 @@ pub use points::{builtin_points, curve_points_n, Curve, MeasurementPoint};
 pub use projection::{project, project_on, Projection};
 pub use ruled::RuledPart;
 pub use s_shape::{SShape, Surface, HEIGHT};
+pub use scan::ScanLayout;

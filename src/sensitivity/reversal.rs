@@ -655,23 +655,52 @@ pub fn lagged_columns(
     points: &[MeasurementPoint],
     gains: &[Vec<f64>],
 ) -> Vec<Vec<f64>> {
-    let mut out = vec![vec![0.0; points.len()]; lags[0].axes.len()];
-    for (surface, p) in Surface::BOTH.into_iter().zip(lags) {
-        for (i, pt) in points.iter().enumerate() {
-            if pt.surface != surface {
-                continue;
-            }
+    lagged_columns_at(lags, &grid_spots(lags, part, points), gains)
+}
+
+/// Where a point falls on the reversal grid of its surface's pass: `k` the first sample at or
+/// after its `u`, `t` its fraction between samples `k − 1` and `k`, `s` their tool-tip path
+/// lengths (mm). The same for every lag of the passes (their lengths are the passes').
+#[derive(Debug, Clone, Copy)]
+pub struct GridSpot {
+    /// The point's surface: 0 for A, 1 for B.
+    surface: usize,
+    k: usize,
+    t: f64,
+    s: [f64; 2],
+}
+
+/// The [`GridSpot`] of each point on the passes of `lags` (one arc-length evaluation pair a
+/// point, shared by every lag of a family).
+pub fn grid_spots(lags: &[Lag; 2], part: &SShape, points: &[MeasurementPoint]) -> Vec<GridSpot> {
+    points
+        .iter()
+        .map(|pt| {
+            let surface = if pt.surface == Surface::A { 0 } else { 1 };
+            let p = &lags[surface];
             // Linear interpolation in u between the grid samples around the point (the
             // reference's convention; the exact lag from sample k-1 differs by < 1e-4
             // relative): k the first sample at or after u.
             let k = grid_after(pt.u);
             let (u0, u1) = (grid_u(k - 1), grid_u(k));
-            let t = (pt.u - u0) / (u1 - u0);
-            let (s0, s1) = (p.length.at(part, u0), p.length.at(part, u1));
-            for (a, col) in out.iter_mut().enumerate() {
-                let e_pt = p.offset(a, k - 1, s0) * (1.0 - t) + p.offset(a, k, s1) * t;
-                col[i] = e_pt * gains[a][i];
+            GridSpot {
+                surface,
+                k,
+                t: (pt.u - u0) / (u1 - u0),
+                s: [p.length.at(part, u0), p.length.at(part, u1)],
             }
+        })
+        .collect()
+}
+
+/// [`lagged_columns`] at the points' [`grid_spots`] on these passes.
+pub fn lagged_columns_at(lags: &[Lag; 2], spots: &[GridSpot], gains: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let mut out = vec![vec![0.0; spots.len()]; lags[0].axes.len()];
+    for (i, g) in spots.iter().enumerate() {
+        let p = &lags[g.surface];
+        for (a, col) in out.iter_mut().enumerate() {
+            let e_pt = p.offset(a, g.k - 1, g.s[0]) * (1.0 - g.t) + p.offset(a, g.k, g.s[1]) * g.t;
+            col[i] = e_pt * gains[a][i];
         }
     }
     out

@@ -146,6 +146,19 @@ pub fn servo_signatures(
 ) -> Result<ServoColumns, SensitivityError> {
     let axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
     let gains = backlash_gains(part, points, q, &axes, opts)?;
+    servo_signatures_with(part, points, opts, &gains)
+}
+
+/// [`servo_signatures`] from the gains `(∂x/∂q)·N` of every axis of the chain in its order
+/// ([`backlash_gains`] of those axes at the same points and axis values), computed once by a
+/// caller that also needs them.
+pub fn servo_signatures_with(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+    gains: &[Vec<f64>],
+) -> Result<ServoColumns, SensitivityError> {
+    let axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
     let n = points.len();
     let mut lag = vec![vec![0.0; n]; axes.len()];
     let mut common = vec![0.0; n];

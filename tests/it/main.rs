@@ -40,6 +40,7 @@ mod gap_machines;
 mod gap_noise;
 mod gap_outliers;
 mod gap_pairs;
+mod gap_scans;
 mod gap_validate;
 mod gap_validate_machines;
 mod geometry_cli;

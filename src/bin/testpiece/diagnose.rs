@@ -166,5 +166,8 @@ fn report_json(report: &DiagnosisReport, a: &Analysis) -> Result<serde_json::Val
     if let Some(r) = &a.repeat {
         v["repeat"] = to_json(r)?;
     }
+    if let Some(l) = &a.scan {
+        v["scan"] = to_json(l)?;
+    }
     Ok(v)
 }

@@ -1,17 +1,17 @@
 //! `testpiece simulate`: a synthetic measured part in the canonical CSV format.
 
-use testpiece::cmm::write::{canonical_csv, Precision};
+use testpiece::cmm::write::{canonical_csv, scan_csv, Precision};
 use testpiece::effects::prepared::Prepared;
 use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::location_errors::minimal_set;
 use testpiece::machine::{Branch, ErrorParam};
 use testpiece::parameter::{Effect, ParamId};
-use testpiece::part::{builtin_points, SShape};
+use testpiece::part::{builtin_points, SShape, ScanLayout};
 use testpiece::sensitivity::error_set::full_list;
 use testpiece::sensitivity::{Mode, SensitivityOptions};
 use testpiece::settings::MachineChoice;
 use testpiece::simulate::{
-    builtin_design, parse_errors, simulate_deviation, simulate_exact, simulate_on,
+    builtin_design, parse_errors, simulate_at, simulate_deviation, simulate_exact, simulate_on,
 };
 
 use crate::common::{branch, machine, mm, mode, positive_l0, seed};
@@ -31,6 +31,12 @@ use crate::common::{branch, machine, mm, mode, positive_l0, seed};
 /// on that chain for any of its ISO 230-1 location errors (`testpiece machine --machine M` lists
 /// them: e.g. EY0C=0.02,EX0C=-0.015 for a C axis off the part origin on the tilting table), and
 /// --effect uses that machine's signatures.
+///
+/// --scan HEIGHTSxRULINGS (e.g. 40x250: 20,000 points) writes a scanning CMM's file instead:
+/// each surface scanned on HEIGHTS lines of constant height, evenly from 3 to 27 mm, each line
+/// RULINGS points at equal arc length (5 %-95 % of the curve), surface A's lines then B's, in
+/// scan order, as `x,y,z,nx,ny,nz,deviation` with no id and no curve label; the deviation is
+/// always the exact eq. 12 defect on the chain (not --linear).
 ///
 /// --effect adds unmodelled effects of shared/spec/effects.md, each as ID=VALUE for a one-parameter
 /// effect (backlash_c=1e-4: rad for B and C, mm for X, Y, Z) or ID.PARAMETER=VALUE (tool_taper.g=2e-4,
@@ -68,6 +74,20 @@ pub struct Args {
     /// the pivot-to-tip length (mm)
     #[arg(long, value_name = "MM", default_value_t = PAPER000_L0, value_parser = mm, allow_negative_numbers = true)]
     l0: f64,
+    /// a scan: lines of constant height on each surface x points per line, e.g. 40x250
+    #[arg(long, value_name = "HEIGHTSxRULINGS", value_parser = scan_layout)]
+    scan: Option<ScanLayout>,
+}
+
+/// `--scan 40x250`: heights and rulings, each at least 1.
+fn scan_layout(s: &str) -> Result<ScanLayout, String> {
+    let bad = || format!("`{s}`: expected HEIGHTSxRULINGS, two whole numbers >= 1, e.g. 40x250");
+    let (h, r) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let n = |t: &str| t.trim().parse::<usize>().ok().filter(|n| *n >= 1);
+    match (n(h), n(r)) {
+        (Some(heights), Some(rulings)) => Ok(ScanLayout { heights, rulings }),
+        _ => Err(bad()),
+    }
 }
 
 /// `--errors`: each error's name and value.
@@ -100,9 +120,19 @@ pub fn run(a: Args) -> Result<(), String> {
     };
     let l0 = positive_l0(a.l0)?;
     let errs = ids_on(errs, a.machine, l0)?;
-    let dev = machine_part(&a, &errs, l0)?;
     let part = SShape::iso();
-    let pts = builtin_points(&part);
+    let (pts, dev) = match a.scan {
+        Some(layout) => {
+            if a.linear {
+                return Err("--linear: not with --scan (a scan's part is the exact defect)".into());
+            }
+            let pts = layout.scan_points(&part);
+            let dev = simulate_at(&part, &pts, &a.chain_options(l0), &errs, a.noise, a.seed)
+                .map_err(|e| e.to_string())?;
+            (pts, dev)
+        }
+        None => (builtin_points(&part), machine_part(&a, &errs, l0)?),
+    };
     let dev: Vec<f64> = match &a.effect {
         Some(EffectValues(values)) => {
             let prepared =
@@ -125,11 +155,11 @@ pub fn run(a: Args) -> Result<(), String> {
             dev.len()
         ));
     }
-    let out = canonical_csv(
-        pts.iter().zip(dev.iter().copied()),
-        Precision::Shortest,
-        None,
-    );
+    let rows = pts.iter().zip(dev.iter().copied());
+    let out = match a.scan {
+        Some(_) => scan_csv(rows, Precision::Shortest, None),
+        None => canonical_csv(rows, Precision::Shortest, None),
+    };
     print!("{out}");
     Ok(())
 }

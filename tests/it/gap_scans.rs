@@ -1,0 +1,110 @@
+//! Scans read as scans (issue 31): a scanning CMM's file (`testpiece simulate --scan`: lines of
+//! constant height on each surface, no id, no curve label) made with the exact eq. 12 defect of
+//! the location errors ([`testpiece::simulate::simulate_at`]) plus an effect's signature or a
+//! waviness along the tool path, diagnosed as the CLI and the page do ([`analyse_once`]). The
+//! scans are 2 surfaces × 20 lines × 25 points (1,000 points, the benchmark's smallest), so the
+//! tests stay quick in the debug build.
+
+use testpiece::analysis::{analyse_once, AnalysisOptions};
+use testpiece::cmm::write::{scan_csv, Precision};
+use testpiece::effects::prepared::Prepared;
+use testpiece::parameter::{Effect, ParamId};
+use testpiece::part::{SShape, ScanLayout};
+use testpiece::sensitivity::SensitivityOptions;
+use testpiece::simulate::simulate_at;
+
+const LAYOUT: ScanLayout = ScanLayout {
+    heights: 20,
+    rulings: 25,
+};
+/// The CMM noise of the scans (mm), as `simulate --noise 0.0015`.
+const SIGMA: f64 = 0.0015;
+
+/// What is added to the machine's part at each point: nothing, an effect's signature, or a
+/// function of the tool-path length `s` (mm).
+enum Extra {
+    None,
+    Effect(Effect, f64),
+    Wave(fn(f64) -> f64),
+}
+
+/// The scan's file: the exact defect of EX0B = 0.01 mm and EA0B = 1e-4 rad, plus `extra`, plus
+/// the noise (seed 7).
+fn scan_file(extra: Extra) -> String {
+    let part = SShape::iso();
+    let pts = LAYOUT.scan_points(&part);
+    let opts = SensitivityOptions::default();
+    let errors = [
+        (ParamId::parse("EX0B").unwrap(), 0.01),
+        (ParamId::parse("EA0B").unwrap(), 1e-4),
+    ];
+    let mut dev = simulate_at(&part, &pts, &opts, &errors, SIGMA, 7).unwrap();
+    let prepared = Prepared::new(part, opts).unwrap();
+    let q = prepared.axis_values(&pts).unwrap();
+    let model = prepared.part_model(&pts, &q).unwrap();
+    let add: Vec<f64> = match extra {
+        Extra::None => vec![0.0; pts.len()],
+        Extra::Effect(e, v) => model.effect_deviation(&[(e, 0, v)]).unwrap(),
+        Extra::Wave(f) => model.points.iter().map(|p| f(p.s)).collect(),
+    };
+    for (d, a) in dev.iter_mut().zip(add) {
+        *d += a;
+    }
+    scan_csv(pts.iter().zip(dev), Precision::Decimals(6), None)
+}
+
+fn verdict(file: &str) -> (String, testpiece::analysis::Analysis) {
+    let a = analyse_once(file.as_bytes(), "scan.csv", &AnalysisOptions::default()).unwrap();
+    let r = a.diagnosis.report().expect("a diagnosis");
+    (r.verdict.id().as_str().to_string(), a.clone())
+}
+
+#[test]
+fn dense_scan_layout_is_read_from_the_data() {
+    let (_, a) = verdict(&scan_file(Extra::None));
+    let s = a.scan.as_ref().expect("read as a scan");
+    assert_eq!(s.points, 1000);
+    assert_eq!(s.lines_per_surface, vec![20, 20]);
+    assert_eq!(s.points_per_line.min, 25.0);
+    assert_eq!(s.points_per_line.max, 25.0);
+    // 24 mm over 19 steps (part::scan); tolerance 1e-6 mm: the file's 6 decimals
+    assert!(
+        (s.line_step.median - 24.0 / 19.0).abs() < 1e-6,
+        "{:?}",
+        s.line_step
+    );
+    // the diagnosis groups by the 40 lines, not by the four measurement curves
+    let r = a.diagnosis.report().unwrap();
+    assert_eq!(r.layout.curves.len(), 40);
+    assert!(r.layout.not_measured.is_empty());
+}
+
+#[test]
+fn dense_scan_of_a_clean_part_is_none() {
+    let (v, a) = verdict(&scan_file(Extra::None));
+    assert_eq!(v, "none", "{}", a.diagnosis.report().unwrap().summary);
+}
+
+#[test]
+fn dense_scan_with_c_backlash_is_backlash_c() {
+    // b = 5e-4 rad (the reference example's size is 6e-4): visible well above the limit
+    let (v, a) = verdict(&scan_file(Extra::Effect(
+        "backlash_c".parse::<Effect>().unwrap(),
+        5e-4,
+    )));
+    assert_eq!(v, "backlash_c", "{}", a.diagnosis.report().unwrap().summary);
+}
+
+#[test]
+fn dense_scan_with_a_300_mm_wave_is_unexplained() {
+    // 10 µm amplitude, 300 mm of tool path a period: no candidate of effects.md has this shape
+    let (v, a) = verdict(&scan_file(Extra::Wave(|s| {
+        0.010 * (2.0 * std::f64::consts::PI * s / 300.0).sin()
+    })));
+    assert_eq!(
+        v,
+        "unexplained",
+        "{}",
+        a.diagnosis.report().unwrap().summary
+    );
+}
