@@ -187,11 +187,15 @@ pub fn curve_points(part: &SShape, curve: Curve, first_id: usize) -> Vec<Measure
 /// The arc-length fraction of point `k` of `n` on a curve: `5 % + k·90 %/(n − 1)` (the
 /// built-in layout's range), or 50 % for a single point.
 pub fn arc_fraction(k: usize, n: usize) -> f64 {
-    let (f0, f1) = ARC_FRACTION_RANGE;
+    evenly(k, n, ARC_FRACTION_RANGE)
+}
+
+/// Value `k` of `n` spread evenly over `(a, b)`, ends included; the middle for one.
+pub fn evenly(k: usize, n: usize, (a, b): (f64, f64)) -> f64 {
     if n <= 1 {
-        0.5 * (f0 + f1)
+        0.5 * (a + b)
     } else {
-        f0 + (f1 - f0) * k as f64 / (n - 1) as f64
+        a + (b - a) * k as f64 / (n - 1) as f64
     }
 }
 

@@ -8,7 +8,7 @@
 //! measurement curve only because [`MeasurementPoint`] carries one: a scan file written from
 //! them has no curve label and no id ([`crate::cmm::write::scan_csv`]).
 
-use super::points::{arc_fraction, arc_length_table, Curve, MeasurementPoint};
+use super::points::{arc_fraction, arc_length_table, evenly, Curve, MeasurementPoint};
 use super::s_shape::{SShape, Surface, HEIGHT};
 
 /// Lowest and highest scanned height (mm).
@@ -31,12 +31,7 @@ impl ScanLayout {
 
     /// Height of line `k` of `n` (mm): evenly over [`SCAN_Z_RANGE`], the middle for one line.
     pub fn height(k: usize, n: usize) -> f64 {
-        let (z0, z1) = SCAN_Z_RANGE;
-        if n <= 1 {
-            0.5 * (z0 + z1)
-        } else {
-            z0 + (z1 - z0) * k as f64 / (n - 1) as f64
-        }
+        evenly(k, n, SCAN_Z_RANGE)
     }
 
     /// The points of the scan in scan order, ids 1, 2, … in that order.
