@@ -152,6 +152,9 @@ export function residualChart(a, name, id = a.identification) {
 
 /** Plan view of the part (x–y) with the residual drawn as coloured arrows along the normal, the
  * points of the highlighted where-group ringed and the axis reversals marked. */
+/** Heights further apart than this (mm) are on different scan lines (the reader's rule). */
+const LINE_GAP_MM = 0.05;
+
 export function planView(a, name, id = a.identification) {
   const pts = a.file.points;
   const res = id.points.map((p) => p.residual);
@@ -170,9 +173,20 @@ export function planView(a, name, id = a.identification) {
   const add = (tag, attrs, parent = svg) => { const e = document.createElementNS(NS, tag); for (const [kk, v] of Object.entries(attrs)) e.setAttribute(kk, v); parent.appendChild(e); return e; };
   add('rect', { x: 0, y: 0, width: W, height: H, fill: '#fff' });
   add('text', { x: pad, y: 18, 'font-weight': 600, 'font-size': 13 }).textContent = `Plan view: residual along the outward normal (largest ${(maxr * 1000).toFixed(1)} µm = ${arrowMm} mm arrow)`;
+  // one line per measured line: a curve's points in file order, cut where the height jumps by
+  // more than the reader's scan-line gap (LINE_GAP_MM, src/measurement/scan_lines.rs), so that a
+  // scan's lines are not joined across the part
+  const zs = pts.map((p) => p.foot[2]);
   for (const c of core.curves) {
     const idx = a.points.map((p, i) => (p.curve === c ? i : -1)).filter((i) => i >= 0);
-    add('polyline', { points: idx.map((i) => `${X(xs[i]).toFixed(1)},${Y(ys[i]).toFixed(1)}`).join(' '), fill: 'none', stroke: '#bbb' });
+    const runs = [];
+    idx.forEach((i, j) => {
+      if (j === 0 || Math.abs(zs[i] - zs[idx[j - 1]]) > LINE_GAP_MM) runs.push([]);
+      runs[runs.length - 1].push(i);
+    });
+    for (const run of runs) {
+      add('polyline', { class: 'plan-line', points: run.map((i) => `${X(xs[i]).toFixed(1)},${Y(ys[i]).toFixed(1)}`).join(' '), fill: 'none', stroke: '#bbb' });
+    }
   }
   const layer = add('g', { class: 'where-layer' });
   pts.forEach((p, i) => {
