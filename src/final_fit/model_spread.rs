@@ -57,13 +57,25 @@ pub struct Answer<'a> {
     pub whitener: Option<&'a Whitener>,
 }
 
-/// Least-squares estimate of the first `p` coefficients and the RSS of `x` on `y`.
-fn fit(x: &DMatrix<f64>, y: &DVector<f64>, p: usize) -> (DVector<f64>, f64) {
+/// A model's least-squares fit: the first `p` coefficients, the RSS and the rank of its columns.
+#[derive(Clone)]
+struct Fit {
+    beta: DVector<f64>,
+    rss: f64,
+    rank: usize,
+}
+
+/// The least-squares [`Fit`] of `x` on `y`, its first `p` coefficients kept.
+fn fit(x: &DMatrix<f64>, y: &DVector<f64>, p: usize) -> Fit {
     let scale: Vec<f64> = x.column_iter().map(|c| c.norm().max(1e-300)).collect();
     let f = Factor::new(x, Some(&scale));
     let beta = &f.pinv * y;
     let rss = f.unabsorbed_vec(y).norm_squared();
-    (beta.rows(0, p).into_owned(), rss)
+    Fit {
+        beta: beta.rows(0, p).into_owned(),
+        rss,
+        rank: f.rank,
+    }
 }
 
 /// The spread over the models of the location errors (`a`: their columns, `names` in order)
@@ -92,49 +104,59 @@ pub fn model_spread(
     };
     let yfull = DMatrix::from_column_slice(y.len(), 1, y);
     let wy = DVector::from_iterator(n, white(&yfull).iter().copied());
-    let (b0, _) = match chosen {
+    let b0 = match chosen {
         Some(s) => fit(&hstack(&white(a), &white(s)), &wy, p),
         None => fit(&white(a), &wy, p),
-    };
+    }
+    .beta;
     let au = a.select_rows(used);
     let yu = DVector::from_iterator(n, used.iter().map(|&i| y[i]));
     let ln_n = (n as f64).ln();
-    let base_rank = Factor::new(&au, None).rank;
+    // each model's columns factorised once: its estimate, RSS and rank from the same fit
+    let base = fit(&au, &yu, p);
+    let base_rank = base.rank;
     // (id, estimate, BIC) of every model; the answer's own first
     let mut models: Vec<(String, DVector<f64>, f64)> = Vec::new();
-    let mut add = |id: String, x: &DMatrix<f64>| {
+    let mut push = |id: String, x: &DMatrix<f64>, f: Fit| {
         if x.nrows() <= x.ncols() {
             return;
         }
-        let (b, rss) = fit(x, &yu, p);
-        let added = Factor::new(x, None).rank.saturating_sub(base_rank);
-        models.push((id, b, rss / (sigma * sigma) + added as f64 * ln_n));
+        let added = f.rank.saturating_sub(base_rank);
+        models.push((id, f.beta, f.rss / (sigma * sigma) + added as f64 * ln_n));
     };
     let answer = chosen.map_or_else(|| au.clone(), |s| hstack(&au, &s.select_rows(used)));
-    let answer_rank = Factor::new(&answer, None).rank;
-    add(
-        if chosen.is_some() {
-            "answer"
-        } else {
-            "baseline"
+    let answer_rank = match chosen {
+        Some(_) => {
+            let f = fit(&answer, &yu, p);
+            let rank = f.rank;
+            push("answer".into(), &answer, f);
+            push("baseline".into(), &au, base);
+            rank
         }
-        .into(),
-        &answer,
-    );
-    if chosen.is_some() {
-        add("baseline".into(), &au);
-    }
+        None => {
+            push("baseline".into(), &au, base);
+            base_rank
+        }
+    };
     for c in candidates {
         let s = c.signature.matrix.select_rows(used);
         let single = hstack(&au, &s);
-        let with = hstack(&answer, &s);
-        let with_rank = Factor::new(&with, None).rank;
+        let fs = fit(&single, &yu, p);
+        // with the baseline as the answer, the answer with the candidate is the single model
+        let (with, fw) = match chosen {
+            Some(_) => {
+                let with = hstack(&answer, &s);
+                let fw = fit(&with, &yu, p);
+                (with, fw)
+            }
+            None => (single.clone(), fs.clone()),
+        };
         // the answer's own effect is not an alternative to it
-        if !(with_rank == answer_rank && Factor::new(&single, None).rank == answer_rank) {
-            add(c.effect.id().to_string(), &single);
+        if !(fw.rank == answer_rank && fs.rank == answer_rank) {
+            push(c.effect.id().to_string(), &single, fs);
         }
-        if chosen.is_some() && with_rank > answer_rank {
-            add(format!("answer+{}", c.effect.id()), &with);
+        if chosen.is_some() && fw.rank > answer_rank {
+            push(format!("answer+{}", c.effect.id()), &with, fw);
         }
     }
     // prior: half the mass on the answer's model (the diagnosis chose it), the other half
@@ -275,9 +297,9 @@ mod tests {
         assert!(s.weights["answer+tool_radius"] > 0.99, "{:?}", s.weights);
         // the answer's slope with the wear alone, against the pair's (≈ the true 0.3)
         let x = hstack(&a, &chosen);
-        let (b0, _) = fit(&x, &DVector::from_column_slice(&y), 1);
+        let b0 = fit(&x, &DVector::from_column_slice(&y), 1).beta;
         let full = hstack(&x, &DMatrix::from_column_slice(n, 1, &radius));
-        let (b1, _) = fit(&full, &DVector::from_column_slice(&y), 1);
+        let b1 = fit(&full, &DVector::from_column_slice(&y), 1).beta;
         assert!((b1[0] - 0.3).abs() < 0.01, "{b1}");
         assert_near!(
             s.std["m"],
