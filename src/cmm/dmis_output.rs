@@ -30,14 +30,18 @@ pub fn is_dmis_output(first: &str) -> bool {
     t.starts_with("DMISMN/") || t.starts_with("$$") || t.starts_with("FA(")
 }
 
-/// The statements of the content lines with their first line: `$$` comments left out,
-/// continued lines joined.
-fn statements(content: &[(usize, &str)]) -> Vec<(usize, String)> {
+/// DMIS statements from numbered lines, each with the line it starts on: `$$` comments left
+/// out, a blank line left out between statements, continued lines (ending in `$`) joined. The
+/// one reader of DMIS statements: a measured output here, a written program in
+/// [`crate::plan`].
+pub fn join_statements<'a>(
+    lines: impl IntoIterator<Item = (usize, &'a str)>,
+) -> Vec<(usize, String)> {
     let mut out = Vec::new();
     let mut open: Option<(usize, String)> = None;
-    for &(line, raw) in content {
+    for (line, raw) in lines {
         let t = raw.trim();
-        if t.starts_with("$$") {
+        if t.starts_with("$$") || (t.is_empty() && open.is_none()) {
             continue;
         }
         let (first, mut s) = open.take().unwrap_or((line, String::new()));
@@ -69,7 +73,7 @@ pub fn dmis_output(content: &[(usize, &str)]) -> Result<ParsedTable, CmmError> {
     let first_line = content.first().map_or(1, |c| c.0);
     let mut unit = LengthUnit::Mm;
     let mut points: Vec<(usize, String, Vec<String>)> = Vec::new();
-    for (line, s) in statements(content) {
+    for (line, s) in join_statements(content.iter().copied()) {
         let upper = s.to_ascii_uppercase();
         if upper.starts_with("UNITS/") {
             if upper.starts_with("UNITS/INCH") {

@@ -9,6 +9,8 @@
 
 use nalgebra::Vector3;
 
+use crate::cmm::dmis_output::join_statements;
+
 use super::PlanError;
 
 /// One point read back from a DMIS program: its label, the feature's nominal position and
@@ -25,27 +27,7 @@ pub struct DmisPoint {
 /// The statements of a DMIS text with the line each starts on: comments and blank lines left
 /// out, continued lines (ending in `$`) joined.
 pub fn dmis_statements(text: &str) -> Vec<(usize, String)> {
-    let mut out: Vec<(usize, String)> = Vec::new();
-    let mut open: Option<(usize, String)> = None;
-    for (k, raw) in text.lines().enumerate() {
-        let t = raw.trim();
-        if t.starts_with("$$") || (t.is_empty() && open.is_none()) {
-            continue;
-        }
-        let (line, mut s) = open.take().unwrap_or((k + 1, String::new()));
-        match t.strip_suffix('$') {
-            Some(head) => {
-                s.push_str(head);
-                open = Some((line, s));
-            }
-            None => {
-                s.push_str(t);
-                out.push((line, s));
-            }
-        }
-    }
-    out.extend(open);
-    out
+    join_statements(text.lines().enumerate().map(|(k, l)| (k + 1, l)))
 }
 
 /// Six numbers after a prefix on a DMIS statement.
