@@ -15,7 +15,7 @@
 //! deterministic): the results are the same, bit for bit, whatever was analysed before.
 
 use std::cell::RefCell;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use crate::effects::builtin::PartModel;
 use crate::effects::prepared::Prepared;
@@ -205,14 +205,14 @@ impl Session {
 
     /// The model of `points`: kept from an earlier analysis at the same points, or built (and
     /// kept when it has at most [`KEPT_MAX_POINTS`] points).
-    pub fn points_model(&self, points: &[MeasurementPoint]) -> Rc<PointsModel> {
+    pub fn points_model(&self, points: &[MeasurementPoint]) -> Arc<PointsModel> {
         let mut kept = self.kept.borrow_mut();
         if let Some(m) = kept.find(|k| same_points(k, points)) {
             return m;
         }
-        let m = Rc::new(PointsModel::new(&self.prepared, points));
+        let m = Arc::new(PointsModel::new(&self.prepared, points));
         if points.len() <= KEPT_MAX_POINTS {
-            kept.insert(points.to_vec(), Rc::clone(&m));
+            kept.insert(points.to_vec(), Arc::clone(&m));
         }
         m
     }

@@ -30,8 +30,7 @@
 //! shape: a structure whose shape happens to equal a location error's signature exactly cannot
 //! be told from that error by any method, and the std then says how large such a confusion can be.
 
-use std::cell::RefCell;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -129,20 +128,30 @@ const KEPT_MAX_POINTS: usize = 400;
 /// analyses of several deviations at the same points decompose once. The estimate is the same,
 /// bit for bit, with a fresh one (the test below).
 pub struct Decompositions {
-    kept: RefCell<Memo<Vec<u64>, Vec<Decomposition>>>,
+    kept: Mutex<Memo<Vec<u64>, Vec<Decomposition>>>,
 }
 
 impl Default for Decompositions {
     fn default() -> Self {
         Self {
-            kept: RefCell::new(Memo::new(KEPT)),
+            kept: Mutex::new(Memo::new(KEPT)),
         }
+    }
+}
+
+impl Decompositions {
+    /// The memo, locked (threads sharing a points model, `validate --threads`, take turns; the
+    /// lock is held to look up or insert, never while decomposing). A thread that panicked
+    /// holding it left the memo whole (a lookup or an insert does not panic half-way), so its
+    /// poison is ignored.
+    fn memo(&self) -> std::sync::MutexGuard<'_, Memo<Vec<u64>, Vec<Decomposition>>> {
+        self.kept.lock().unwrap_or_else(PoisonError::into_inner)
     }
 }
 
 impl std::fmt::Debug for Decompositions {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Decompositions({} point sets)", self.kept.borrow().len())
+        write!(f, "Decompositions({} point sets)", self.memo().len())
     }
 }
 
@@ -152,12 +161,12 @@ fn decompositions(
     points: &[PointMeta],
     (lo, hi): (f64, f64),
     kept: &Decompositions,
-) -> Rc<Vec<Decomposition>> {
+) -> Arc<Vec<Decomposition>> {
     let key: Vec<u64> = points.iter().map(|p| p.s.to_bits()).collect();
-    if let Some(d) = kept.kept.borrow_mut().find(|k| *k == key) {
+    if let Some(d) = kept.memo().find(|k| *k == key) {
         return d;
     }
-    let d: Rc<Vec<Decomposition>> = Rc::new(
+    let d: Arc<Vec<Decomposition>> = Arc::new(
         (0..LENGTH_GRID)
             .map(|k| {
                 let eig =
@@ -170,7 +179,7 @@ fn decompositions(
             .collect(),
     );
     if points.len() <= KEPT_MAX_POINTS {
-        kept.kept.borrow_mut().insert(key, Rc::clone(&d));
+        kept.memo().insert(key, Arc::clone(&d));
     }
     d
 }

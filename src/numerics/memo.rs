@@ -5,11 +5,11 @@
 //! (bit-exact comparisons of floating-point inputs); the most recently used entry is first, the
 //! least recently used is dropped beyond the capacity.
 
-use std::rc::Rc;
+use std::sync::Arc;
 
 /// A bounded list of computed values, most recently used first.
 pub(crate) struct Memo<K, V> {
-    entries: Vec<(K, Rc<V>)>,
+    entries: Vec<(K, Arc<V>)>,
     capacity: usize,
 }
 
@@ -22,16 +22,16 @@ impl<K, V> Memo<K, V> {
     }
 
     /// The value whose key satisfies `is`, moved to the front.
-    pub(crate) fn find(&mut self, is: impl Fn(&K) -> bool) -> Option<Rc<V>> {
+    pub(crate) fn find(&mut self, is: impl Fn(&K) -> bool) -> Option<Arc<V>> {
         let i = self.entries.iter().position(|(k, _)| is(k))?;
         let e = self.entries.remove(i);
-        let v = Rc::clone(&e.1);
+        let v = Arc::clone(&e.1);
         self.entries.insert(0, e);
         Some(v)
     }
 
     /// Keeps `value` in front, dropping the least recently used beyond the capacity.
-    pub(crate) fn insert(&mut self, key: K, value: Rc<V>) {
+    pub(crate) fn insert(&mut self, key: K, value: Arc<V>) {
         self.entries.insert(0, (key, value));
         self.entries.truncate(self.capacity);
     }
@@ -54,10 +54,10 @@ mod tests {
     #[test]
     fn the_memo_keeps_the_most_recent_up_to_its_capacity() {
         let mut m: Memo<u32, u32> = Memo::new(2);
-        m.insert(1, Rc::new(10));
-        m.insert(2, Rc::new(20));
+        m.insert(1, Arc::new(10));
+        m.insert(2, Arc::new(20));
         assert_eq!(m.find(|k| *k == 1).as_deref(), Some(&10));
-        m.insert(3, Rc::new(30));
+        m.insert(3, Arc::new(30));
         // 2 was the least recently used.
         assert!(m.find(|k| *k == 2).is_none());
         assert_eq!(m.entries.iter().map(|e| e.0).collect::<Vec<_>>(), [3, 1]);

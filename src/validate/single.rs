@@ -62,7 +62,7 @@ use crate::numerics::random::Sampler;
 use crate::parameter::{Effect, ParamId};
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::Mode;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use super::shapes::{self, Shape, ShapeColumns};
 
@@ -84,7 +84,7 @@ pub struct ValidationModel {
     /// The prepared settings and the measured points' model on them, built once for every
     /// simulated part (as a session keeps them for the files of one design).
     pub prepared: Prepared,
-    pub at: Rc<PointsModel>,
+    pub at: Arc<PointsModel>,
     pub points: Vec<PointMeta>,
     pub baseline: NamedColumns,
     pub candidates: Vec<Candidate>,
@@ -145,7 +145,7 @@ impl ValidationModel {
             candidates: m.candidates,
             shapes,
             prepared,
-            at: Rc::new(at),
+            at: Arc::new(at),
         })
     }
 

@@ -5,7 +5,9 @@ use testpiece::machine::chain::PAPER000_L0;
 use testpiece::part::{builtin_points, SShape};
 use testpiece::sensitivity::SensitivityOptions;
 use testpiece::settings::MachineChoice;
-use testpiece::validate::physics_bench::{physics_table, PhysicsBench, PhysicsOptions};
+use testpiece::validate::physics_bench::{
+    default_threads, physics_table, PhysicsBench, PhysicsOptions,
+};
 use testpiece::validate::shapes::Shape;
 use testpiece::validate::{
     conditions_table, exact_machine_part, exact_machine_part_on, pairs_table, run_conditions,
@@ -103,6 +105,12 @@ pub struct Args {
     /// CMM's σ (never the part's scatter). Seeds 1-3 develop, 101-103 are held out.
     #[arg(long, value_name = "signatures|physics", default_value = "signatures", value_parser = generator, verbatim_doc_comment)]
     generator: GeneratorChoice,
+    /// threads the parts of --generator physics are shared between [default: the machine's cores]
+    ///
+    /// Each part has its own random stream and its own analysis: the report is the same for any
+    /// number of threads.
+    #[arg(long, value_name = "N", value_parser = threads)]
+    threads: Option<usize>,
     /// the report as JSON
     #[arg(long)]
     json: bool,
@@ -144,9 +152,18 @@ fn run_physics(a: &Args) -> Result<(), String> {
             cases: a.cases.unwrap_or(300),
             seed: a.seed,
             cmm_sigma: a.known_sigma,
+            threads: a.threads.unwrap_or_else(default_threads),
         })
         .map_err(|e| e.to_string())?;
     show(a.json, &r, physics_table)
+}
+
+/// `--threads N`: a whole number of at least 1.
+fn threads(s: &str) -> Result<usize, String> {
+    match whole(s)? {
+        0 => Err("expected at least 1 thread".into()),
+        n => Ok(n),
+    }
 }
 
 /// `--shapes standard|extended`.
@@ -183,6 +200,13 @@ fn conditions(s: &str) -> Result<Conditions, String> {
 pub fn run(a: Args) -> Result<(), String> {
     if a.generator == GeneratorChoice::Physics {
         return run_physics(&a);
+    }
+    if a.threads.is_some() {
+        return Err(
+            "--threads is a setting of --generator physics (the signature benchmark \
+                    runs on one thread)"
+                .into(),
+        );
     }
     let cases = a.cases.unwrap_or(200);
     if a.conditions.is_some() && a.machine != MachineChoice::Paper000 {

@@ -46,6 +46,9 @@ pub struct PhysicsOptions {
     pub seed: u64,
     /// Give the CMM's σ (never the part's scatter) to the analysis of a single measurement.
     pub cmm_sigma: bool,
+    /// Worker threads the cases are shared between (each case has its own random stream and
+    /// its own analysis, so the report does not depend on it: tested); at least 1.
+    pub threads: usize,
 }
 
 impl Default for PhysicsOptions {
@@ -54,8 +57,14 @@ impl Default for PhysicsOptions {
             cases: 300,
             seed: 1,
             cmm_sigma: false,
+            threads: default_threads(),
         }
     }
+}
+
+/// The machine's available parallelism (1 when it cannot be known).
+pub fn default_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, usize::from)
 }
 
 /// The settings-only model of a run: the workshop, the scoring model and the location errors.
@@ -96,8 +105,43 @@ impl PhysicsBench {
         Sampler::new(seed.wrapping_mul(1_000_000).wrapping_add(case as u64))
     }
 
-    /// Runs `opts.cases` cases.
+    /// Runs `opts.cases` cases, shared between `opts.threads` threads (case `i` on thread
+    /// `i mod threads`: the kinds cycle with the case number, so each thread gets a mix), the
+    /// results in case order.
     pub fn run(&self, opts: &PhysicsOptions) -> Result<PhysicsReport, ValidateError> {
+        let threads = opts.threads.clamp(1, opts.cases.max(1));
+        let cases = |t: usize| (t..opts.cases).step_by(threads);
+        let mut results: Vec<PhysicsCase> = if threads == 1 {
+            self.cases(opts, cases(0))?
+        } else {
+            std::thread::scope(|scope| {
+                let workers: Vec<_> = (0..threads)
+                    .map(|t| scope.spawn(move || self.cases(opts, cases(t))))
+                    .collect();
+                workers
+                    .into_iter()
+                    .map(|w| w.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                    .collect::<Result<Vec<_>, _>>()
+            })?
+            .into_iter()
+            .flatten()
+            .collect()
+        };
+        crate::numerics::order::sort_by_index(&mut results, |c| c.case);
+        Ok(PhysicsReport::of(
+            opts.seed,
+            opts.cmm_sigma,
+            self.detect_factor,
+            results,
+        ))
+    }
+
+    /// The cases `cases` on this thread: the generator's part, its analysis and its judgement.
+    fn cases(
+        &self,
+        opts: &PhysicsOptions,
+        cases: impl Iterator<Item = usize>,
+    ) -> Result<Vec<PhysicsCase>, ValidateError> {
         let scorer = Scorer::new(&self.model)?;
         let visible = |d: &[f64]| scorer.visible(d);
         let generator = Generator::new(
@@ -106,8 +150,8 @@ impl PhysicsBench {
             &visible,
             self.detect_factor,
         );
-        let mut results = Vec::with_capacity(opts.cases);
-        for case in 0..opts.cases {
+        let mut results = Vec::new();
+        for case in cases {
             let kind = Kind::of_case(case);
             let part = generator.part(kind, &mut Self::stream(opts.seed, case))?;
             let visible = scorer.visible(&part.noise_free);
@@ -135,11 +179,6 @@ impl PhysicsBench {
                 judged,
             });
         }
-        Ok(PhysicsReport::of(
-            opts.seed,
-            opts.cmm_sigma,
-            self.detect_factor,
-            results,
-        ))
+        Ok(results)
     }
 }
