@@ -45,7 +45,7 @@ opt_flags=(-Oz --strip-debug --strip-producers
   --enable-mutable-globals --enable-reference-types --enable-multivalue)
 cache="$target/wasm-opt-cache"
 keep=6   # cache entries kept (the newest used): both modules of a few builds
-put() { if ! cmp -s "$1" "$2"; then mkdir -p "$(dirname "$2")"; cp "$1" "$2.tmp.$$" && mv "$2.tmp.$$" "$2"; fi; }
+put() { if ! cmp -s "$1" "$2"; then mkdir -p "$(dirname "$2")"; cp "$1" "$2.tmp.$BASHPID" && mv "$2.tmp.$BASHPID" "$2"; fi; }
 mkdir -p "$out"
 
 # build_module NAME PROFILE FEATURES CAP: cargo, wasm-bindgen and wasm-opt for one module, into
@@ -87,8 +87,8 @@ build_module() {
       else
         local t; t=$(ms)
         mkdir -p "$cache"
-        "$opt" "${opt_flags[@]}" "$wasm" -o "$entry.tmp.$$"
-        mv "$entry.tmp.$$" "$entry"
+        "$opt" "${opt_flags[@]}" "$wasm" -o "$entry.tmp.$BASHPID"
+        mv "$entry.tmp.$BASHPID" "$entry"
         echo "[build-wasm] $name: wasm-opt -Oz ran in $(( $(ms) - t )) ms: $before -> $(stat -c %s "$entry") bytes (cached as $entry)"
         # Prune: only the $keep newest entries are kept (and no half-written file of a stopped run).
         ls -1t "$cache"/*.wasm | tail -n +$(( keep + 1 )) | xargs -r rm -f
@@ -116,12 +116,25 @@ build_module() {
 # than bytes to an offline lab tool, so this crate is compiled for speed (opt-level 2,
 # Cargo.toml) and wasm-opt -Oz (the sizes measured: BENCHMARKS.md); a build over a cap fails
 # here, not in a browser.
+#
+# The two modules are built at the same time (issue 33 item 5): each profile has its own build
+# directory and lock, and most of a release build is the crate's one codegen unit under LTO, one
+# core each; their lines are labelled `[page-core]` / `[page-tools]`.
 if $release; then
-  build_module testpiece wasm-release "page-core$extra" 1500000
-  build_module testpiece_tools wasm-tools page-tools 1500000
+  core=(testpiece wasm-release "page-core$extra"); tools=(testpiece_tools wasm-tools page-tools)
 else
-  build_module testpiece dev "page-core$extra" 1500000
-  build_module testpiece_tools wasm-tools-dev page-tools 1500000
+  core=(testpiece dev "page-core$extra"); tools=(testpiece_tools wasm-tools-dev page-tools)
+fi
+build_module "${core[@]}" 1500000 2>&1 | sed -u 's/^/[page-core] /' &
+core_pid=$!
+build_module "${tools[@]}" 1500000 2>&1 | sed -u 's/^/[page-tools] /' &
+tools_pid=$!
+status=0
+wait "$core_pid" || status=$?
+wait "$tools_pid" || status=$?
+if [ "$status" -ne 0 ]; then
+  echo "[build-wasm] a module failed to build (its lines above)" >&2
+  exit "$status"
 fi
 # The build id versions the service worker's cache: a hash of both modules and their glue.
 build=$(cat "$out/testpiece_bg.wasm" "$out/testpiece.js" "$out/testpiece_tools_bg.wasm" "$out/testpiece_tools.js" | sha256sum | cut -c1-16)
