@@ -231,6 +231,7 @@ async function loadExample(name) {
   st.files = [{ name, bytes: new TextEncoder().encode(e.text), example: true }];
   st.current = 0;
   await analyseList(st.files);
+  mark('tp-example-computed'); // the analysis back from the worker; the views rendered after
   render();
 }
 
