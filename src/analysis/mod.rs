@@ -198,6 +198,11 @@ pub fn analyse_parts(
     let ids: Vec<String> = matched.points.iter().map(|p| p.file.id.clone()).collect();
     let model = session.points_model(&points);
     let scan = model.scan().map(|s| s.layout.clone());
+    // what a scan's heights tell apart that the built-in points cannot (issue 31 item 2)
+    let separability = scan
+        .as_ref()
+        .and_then(|_| model.part_model().ok())
+        .map(|m| crate::gap::separability::separability(m, prepared.builtin_model()));
     let PointsFit {
         mut diagnosis,
         outliers,
@@ -245,7 +250,7 @@ pub fn analyse_parts(
             opts.known.as_ref(),
             &noise,
             opts.feed,
-            scan.as_ref(),
+            (scan.as_ref(), separability.as_ref()),
         );
     }
     let analysis = Analysis {
@@ -256,6 +261,7 @@ pub fn analyse_parts(
         noise,
         repeat,
         scan,
+        separability,
         file: matched,
         points,
         design: columns_of(&final_design),

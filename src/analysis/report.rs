@@ -3,6 +3,7 @@
 use serde::ser::SerializeStruct;
 use serde::{Serialize, Serializer};
 
+use crate::gap::separability::Separability;
 use crate::measurement::scan_lines::ScanLayout;
 
 use crate::cmm::MatchedPart;
@@ -90,6 +91,10 @@ pub struct Analysis {
     /// discrete layout; [`crate::measurement::scan_lines`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scan: Option<ScanLayout>,
+    /// For a scan: the pairs of candidates its layout tells apart that the 100 built-in points
+    /// cannot, and the other way round ([`crate::gap::separability`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub separability: Option<Separability>,
 }
 
 /// What repeat measurements of the part gave ([`crate::measurement::repeat`]).
@@ -156,7 +161,8 @@ pub struct Fitted {
 }
 
 /// The diagnosis's summary as the reports show it, composed from typed results: the gap report's
-/// own ([`crate::gap::report::summary`], the verdict first), then the single-point outliers
+/// own ([`crate::gap::report::summary`], the verdict first), for a scan its layout and what its
+/// heights tell apart ([`crate::gap::separability::sentence`]), then the single-point outliers
 /// ([`outlier_sentence`], each named by its point's id in the part model, as the diagnosis saw
 /// it) and, when they were left out, the verdict with every point; the known deviation
 /// subtracted ([`known_note`]); the CMM noise when its σ was not given.
@@ -167,7 +173,7 @@ pub(super) fn diagnosis_summary(
     known: Option<&KnownDeviation>,
     noise: &NoiseSource,
     feed: f64,
-    scan: Option<&ScanLayout>,
+    (scan, separability): (Option<&ScanLayout>, Option<&Separability>),
 ) -> String {
     let mut s = crate::gap::report::summary(report);
     if let Some(l) = scan {
@@ -175,6 +181,13 @@ pub(super) fn diagnosis_summary(
             "{}\n{}\n",
             s.trim_end(),
             crate::measurement::scan_lines::sentence(l)
+        );
+    }
+    if let Some(sep) = separability {
+        s = format!(
+            "{}\n{}\n",
+            s.trim_end(),
+            crate::gap::separability::sentence(sep)
         );
     }
     if let Some(servo) = servo_sentence(report, feed) {

@@ -44,6 +44,7 @@ pub mod location;
 pub mod pairs;
 pub mod regions;
 pub mod report;
+pub mod separability;
 pub mod shape;
 pub mod verdict;
 pub mod which;

@@ -171,16 +171,10 @@ impl ValidationModel {
     /// span nearly the same directions, [`near_equivalent_pairs`]): the diagnosis may name
     /// either, so a validation counts either as right.
     pub fn near_equivalence(&self) -> impl Fn(Effect, Effect) -> bool {
-        let base = Factor::new(&self.baseline.matrix, None);
-        let spans: Vec<(Effect, DMatrix<f64>)> = self
-            .candidates
-            .iter()
-            .map(|c| {
-                let u = base.unabsorbed(&c.signature.matrix);
-                (c.effect, Factor::new(&u, None).basis)
-            })
-            .collect();
-        let pairs = near_equivalent_pairs(&spans);
+        let pairs = near_equivalent_pairs(&crate::gap::separability::spans_of(
+            &self.baseline,
+            &self.candidates,
+        ));
         move |x: Effect, y: Effect| {
             pairs
                 .iter()

@@ -8,6 +8,7 @@
 use testpiece::analysis::{analyse_once, AnalysisOptions};
 use testpiece::cmm::write::{scan_csv, Precision};
 use testpiece::effects::prepared::Prepared;
+use testpiece::machine::AxisName;
 use testpiece::parameter::{Effect, ParamId};
 use testpiece::part::{SShape, ScanLayout};
 use testpiece::sensitivity::SensitivityOptions;
@@ -107,4 +108,83 @@ fn dense_scan_with_a_300_mm_wave_is_unexplained() {
         "{}",
         a.diagnosis.report().unwrap().summary
     );
+}
+
+/// What a scan's heights tell apart (issue 31 item 2), against the 100 built-in points, on the
+/// same settings: the built-in points against themselves change nothing and leave exactly the
+/// near-equivalent pairs the validation counts (`ValidationModel::near_equivalence`); the
+/// special cases by construction are nested on every layout (`tool_radius` is `tool_taper`'s
+/// `dR0` column, `c_index` is `setup_error`'s rotation on paper 000's C table: smallest
+/// principal cosine 1 to 1e-9); and a 40 × 250 scan tells `backlash_z` from `backlash_b` where
+/// the built-in points cannot (cosines 0.973 and 0.986, measured here, ± 0.002: the B axis's
+/// reversals move the tool along its own axis's arc, Z's along z, and the heights see it).
+#[test]
+fn a_scan_reports_what_its_heights_tell_apart() {
+    use testpiece::gap::separability::separability;
+    let part = SShape::iso();
+    let prepared = Prepared::new(part.clone(), SensitivityOptions::default()).unwrap();
+    let builtin = prepared.builtin_model();
+    let same = separability(builtin, builtin);
+    assert!(
+        same.told_apart.is_empty() && same.merged.is_empty(),
+        "{same:?}"
+    );
+    let vm =
+        testpiece::validate::ValidationModel::at(&part, &testpiece::part::builtin_points(&part))
+            .unwrap();
+    let near = vm.near_equivalence();
+    for p in &same.neither {
+        assert!(near(p.a, p.b), "{p:?}");
+    }
+    let pts = ScanLayout {
+        heights: 40,
+        rulings: 250,
+    }
+    .scan_points(&part);
+    let q = prepared.axis_values(&pts).unwrap();
+    let scan = separability(&prepared.part_model(&pts, &q).unwrap(), builtin);
+    for (a, b) in [
+        (Effect::ToolRadius, Effect::ToolTaper),
+        (Effect::CIndex, Effect::SetupError),
+    ] {
+        let p = scan
+            .neither
+            .iter()
+            .find(|p| p.a == a && p.b == b)
+            .unwrap_or_else(|| panic!("{a:?} within {b:?}: {scan:?}"));
+        assert!(p.nested && (p.here - 1.0).abs() < 1e-9, "{p:?}");
+    }
+    let zb = scan
+        .told_apart
+        .iter()
+        .find(|p| [p.a, p.b] == [Effect::Backlash(AxisName::Z), Effect::Backlash(AxisName::B)])
+        .unwrap_or_else(|| panic!("{scan:?}"));
+    assert!(
+        (zb.here - 0.973).abs() < 0.002 && (zb.builtin - 0.986).abs() < 0.002,
+        "{zb:?}"
+    );
+}
+
+/// The analysis of a scan says what its heights tell apart, in its JSON and in the summary the
+/// CLI and the page show; a file of the built-in points says nothing of it.
+#[test]
+fn the_analysis_of_a_scan_carries_its_separability() {
+    let (_, a) = verdict(&scan_file(Extra::None));
+    let s = a.separability.as_ref().expect("a scan's separability");
+    assert!(!s.neither.is_empty(), "{s:?}");
+    let summary = &a.diagnosis.report().unwrap().summary;
+    assert!(summary.contains("Separability: "), "{summary}");
+    let example = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/reference/examples/example_clean.csv"
+    ))
+    .unwrap();
+    let b = analyse_once(&example, "example_clean.csv", &AnalysisOptions::default()).unwrap();
+    assert!(b.separability.is_none());
+    assert!(!b
+        .diagnosis
+        .report()
+        .unwrap()
+        .summary
+        .contains("Separability"));
 }
