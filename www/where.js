@@ -17,7 +17,7 @@ const where = { choice: 'auto', figures: new Set() };
 const entryKey = (e) => `${e.group}:${e.name}`;
 
 /** The where report of an analysis: entries, reversals, and the entry to highlight for `choice`. */
-function whereOf(a) {
+export function whereOf(a) {
   const d = diagnosisOf(a);
   if (!d) return null;
   const entries = d.where;
@@ -102,6 +102,12 @@ function whereChartPatch(a, ids, x) {
     label: `${describeEntry(w.chosen)}; points ${r.xs.map((v) => xToId.get(v)).join(', ')}` })) : [];
   const markers = w.marks.filter((k) => idToX.has(String(k.id))).map((k) => ({ x: idToX.get(String(k.id)), id: k.id, short: k.short, label: k.label }));
   return { highlight, markers, note: whereNote(w) };
+}
+
+/** Registers a figure drawn elsewhere (surfacemap.js) to be redrawn when the choice changes,
+ * while `isConnected()`. */
+export function onWhereChange(isConnected, redraw) {
+  where.figures.add({ isConnected, redraw });
 }
 
 /** The control that chooses what is highlighted, and the legend in words (HTML). */

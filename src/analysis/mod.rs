@@ -198,6 +198,10 @@ pub fn analyse_parts(
     let ids: Vec<String> = matched.points.iter().map(|p| p.file.id.clone()).collect();
     let model = session.points_model(&points);
     let scan = model.scan().map(|s| s.layout.clone());
+    let path_position = model
+        .part_model()
+        .ok()
+        .map(|m| m.points.iter().map(|p| p.s).collect());
     let PointsFit {
         mut diagnosis,
         outliers,
@@ -256,6 +260,7 @@ pub fn analyse_parts(
         noise,
         repeat,
         scan,
+        path_position,
         file: matched,
         points,
         design: columns_of(&final_design),
@@ -435,5 +440,33 @@ mod tests {
         };
         let e = analyse_once(CLEAN.as_bytes(), "x.csv", &o).unwrap_err();
         assert_eq!(e.to_string(), "L0 = -1 mm is not a positive finite length");
+    }
+
+    #[test]
+    fn the_path_position_is_the_tool_tip_length_at_each_point() {
+        // Against the tip-length tables of the part (src/toolpath/tip_length.rs, checked there
+        // against a chord sum): A's points at s_A(u), B's after the whole of A's pass; to 1e-9 mm.
+        use crate::part::Surface;
+        use crate::toolpath::tip_length::TipLength;
+        let a = analyse_once(
+            CLEAN.as_bytes(),
+            "example_clean.csv",
+            &AnalysisOptions::default(),
+        )
+        .unwrap();
+        let s = a.path_position.as_ref().expect("a diagnosis model");
+        assert_eq!(s.len(), a.points.len());
+        let part = SShape::iso();
+        let (ta, tb) = (
+            TipLength::new(&part, Surface::A),
+            TipLength::new(&part, Surface::B),
+        );
+        for (p, &got) in a.points.iter().zip(s) {
+            let want = match p.surface {
+                Surface::A => ta.at(&part, p.u),
+                Surface::B => ta.total() + tb.at(&part, p.u),
+            };
+            assert!((got - want).abs() < 1e-9, "id {}: {got} vs {want}", p.id);
+        }
     }
 }
