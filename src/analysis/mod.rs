@@ -39,17 +39,19 @@ mod noise;
 mod options;
 mod outliers;
 mod points;
+mod progress;
 mod report;
 mod session;
 
 pub use diagnosis::{diagnose_on_machine, diagnose_points, Diagnosis};
 pub use error::AnalysisError;
-pub use fit::{fit_points, PointsFit};
+pub use fit::{fit_points, fit_points_with, PointsFit};
 pub use options::{AnalysisOptions, KnownDeviation};
 pub use points::{
     columns_of, design_at, effects_on_machine, measurement_points, nearest_curve,
     sensitivity_options,
 };
+pub use progress::{silent, Progress, Sink, Stage};
 use report::diagnosis_summary;
 pub use report::{
     Analysis, BaselineFit, DesignColumns, Fitted, NoiseSource, Outliers, RepeatReport,
@@ -166,12 +168,24 @@ pub fn analyse_parts(
     files: &[(&[u8], &str)],
     opts: &AnalysisOptions,
 ) -> Result<(Analysis, Fitted), AnalysisError> {
+    analyse_parts_with(session, files, opts, &mut silent)
+}
+
+/// [`analyse_parts`], each [`Stage`] reported to `progress` as it begins (the results are the
+/// same whatever the sink).
+pub fn analyse_parts_with(
+    session: &Session,
+    files: &[(&[u8], &str)],
+    opts: &AnalysisOptions,
+    progress: Sink,
+) -> Result<(Analysis, Fitted), AnalysisError> {
     if let Some(s) = opts.noise_sigma {
         if !(s.is_finite() && s > 0.0) {
             return Err(NoiseError::BadSigma(s).into());
         }
     }
     let prepared = session.prepared();
+    progress(Progress::of(Stage::Read));
     let (matched, pure) = read_parts(files, opts)?;
     let points = measurement_points(prepared.part(), &matched);
     let mut noise = match &pure {
@@ -196,6 +210,7 @@ pub fn analyse_parts(
     };
     let deviations = minus_known(matched.deviations(), opts.known.as_ref())?;
     let ids: Vec<String> = matched.points.iter().map(|p| p.file.id.clone()).collect();
+    progress(Progress::of(Stage::Model));
     let model = session.points_model(&points);
     let scan = model.scan().map(|s| s.layout.clone());
     let path_position = model
@@ -211,7 +226,7 @@ pub fn analyse_parts(
         refinement: final_refinement,
         correction,
         observations: obs,
-    } = fit_points(prepared, &model, &deviations, &ids, opts)?;
+    } = fit_points_with(prepared, &model, &deviations, &ids, opts, progress)?;
     let repeat = pure.map(|pe| {
         let baseline = &baseline.identification;
         let used: Vec<f64> = baseline
