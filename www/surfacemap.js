@@ -41,8 +41,7 @@ const LUT = (() => {
 const lutIndex = (r, R) => Math.max(0, Math.min(255, Math.round(((r / R + 1) / 2) * 255)));
 
 /** The points of one surface, with their cells: {i, s, z, r, s0, s1, z0, z1}. */
-function cellsOf(a, surface, xOf) {
-  const id = a.identification;
+function cellsOf(a, id, surface, xOf) {
   const rows = new Map();
   a.points.forEach((p, i) => {
     if (p.surface !== surface) return;
@@ -71,8 +70,8 @@ function cellsOf(a, surface, xOf) {
 }
 
 /** The end of the colour scale (µm): the QUANTILE of |r| over every point. */
-function scaleOf(a) {
-  const v = a.identification.points.map((p) => Math.abs(p.residual * 1000)).sort((p, q) => p - q);
+function scaleOf(id) {
+  const v = id.points.map((p) => Math.abs(p.residual * 1000)).sort((p, q) => p - q);
   return Math.max(1e-6, v[Math.min(v.length - 1, Math.floor(QUANTILE * (v.length - 1)))] || 0);
 }
 
@@ -84,8 +83,8 @@ function el(name, attrs, parent) {
 }
 
 /** The map of one surface: a canvas of binned cells under an SVG of axes, reversals and read-out. */
-function surfaceMap(a, surface, R, xAxis) {
-  const { rows, cells } = cellsOf(a, surface, xAxis.of);
+function surfaceMap(a, id, surface, R, xAxis) {
+  const { rows, cells } = cellsOf(a, id, surface, xAxis.of);
   if (!cells.length) return null;
   let s0 = Infinity, s1 = -Infinity, z0 = Infinity, z1 = -Infinity; // (no spread: 100,000 arguments overflow)
   for (const c of cells) { s0 = Math.min(s0, c.s0); s1 = Math.max(s1, c.s1); z0 = Math.min(z0, c.z0); z1 = Math.max(z1, c.z1); }
@@ -121,7 +120,7 @@ function surfaceMap(a, surface, R, xAxis) {
   // the where highlight: the cells of the chosen group tinted, on a canvas of its own
   const shade = h('canvas', { width: PW, height: PH, class: 'surface-map-shade', 'aria-hidden': 'true' });
   Object.assign(shade.style, { left: canvas.style.left, top: canvas.style.top, width: canvas.style.width, height: canvas.style.height });
-  const byId = new Map(cells.map((c, k) => [String(a.identification.points[c.i].id), k]));
+  const byId = new Map(cells.map((c, k) => [String(id.points[c.i].id), k]));
 
   const svg = el('svg', { viewBox: `0 0 ${W} ${H}`, class: 'surface-map-axes', role: 'img', xmlns: NS, 'font-family': 'system-ui, sans-serif', 'font-size': 11,
     'aria-label': `surface ${surface}: residual of ${cells.length} points on ${rows.length} rows, colour from −${R.toFixed(1)} to +${R.toFixed(1)} µm` });
@@ -197,7 +196,7 @@ function surfaceMap(a, surface, R, xAxis) {
     const px = Math.floor(((ev.clientX - r.left) / r.width) * W - M.l), py = Math.floor(((ev.clientY - r.top) / r.height) * H - M.t);
     const k = px >= 0 && py >= 0 && px < PW && py < PH ? owner[py * PW + px] : -1;
     if (k < 0) { readout.textContent = ''; cursor.setAttribute('visibility', 'hidden'); return; }
-    const c = cells[k], p = a.identification.points[c.i], n = count[py * PW + px];
+    const c = cells[k], p = id.points[c.i], n = count[py * PW + px];
     const [cx0, cx1, cy0, cy1] = cellPx[k];
     cursor.setAttribute('x', M.l + cx0); cursor.setAttribute('y', M.t + cy0);
     cursor.setAttribute('width', cx1 - cx0); cursor.setAttribute('height', cy1 - cy0); cursor.setAttribute('visibility', 'visible');
@@ -236,17 +235,18 @@ function colourBar(R) {
   return h('div', { class: 'surface-map colour-bar', 'data-range-um': R }, canvas, svg);
 }
 
-/** The maps of both surfaces with their colour bar, or a sentence when there are no points. */
-export function surfaceMaps(a) {
+/** The maps of both surfaces with their colour bar, of the residual of `id` (the final answer's
+ * identification, or the baseline's), or a sentence when there are no points. */
+export function surfaceMaps(a, id = a.identification, what = 'the final answer') {
   if (!a || !a.points.length) return h('p', {}, 'No points to map.');
   const path = a.path_position;
   const xAxis = path && path.length === a.points.length
     ? { of: (i) => path[i], isPath: true, short: 's', label: 'tool-tip path position s (mm from the start of surface A\'s pass; the reversals\' position)' }
     : { of: (i) => a.points[i].u, isPath: false, short: 'u', label: 'surface parameter u (unitless; no tool-path position from the core)' };
-  const R = scaleOf(a);
-  const maps = ['A', 'B'].map((s) => surfaceMap(a, s, R, xAxis)).filter(Boolean);
+  const R = scaleOf(id);
+  const maps = ['A', 'B'].map((s) => surfaceMap(a, id, s, R, xAxis)).filter(Boolean);
   return h('div', { class: 'surface-maps', 'data-chart': 'surface-map' },
-    h('p', { class: 'where-legend' }, 'Each cell is a measured point on its row (a scan line, or a measurement curve), coloured by the residual of the final answer; ',
+    h('p', { class: 'where-legend' }, `Each cell is a measured point on its row (a scan line, or a measurement curve), coloured by the residual of ${what}; `,
       'purple lines: the axis reversals of the tool path (bold, ▼: the marked ones); yellow with an outline: the highlighted where-group. Hover for a point\'s values.'),
     ...maps, colourBar(R));
 }

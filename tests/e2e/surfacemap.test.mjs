@@ -5,8 +5,9 @@
 // point's residual is the CLI's for that point (`identify --json`, final answer; to 1e-6 µm: the
 // same computation in wasm and native) and the map's pixel there is the colour bar's colour of that
 // residual; the axis reversals are the CLI diagnosis's (`diagnose --json`, `where` entries of
-// group `reversal`: one line each, at its `s`). The built-in 100-point example maps as 2 rows of
-// cells per surface.
+// group `reversal`: one line each, at its `s`); a scan line chosen as the where highlight shades
+// its 60 cells, on the Sim-to-real gap view's map of the baseline residual too. The built-in
+// 100-point example maps as 2 rows of cells per surface.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
@@ -23,7 +24,7 @@ after(async () => { await browser?.close(); });
  * mouse events at the rows' centre lines) and return the ids seen per row, and for the first hit
  * of the middle row its id, residual and the pixel colours of the map and of the colour bar. */
 function probe({ surface, n }) {
-  const wrap = document.querySelector(`.surface-map[data-surface="${surface}"]`);
+  const wrap = document.querySelector(`#view-identify .surface-map[data-surface="${surface}"]`);
   const svg = wrap.querySelector('svg');
   const cells = wrap.querySelector('canvas.surface-map-cells');
   const r = svg.getBoundingClientRect(), c = cells.getBoundingClientRect();
@@ -43,7 +44,7 @@ function probe({ surface, n }) {
         const px = Math.floor(((x - c.left) / c.width) * cells.width), py = Math.floor(((y - c.top) / c.height) * cells.height);
         const colour = [...cells.getContext('2d').getImageData(px, py, 1, 1).data.slice(0, 3)];
         const residual = Number(wrap.dataset.hoverResidual);
-        const bar = document.querySelector('.colour-bar');
+        const bar = document.querySelector('#view-identify .colour-bar');
         const R = Number(bar.dataset.rangeUm);
         const ramp = bar.querySelector('canvas');
         const idx = Math.max(0, Math.min(255, Math.round(((residual / R + 1) / 2) * 255)));
@@ -82,7 +83,7 @@ test('a scan is mapped per surface: cells, colours and reversals', async () => {
 
   await page.setInputFiles('#file', file);
   await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('scan_5x60.csv'), null, { timeout: 120000 });
-  await page.waitForSelector('.surface-map[data-surface="A"][data-points="300"]');
+  await page.waitForSelector('#view-identify .surface-map[data-surface="A"][data-points="300"]');
   const drawn = [];
   for (const s of ['A', 'B']) {
     const m = await page.evaluate(probe, { surface: s, n: 1200 });
@@ -103,12 +104,16 @@ test('a scan is mapped per surface: cells, colours and reversals', async () => {
   sorted(drawn).forEach((s, k) => assert.ok(Math.abs(s - sorted(reversals)[k]) < 1e-6, `reversal at ${s} mm vs ${sorted(reversals)[k]} mm`));
   // the marked ones are drawn bold
   const markedCli = diagnosed.where.filter((e) => e.group === 'reversal' && e.marked).length;
-  const markedPage = await page.locator('.surface-map g.reversal.marked').count();
+  const markedPage = await page.locator('#view-identify .surface-map g.reversal.marked').count();
   assert.ok(markedPage >= markedCli, `${markedPage} marked lines, the CLI marks ${markedCli}`);
   // the where highlight: choosing a scan line shades its 60 cells
   await page.selectOption('#where-choice-identify', 'curve:A_Z15');
-  assert.equal(await page.getAttribute('.surface-map[data-surface="A"]', 'data-shaded'), '60');
-  assert.equal(await page.getAttribute('.surface-map[data-surface="B"]', 'data-shaded'), '0');
+  for (const view of ['identify', 'gap']) {
+    assert.equal(await page.getAttribute(`#view-${view} .surface-map[data-surface="A"]`, 'data-shaded'), '60', view);
+    assert.equal(await page.getAttribute(`#view-${view} .surface-map[data-surface="B"]`, 'data-shaded'), '0', view);
+  }
+  // the Sim-to-real gap view maps the baseline's residual at the same points
+  assert.equal(await page.locator('#view-gap .surface-map[data-points="300"]').count(), 2);
   assert.deepEqual(errors, []);
   await page.close();
   fs.rmSync(dir, { recursive: true, force: true });
