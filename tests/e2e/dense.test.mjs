@@ -6,27 +6,17 @@
 // points table shows its first 500 rows and says so. The 100-point example keeps its SVG charts.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
-import os from 'node:os';
-import path from 'node:path';
-import { openBrowser, ROOT } from './browser.mjs';
+import { openBrowser, readyPage, simulatedScan } from './browser.mjs';
 
 let browser, url, context;
 before(async () => { browser = await openBrowser('dense'); ({ url, context } = browser); });
 after(async () => { await browser?.close(); });
 
 test('a dense scan\'s charts are canvases with zoom and a read-out', async () => {
-  const cli = (args) => execFileSync('cargo', ['run', '--quiet', '--bin', 'testpiece', '--', ...args], { cwd: ROOT, encoding: 'utf8', maxBuffer: 1 << 26 });
-  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'testpiece-dense-'));
-  const file = path.join(dir, 'scan_10x400.csv');
-  fs.writeFileSync(file, cli(['simulate', '--errors', 'EX0B=0.01', '--noise', '0.0015', '--seed', '7', '--scan', '10x400']));
+  const { file, dir } = simulatedScan('dense', '10x400', 7);
 
-  const page = await context.newPage();
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(e.message));
-  await page.goto(url);
-  await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
+  const { page, errors } = await readyPage(context, url);
   assert.equal(await page.locator('[data-chart="measured-simulated-residual"] svg').count(), 1, 'the example: an SVG chart');
   await page.setInputFiles('#file', file);
   await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('scan_10x400.csv') && !document.body.dataset.busy, null, { timeout: 180000 });

@@ -6,27 +6,17 @@
 // the verdict is there.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
-import os from 'node:os';
-import path from 'node:path';
-import { openBrowser, ROOT } from './browser.mjs';
+import { openBrowser, readyPage, simulatedScan } from './browser.mjs';
 
 let browser, url, context;
 before(async () => { browser = await openBrowser('progress'); ({ url, context } = browser); });
 after(async () => { await browser?.close(); });
 
 test('a 20,000-point analysis shows its stages on the progress bar', async () => {
-  const cli = (args) => execFileSync('cargo', ['run', '--quiet', '--bin', 'testpiece', '--', ...args], { cwd: ROOT, encoding: 'utf8', maxBuffer: 1 << 26 });
-  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'testpiece-progress-'));
-  const file = path.join(dir, 'scan_40x250.csv');
-  fs.writeFileSync(file, cli(['simulate', '--errors', 'EX0B=0.01', '--noise', '0.0015', '--seed', '5', '--scan', '40x250']));
+  const { file, dir } = simulatedScan('progress', '40x250', 5);
 
-  const page = await context.newPage();
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(e.message));
-  await page.goto(url);
-  await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
+  const { page, errors } = await readyPage(context, url);
   // record what the progress line shows while it is shown
   await page.evaluate(() => {
     window.__seen = [];

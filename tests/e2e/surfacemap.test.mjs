@@ -10,11 +10,8 @@
 // 100-point example maps as 2 rows of cells per surface.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
-import os from 'node:os';
-import path from 'node:path';
-import { openBrowser, ROOT } from './browser.mjs';
+import { openBrowser, readyPage, simulatedScan, testpiece } from './browser.mjs';
 
 let browser, url, context;
 before(async () => { browser = await openBrowser('surfacemap'); ({ url, context } = browser); });
@@ -58,20 +55,13 @@ function probe({ surface, n }) {
 }
 
 test('a scan is mapped per surface: cells, colours and reversals', async () => {
-  const cli = (args) => execFileSync('cargo', ['run', '--quiet', '--bin', 'testpiece', '--', ...args], { cwd: ROOT, encoding: 'utf8' });
-  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'testpiece-map-'));
-  const file = path.join(dir, 'scan_5x60.csv');
-  fs.writeFileSync(file, cli(['simulate', '--errors', 'EX0B=0.01', '--noise', '0.0015', '--seed', '3', '--scan', '5x60']));
-  const identified = JSON.parse(cli(['identify', file, '--json']));
-  const diagnosed = JSON.parse(cli(['diagnose', file, '--json']));
+  const { file, dir } = simulatedScan('map', '5x60', 3);
+  const identified = JSON.parse(testpiece(['identify', file, '--json']));
+  const diagnosed = JSON.parse(testpiece(['diagnose', file, '--json']));
   const reversals = diagnosed.where.filter((e) => e.group === 'reversal').map((e) => e.s);
   assert.ok(reversals.length > 0, 'the tool path reverses some axis');
 
-  const page = await context.newPage();
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(e.message));
-  await page.goto(url);
-  await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
+  const { page, errors } = await readyPage(context, url);
   // the built-in example: 100 points, 2 measurement curves a surface, each point a cell
   await page.click('#tab-identify');
   for (const s of ['A', 'B']) {
