@@ -4,7 +4,7 @@
 // The core is two wasm modules: the first view (the analysis of a part) calls the first; the
 // Plan, Program, Error budget and Correction views call the second, loaded when one of them first
 // needs it (`toolsCtx`).
-import { startCore, call, callPrepared, cancel, Cancelled, tools } from './core.js';
+import { startCore, call, callPrepared, callPreparedWithProgress, cancel, Cancelled, tools } from './core.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
 import { h, core, machineName, fittedWith } from './ui.js';
@@ -79,11 +79,12 @@ async function withProgress(text, fn) {
   busy++;
   const before = $('progress-text').textContent;
   $('progress-text').textContent = text;
+  $('progress-bar').hidden = true; // shown by the stages of a computation that reports them
   document.body.dataset.busy = 'true';
   // Show the indication for anything that takes longer than 200 ms.
   if (!busyTimer) busyTimer = setTimeout(() => { $('progress').hidden = false; document.body.dataset.progressShown = 'true'; }, 200);
   try { return await fn(); } finally {
-    if (--busy === 0) { clearTimeout(busyTimer); busyTimer = null; $('progress').hidden = true; delete document.body.dataset.busy; }
+    if (--busy === 0) { clearTimeout(busyTimer); busyTimer = null; $('progress').hidden = true; $('progress-bar').hidden = true; delete document.body.dataset.busy; }
     else $('progress-text').textContent = before; // an enclosing computation goes on
   }
 }
@@ -111,12 +112,20 @@ const CANCELLED = 'The computation was cancelled: change a setting or choose the
 async function analyseFile(f) {
   f.error = null;
   f.badRows = null;
+  // the core's stages (src/analysis/progress.rs) on the progress line and bar
+  const stage = (p) => {
+    $('progress-text').textContent = `Analysing ${f.name}: ${p.text}…`;
+    const bar = $('progress-bar');
+    bar.hidden = false;
+    bar.value = p.fraction;
+    bar.dataset.stage = p.stage;
+  };
   try {
     f.analysis = f.repeats
       // the mean of repeat measurements: σ comes from their differences, not from the settings
-      ? await withProgress(`Analysing ${f.name}…`, () => callPrepared(st.settings, 'analyseRepeats', f.repeats,
+      ? await withProgress(`Analysing ${f.name}…`, () => callPreparedWithProgress(st.settings, stage, 'analyseRepeats', f.repeats,
         { ...st.settings, noise_sigma: null, noise_mpe: undefined }))
-      : await withProgress(`Analysing ${f.name}…`, () => callPrepared(st.settings, 'analyse', f.bytes, f.name, st.settings));
+      : await withProgress(`Analysing ${f.name}…`, () => callPreparedWithProgress(st.settings, stage, 'analyse', f.bytes, f.name, st.settings));
   } catch (e) {
     f.analysis = null;
     f.error = e instanceof Cancelled ? CANCELLED : e.message;

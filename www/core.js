@@ -52,9 +52,10 @@ export async function startCore(inline) {
     worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
   }
   worker.onmessage = (ev) => {
-    const { id, ok, result, error, badRows } = ev.data;
+    const { id, ok, result, error, badRows, progress } = ev.data;
     const p = pending.get(id);
     if (!p) return;
+    if (progress) { p.onProgress?.(progress); return; }
     pending.delete(id);
     ok ? p.resolve(result) : p.reject(new CoreError(error, badRows));
   };
@@ -65,11 +66,11 @@ export async function startCore(inline) {
   return inline ? 'web worker (single file, Blob URL)' : 'web worker';
 }
 
-function post(message) {
+function post(message, onProgress) {
   const id = ++seq;
   return new Promise((resolve, reject) => {
-    pending.set(id, { resolve, reject });
-    worker.postMessage({ id, ...message });
+    pending.set(id, { resolve, reject, onProgress });
+    worker.postMessage({ id, ...message, progress: Boolean(onProgress) });
   });
 }
 
@@ -83,6 +84,12 @@ export function call(op, ...args) {
  * core's `Prepared` value and builds another only when those settings change (worker.js). */
 export function callPrepared(settings, op, ...args) {
   return post({ op, args, prepare: settings });
+}
+
+/** `callPrepared` of an export that reports its stages (the analyses, src/wasm/analysis.rs):
+ * `onProgress` is called with each ({stage, step, steps, fraction, text}) as it begins. */
+export function callPreparedWithProgress(settings, onProgress, op, ...args) {
+  return post({ op, args, prepare: settings }, onProgress);
 }
 
 /** The second module: the exports of the Plan, Program, Error budget and Correction views. */

@@ -1,6 +1,7 @@
 // The Data view: the files loaded, and the current one as read and matched by the core (format,
 // excluded rows, warnings, the matched points), or the reader's message when it was refused.
-import { h, table } from './ui.js';
+import { h, table, DENSE_POINTS, TABLE_ROWS } from './ui.js';
+import { toCsv } from './export.js';
 
 export function dataView(root, st) {
   root.textContent = '';
@@ -32,9 +33,14 @@ export function dataView(root, st) {
   if (file.warnings.length) {
     root.append(h('h2', {}, 'Warnings'), h('ul', { id: 'warnings' }, file.warnings.map((w) => h('li', { class: 'warn' }, w.line ? `line ${w.line}: ${w.message}` : w.message))));
   }
-  root.append(table('points', 'Matched points: nominal foot on the surface, outward normal, measured normal deviation (+ = material left, − = overcut)',
-    ['id', 'line', 'curve', 'u', 'x (mm)', 'y (mm)', 'z (mm)', 'nx', 'ny', 'nz', 'deviation (µm)'],
-    file.points.map((p, i) => [p.file.id, { text: p.file.line, num: true }, a.points[i].curve, { text: p.u.toFixed(5), num: true, value: p.u },
-      ...p.foot.map((v) => ({ text: v.toFixed(4), num: true, value: v })), ...p.normal.map((v) => ({ text: v.toFixed(5), num: true, value: v })),
-      { text: (p.deviation * 1000).toFixed(2), num: true, value: p.deviation * 1000 }])));
+  const header = ['id', 'line', 'curve', 'u', 'x (mm)', 'y (mm)', 'z (mm)', 'nx', 'ny', 'nz', 'deviation (µm)'];
+  const row = (p, i) => [p.file.id, { text: p.file.line, num: true }, a.points[i].curve, { text: p.u.toFixed(5), num: true, value: p.u },
+    ...p.foot.map((v) => ({ text: v.toFixed(4), num: true, value: v })), ...p.normal.map((v) => ({ text: v.toFixed(5), num: true, value: v })),
+    { text: (p.deviation * 1000).toFixed(2), num: true, value: p.deviation * 1000 }];
+  // a scan's table: its first rows; the CSV has every point
+  const dense = file.points.length > DENSE_POINTS;
+  const shown = dense ? file.points.slice(0, TABLE_ROWS) : file.points;
+  const csv = dense ? () => toCsv(header, file.points.map((p, i) => row(p, i).map((c) => (typeof c === 'object' ? c.value ?? c.text : c)))) : undefined;
+  root.append(table('points', `Matched points: nominal foot on the surface, outward normal, measured normal deviation (+ = material left, − = overcut)${dense ? `; the first ${TABLE_ROWS} of ${file.points.length} (the CSV has every point)` : ''}`,
+    header, shown.map(row), csv));
 }

@@ -31,8 +31,9 @@ export function tableCsv(table) {
   return toCsv(head[0] || [], body);
 }
 
-/** Buttons "SVG" and "PNG" for a chart and "CSV" for a table, appended to `bar`. */
-export function exportButtons(bar, { name, svg, table, csv }) {
+/** Buttons "SVG" and "PNG" for a chart ("PNG" alone for a canvas chart: `png()` a Promise of
+ * its Blob) and "CSV" for a table, appended to `bar`. */
+export function exportButtons(bar, { name, svg, png, table, csv }) {
   const add = (label, title, fn) => {
     const b = document.createElement('button');
     b.type = 'button';
@@ -46,6 +47,8 @@ export function exportButtons(bar, { name, svg, table, csv }) {
   if (svg) {
     add('SVG', `Save this chart as ${name}.svg`, () => download(`${name}.svg`, svgText(svg()), 'image/svg+xml'));
     add('PNG', `Save this chart as ${name}.png`, async () => download(`${name}.png`, await pngBlob(svg())));
+  } else if (png) {
+    add('PNG', `Save this chart as ${name}.png`, async () => download(`${name}.png`, await png()));
   }
   if (table || csv) {
     add('CSV', `Save this table as ${name}.csv`, () => download(`${name}.csv`, csv ? csv() : tableCsv(table()), 'text/csv'));

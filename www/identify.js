@@ -3,6 +3,7 @@
 // cannot separate, and the residual per point and on the part with the where highlight.
 import { h, table, fmtNum, fittedWith, fittedWithId, word } from './ui.js';
 import { whereControl, residualChart, planView } from './where.js';
+import { surfaceMaps } from './surfacemap.js';
 
 /** The single-point outliers the core named (a.outliers), with the rule, as a table. */
 function outlierBlock(a) {
@@ -65,6 +66,7 @@ export function identifyView(root, a) {
   root.append(h('h2', {}, 'Residual per point and on the part (final answer)'), whereControl(a, 'identify'));
   root.append(residualChart(a, 'measured-simulated-residual'));
   root.append(planView(a, 'plan-view'));
+  root.append(h('h3', {}, 'Residual map of each surface (developed: tool-path position × height)'), surfaceMaps(a));
   root.append(table('residual-per-curve', 'Residual per curve (paper 001 eq. 15-17)', ['curve', 'n', 'RMS (µm)', 'max |r| (µm)', 'MAD (µm)', 'RMSE (µm)', 'MAPE (%)'],
     id.per_curve.map((cv) => [cv.curve, { text: cv.n, num: true }, ...[cv.rms, cv.max_abs, cv.mad, cv.rmse].map((v) => ({ text: (v * 1000).toFixed(2), num: true, value: v * 1000 })),
       { text: cv.mape === null ? '—' : cv.mape.toFixed(1), num: true, value: cv.mape ?? '' }])));

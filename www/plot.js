@@ -24,7 +24,8 @@ export function ticks(lo, hi, count = 6) {
   return out;
 }
 
-function fmt(v) {
+/** A tick label: 4 significant digits, exponent outside [1e-3, 1e4). */
+export function fmt(v) {
   const a = Math.abs(v);
   if (a === 0) return '0';
   if (a >= 1e4 || a < 1e-3) return v.toExponential(1);

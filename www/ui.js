@@ -3,7 +3,15 @@
 // the machines, the measurement curves, the words for the tags the results carry, the
 // thresholds). No result is computed here.
 import { chart } from './plot.js';
+import { denseChart } from './densechart.js';
 import { exportButtons, toCsv } from './export.js';
+
+/** Files of more points than this (a scan) get their per-point charts and the plan view on a
+ * canvas (densechart.js, plancanvas.js) and the first TABLE_ROWS rows of their points table:
+ * an SVG element or a table row per point stops being fluid at a few thousand. */
+export const DENSE_POINTS = 3000;
+/** Rows of a points table shown for a file of more than DENSE_POINTS points (its CSV has all). */
+export const TABLE_ROWS = 500;
 
 /** What the core's `start()` answered (set once by app.js before the first view is drawn). */
 export const core = { machines: [], curves: [], words: {}, thresholds: {}, paths: { cones: [], cone_offsets: [], surfaces: [] } };
@@ -44,8 +52,9 @@ export function fmtNum(v, unit) {
   return String(Number(v.toPrecision(4)));
 }
 
-/** A table with a caption, header and rows of [text, {num, value}] cells, plus a CSV button. */
-export function table(name, caption, header, rows) {
+/** A table with a caption, header and rows of [text, {num, value}] cells, plus a CSV button
+ * (of the rows shown, or `csv()` when given: the whole table of which only some rows are shown). */
+export function table(name, caption, header, rows, csv) {
   const t = h('table', { 'data-table': name },
     h('caption', {}, caption),
     h('thead', {}, h('tr', {}, header.map((c) => h('th', { scope: 'col' }, c)))),
@@ -53,7 +62,7 @@ export function table(name, caption, header, rows) {
       ? h('td', { class: c.num ? 'num' : c.class, 'data-value': c.value ?? undefined }, c.text)
       : h('td', {}, c)))))));
   const bar = h('div', { class: 'bar' });
-  exportButtons(bar, { name, table: () => t });
+  exportButtons(bar, csv ? { name, csv } : { name, table: () => t });
   return h('div', {}, bar, h('div', { class: 'scroll' }, t));
 }
 
@@ -63,8 +72,9 @@ export function layout(curves, ids) {
   const x = [];
   const groups = [];
   let pos = 0;
-  for (const c of [...core.curves, ...new Set(curves.filter((k) => !core.curves.includes(k)))]) {
-    const idx = curves.map((k, i) => (k === c ? i : -1)).filter((i) => i >= 0);
+  const of = new Map(core.curves.map((c) => [c, []])); // one pass: a scan has hundreds of lines
+  curves.forEach((k, i) => { if (!of.has(k)) of.set(k, []); of.get(k).push(i); });
+  for (const [c, idx] of of) {
     if (!idx.length) continue;
     const from = pos + 1;
     for (const i of idx) x[i] = ++pos;
@@ -77,9 +87,10 @@ export function layout(curves, ids) {
 /** A chart with its export buttons (SVG, PNG, CSV of the series) and `extra` controls. */
 export function chartBlock(name, spec, extra) {
   const holder = h('div', {});
-  const c = chart(holder, spec);
+  const dense = spec.x.length > DENSE_POINTS;
+  const c = (dense ? denseChart : chart)(holder, spec);
   const bar = h('div', { class: 'bar' }, extra || '', h('span', { class: 'spacer' }));
-  exportButtons(bar, { name, svg: () => c.svg, csv: () => toCsv(['x', 'label', ...spec.series.map((s) => s.name)],
+  exportButtons(bar, { name, ...(dense ? { png: c.png } : { svg: () => c.svg }), csv: () => toCsv(['x', 'label', ...spec.series.map((s) => s.name)],
     spec.x.map((x, i) => [x, spec.xNames ? spec.xNames[i] : '', ...spec.series.map((s) => s.y[i])])) });
   return { el: h('div', { class: 'chart-block', 'data-chart': name }, bar, holder), chart: c };
 }

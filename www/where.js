@@ -1,7 +1,8 @@
 // The gap diagnosis drawn on the per-point plots and the plan view, shared by the Identification
 // and Sim-to-real gap views: a chosen where-group as shaded bands and ringed points, the axis
 // reversals the core marks at their nearest point, and the control that chooses the group.
-import { h, layout, chartBlock, diagnosisOf, word, core } from './ui.js';
+import { h, layout, chartBlock, diagnosisOf, word, core, DENSE_POINTS } from './ui.js';
+import { planCanvas } from './plancanvas.js';
 import { exportButtons } from './export.js';
 
 // The diagnosis (src/gap/location.rs) reports typed groups: `group` is curve, region, lean or
@@ -17,7 +18,7 @@ const where = { choice: 'auto', figures: new Set() };
 const entryKey = (e) => `${e.group}:${e.name}`;
 
 /** The where report of an analysis: entries, reversals, and the entry to highlight for `choice`. */
-function whereOf(a) {
+export function whereOf(a) {
   const d = diagnosisOf(a);
   if (!d) return null;
   const entries = d.where;
@@ -104,6 +105,12 @@ function whereChartPatch(a, ids, x) {
   return { highlight, markers, note: whereNote(w) };
 }
 
+/** Registers a figure drawn elsewhere (surfacemap.js) to be redrawn when the choice changes,
+ * while `isConnected()`. */
+export function onWhereChange(isConnected, redraw) {
+  where.figures.add({ isConnected, redraw });
+}
+
 /** The control that chooses what is highlighted, and the legend in words (HTML). */
 export function whereControl(a, idSuffix) {
   const w = whereOf(a);
@@ -138,7 +145,10 @@ export function residualChart(a, name, id = a.identification) {
   const curves = id.points.map((p) => p.curve);
   const ids = id.points.map((p) => p.id);
   const L = layout(curves, ids);
-  const spec = { title: 'Measured, simulated (identified model) and residual', x: L.x, xNames: L.xNames, groups: L.groups,
+  // the read-out names the point, its line and where it is: tool-path position and height
+  const s = a.path_position;
+  const xNames = s && s.length === ids.length ? L.xNames.map((t, i) => `${t}, s ${s[i].toFixed(1)} mm, z ${a.points[i].z.toFixed(2)} mm`) : L.xNames;
+  const spec = { title: 'Measured, simulated (identified model) and residual', x: L.x, xNames, groups: L.groups,
     series: [
       { name: 'measured', y: id.points.map((p) => p.measured * 1000), points: true },
       { name: 'simulated', y: id.points.map((p) => p.fitted * 1000) },
@@ -155,16 +165,64 @@ export function residualChart(a, name, id = a.identification) {
 /** Heights further apart than this (mm) are on different scan lines (the reader's rule). */
 const LINE_GAP_MM = 0.05;
 
-export function planView(a, name, id = a.identification) {
+/** What the plan view draws, in its frame: points (x, y mm), the arrows' ends, the lines. */
+function planOf(a, id) {
   const pts = a.file.points;
   const res = id.points.map((p) => p.residual);
-  const maxr = Math.max(1e-9, ...res.map(Math.abs));
+  let maxr = 1e-9, x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity; // (no spread: 100,000 arguments overflow)
+  for (let i = 0; i < pts.length; i++) {
+    maxr = Math.max(maxr, Math.abs(res[i]));
+    const [x, y] = pts[i].foot;
+    x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y);
+  }
   const W = 640, H = 570, pad = 30;
-  const xs = pts.map((p) => p.foot[0]), ys = pts.map((p) => p.foot[1]);
-  const x0 = Math.min(...xs) - 15, x1 = Math.max(...xs) + 15, y0 = Math.min(...ys) - 15, y1 = Math.max(...ys) + 15;
+  x0 -= 15; x1 += 15; y0 -= 15; y1 += 15;
   const k = Math.min((W - 2 * pad) / (x1 - x0), (H - 2 * pad - 44) / (y1 - y0));
   const X = (x) => pad + (x - x0) * k, Y = (y) => H - pad - 44 - (y - y0) * k;
   const arrowMm = 12; // the largest residual is drawn 12 mm long
+  const xs = pts.map((p) => p.foot[0]), ys = pts.map((p) => p.foot[1]);
+  const tips = pts.map((p, i) => { const len = (res[i] / maxr) * arrowMm; return [p.foot[0] + p.normal[0] * len, p.foot[1] + p.normal[1] * len]; });
+  // one line per measured line: a curve's points in file order, cut where the height jumps by
+  // more than the reader's scan-line gap (LINE_GAP_MM, src/measurement/scan_lines.rs), so that a
+  // scan's lines are not joined across the part
+  const zs = pts.map((p) => p.foot[2]);
+  const byCurve = new Map(core.curves.map((c) => [c, []]));
+  a.points.forEach((p, i) => byCurve.get(p.curve)?.push(i));
+  const lines = [];
+  for (const idx of byCurve.values()) {
+    idx.forEach((i, j) => {
+      if (j === 0 || Math.abs(zs[i] - zs[idx[j - 1]]) > LINE_GAP_MM) lines.push([]);
+      lines[lines.length - 1].push(i);
+    });
+  }
+  return { pts, res, maxr, W, H, pad, X, Y, xs, ys, tips, lines, arrowMm,
+    title: `Plan view: residual along the outward normal (largest ${(maxr * 1000).toFixed(1)} µm = ${arrowMm} mm arrow)`,
+    legend: 'blue: material left (+), red: overcut (−); dashed red ring: outlier; x, y in mm' };
+}
+
+/** The plan view on a canvas (plancanvas.js), for files of more than DENSE_POINTS points. */
+function densePlanView(a, name, plan) {
+  const byId = new Map(plan.pts.map((p, i) => [String(p.file.id), i]));
+  const outliers = ((a.outliers && a.outliers.points) || []).filter((o) => o.row !== undefined && plan.pts[o.row]).map((o) => ({ i: o.row }));
+  const overlay = () => {
+    const w = whereOf(a);
+    const rings = w && w.chosen ? w.chosen.ids.map((id) => byId.get(String(id))).filter((i) => i !== undefined) : [];
+    const marks = w ? w.marks.filter((m) => byId.has(String(m.id))).map((m) => ({ i: byId.get(String(m.id)), short: m.short, label: m.label })) : [];
+    return { rings, marks, note: whereNote(w) };
+  };
+  const c = planCanvas({ ...plan, ids: plan.pts.map((p) => p.file.id), outliers }, overlay);
+  const holder = h('div', { 'data-chart': name, class: 'dense-plan' });
+  where.figures.add({ isConnected: () => holder.isConnected, redraw: c.redraw });
+  const bar = h('div', { class: 'bar' }, h('span', { class: 'spacer' }));
+  exportButtons(bar, { name, png: () => new Promise((resolve, reject) => c.canvas.toBlob((b) => (b ? resolve(b) : reject(new Error('PNG encoding failed'))), 'image/png')) });
+  holder.append(bar, c.el);
+  return holder;
+}
+
+export function planView(a, name, id = a.identification) {
+  const plan = planOf(a, id);
+  if (plan.pts.length > DENSE_POINTS) return densePlanView(a, name, plan);
+  const { pts, res, W, H, pad, X, Y, xs, ys } = plan;
   const NS = 'http://www.w3.org/2000/svg';
   const svg = document.createElementNS(NS, 'svg');
   svg.setAttribute('viewBox', `0 0 ${W} ${H}`); svg.setAttribute('class', 'chart'); svg.setAttribute('role', 'img');
@@ -172,28 +230,16 @@ export function planView(a, name, id = a.identification) {
   svg.setAttribute('font-family', 'system-ui, sans-serif'); svg.setAttribute('font-size', '11');
   const add = (tag, attrs, parent = svg) => { const e = document.createElementNS(NS, tag); for (const [kk, v] of Object.entries(attrs)) e.setAttribute(kk, v); parent.appendChild(e); return e; };
   add('rect', { x: 0, y: 0, width: W, height: H, fill: '#fff' });
-  add('text', { x: pad, y: 18, 'font-weight': 600, 'font-size': 13 }).textContent = `Plan view: residual along the outward normal (largest ${(maxr * 1000).toFixed(1)} µm = ${arrowMm} mm arrow)`;
-  // one line per measured line: a curve's points in file order, cut where the height jumps by
-  // more than the reader's scan-line gap (LINE_GAP_MM, src/measurement/scan_lines.rs), so that a
-  // scan's lines are not joined across the part
-  const zs = pts.map((p) => p.foot[2]);
-  for (const c of core.curves) {
-    const idx = a.points.map((p, i) => (p.curve === c ? i : -1)).filter((i) => i >= 0);
-    const runs = [];
-    idx.forEach((i, j) => {
-      if (j === 0 || Math.abs(zs[i] - zs[idx[j - 1]]) > LINE_GAP_MM) runs.push([]);
-      runs[runs.length - 1].push(i);
-    });
-    for (const run of runs) {
-      add('polyline', { class: 'plan-line', points: run.map((i) => `${X(xs[i]).toFixed(1)},${Y(ys[i]).toFixed(1)}`).join(' '), fill: 'none', stroke: '#bbb' });
-    }
+  add('text', { x: pad, y: 18, 'font-weight': 600, 'font-size': 13 }).textContent = plan.title;
+  for (const run of plan.lines) {
+    add('polyline', { class: 'plan-line', points: run.map((i) => `${X(xs[i]).toFixed(1)},${Y(ys[i]).toFixed(1)}`).join(' '), fill: 'none', stroke: '#bbb' });
   }
   const layer = add('g', { class: 'where-layer' });
   pts.forEach((p, i) => {
-    const r = res[i], len = (r / maxr) * arrowMm;
+    const r = res[i];
     const color = r >= 0 ? '#1f77b4' : '#d62728';
     const xa = X(p.foot[0]), ya = Y(p.foot[1]);
-    const xb = X(p.foot[0] + p.normal[0] * len), yb = Y(p.foot[1] + p.normal[1] * len);
+    const xb = X(plan.tips[i][0]), yb = Y(plan.tips[i][1]);
     add('line', { x1: xa, y1: ya, x2: xb, y2: yb, stroke: color, 'stroke-width': 2 });
     add('circle', { cx: xb, cy: yb, r: 2, fill: color }).appendChild(document.createElementNS(NS, 'title')).textContent = `point ${p.file.id}: residual ${(r * 1000).toFixed(2)} µm`;
   });
@@ -204,7 +250,7 @@ export function planView(a, name, id = a.identification) {
       class: 'outlier-ring', 'data-id': o.id, role: 'img', 'aria-label': `outlier: point ${o.id}, ${(o.size * 1000).toFixed(1)} µm` });
     add('title', {}, ring).textContent = `outlier: point ${o.id}, ${(o.size * 1000).toFixed(1)} µm from the fit without it (|t| = ${o.statistic.toFixed(1)}); ${a.outliers.excluded ? 'left out' : 'kept'}`;
   }
-  add('text', { x: W - pad, y: H - 8, 'text-anchor': 'end', fill: '#555' }).textContent = 'blue: material left (+), red: overcut (−); dashed red ring: outlier; x, y in mm';
+  add('text', { x: W - pad, y: H - 8, 'text-anchor': 'end', fill: '#555' }).textContent = plan.legend;
   const note = add('text', { x: pad, y: H - 52, fill: '#7a4b00', class: 'note' });
   const byId = new Map(pts.map((p, i) => [String(p.file.id), i]));
   function drawWhere() {

@@ -42,7 +42,8 @@ self.onmessage = (ev) => {
     const fn = m[op];
     if (typeof fn !== 'function') throw new Error(`the core has no operation "${op}"`);
     const first = prepare === undefined ? [] : [preparedFor(m, prepare)];
-    self.postMessage({ id, ok: true, result: fn(...first, ...(args || [])) });
+    const last = msg.progress ? [(p) => self.postMessage({ id, progress: p })] : [];
+    self.postMessage({ id, ok: true, result: fn(...first, ...(args || []), ...last) });
   } catch (e) {
     self.postMessage({ id, ok: false, error: e && e.message ? e.message : String(e), badRows: e && e.bad_rows });
   }

@@ -2,8 +2,9 @@
 // The core is two modules (scripts/build-wasm.sh): the first (pkg/testpiece.js) is started with
 // the worker; the second (pkg/testpiece_tools.js: the Plan, Program, Error budget and Correction
 // views) is imported the first time a message names it, never before.
-// Protocol: {id, op, args, prepare?, module?} in; {id, ok: true, result} or {id, ok: false, error,
-// badRows} out (`badRows`: the `bad_rows` of an error of `analyse`, src/wasm/analysis.rs).
+// Protocol: {id, op, args, prepare?, module?, progress?} in; {id, ok: true, result} or {id, ok: false, error,
+// badRows} out, and before them, with `progress: true`, {id, progress: {stage, step, steps,
+// fraction, text}} for each stage the export reports through the function it is given last (`badRows`: the `bad_rows` of an error of `analyse`, src/wasm/analysis.rs).
 // `op` names an export of the module `module` ('tools' for the second, else the first, src/wasm/);
 // {id, load: 'tools'} loads the second module and answers with no result. Arguments and results
 // are structured-cloned.
@@ -48,7 +49,8 @@ self.onmessage = async (ev) => {
     const fn = m[op];
     if (typeof fn !== 'function') throw new Error(`the core has no operation "${op}"`);
     const first = prepare === undefined ? [] : [preparedFor(m, prepare)];
-    const result = fn(...first, ...(args || []));
+    const last = ev.data.progress ? [(p) => self.postMessage({ id, progress: p })] : [];
+    const result = fn(...first, ...(args || []), ...last);
     self.postMessage({ id, ok: true, result });
   } catch (e) {
     self.postMessage({ id, ok: false, error: e && e.message ? e.message : String(e), badRows: e && e.bad_rows });

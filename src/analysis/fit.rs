@@ -12,6 +12,7 @@ use super::final_answer::{final_answer, refine_with, FinalInput};
 use super::options::AnalysisOptions;
 use super::outliers::outliers_of;
 use super::points::design_at;
+use super::progress::{silent, Progress, Sink, Stage};
 use super::report::{BaselineFit, Outliers};
 use super::session::PointsModel;
 
@@ -49,8 +50,22 @@ pub fn fit_points(
     ids: &[String],
     opts: &AnalysisOptions,
 ) -> Result<PointsFit, AnalysisError> {
+    fit_points_with(prepared, at, deviations, ids, opts, &mut silent)
+}
+
+/// [`fit_points`], each [`Stage`] from the design on reported to `progress` as it begins.
+pub fn fit_points_with(
+    prepared: &Prepared,
+    at: &PointsModel,
+    deviations: &[f64],
+    ids: &[String],
+    opts: &AnalysisOptions,
+    progress: Sink,
+) -> Result<PointsFit, AnalysisError> {
     let points = at.points();
+    progress(Progress::of(Stage::Design));
     let (design, columns) = design_at(prepared, points, at.axis_values()?, opts)?;
+    progress(Progress::of(Stage::Diagnose));
     let modelled = diagnose_modelled(prepared, at, deviations, opts);
     let obs = Observations::new(ids.to_vec(), at.labels(), deviations.to_vec())
         .excluding(&modelled.excluded);
@@ -64,6 +79,7 @@ pub fn fit_points(
             .map_or(s, |r| r.structure.noise.used);
         iopts = iopts.with_sigma(total);
     }
+    progress(Progress::of(Stage::Identify));
     let mut identification = identify(&design, &obs, &iopts)?;
     let refinement = if opts.refine {
         let r = refine_with(prepared, at, &design, &obs, &identification, &iopts, None)?;
@@ -87,6 +103,7 @@ pub fn fit_points(
             ),
             None => m.candidates.clone(),
         });
+    progress(Progress::of(Stage::FinalFit));
     let (final_design, final_id, final_refinement, correction) = final_answer(
         FinalInput {
             candidates: &shaped,

@@ -39,17 +39,19 @@ mod noise;
 mod options;
 mod outliers;
 mod points;
+mod progress;
 mod report;
 mod session;
 
 pub use diagnosis::{diagnose_on_machine, diagnose_points, Diagnosis};
 pub use error::AnalysisError;
-pub use fit::{fit_points, PointsFit};
+pub use fit::{fit_points, fit_points_with, PointsFit};
 pub use options::{AnalysisOptions, KnownDeviation};
 pub use points::{
     columns_of, design_at, effects_on_machine, measurement_points, nearest_curve,
     sensitivity_options,
 };
+pub use progress::{silent, Progress, Sink, Stage};
 use report::diagnosis_summary;
 pub use report::{
     Analysis, BaselineFit, DesignColumns, Fitted, NoiseSource, Outliers, RepeatReport,
@@ -166,12 +168,24 @@ pub fn analyse_parts(
     files: &[(&[u8], &str)],
     opts: &AnalysisOptions,
 ) -> Result<(Analysis, Fitted), AnalysisError> {
+    analyse_parts_with(session, files, opts, &mut silent)
+}
+
+/// [`analyse_parts`], each [`Stage`] reported to `progress` as it begins (the results are the
+/// same whatever the sink).
+pub fn analyse_parts_with(
+    session: &Session,
+    files: &[(&[u8], &str)],
+    opts: &AnalysisOptions,
+    progress: Sink,
+) -> Result<(Analysis, Fitted), AnalysisError> {
     if let Some(s) = opts.noise_sigma {
         if !(s.is_finite() && s > 0.0) {
             return Err(NoiseError::BadSigma(s).into());
         }
     }
     let prepared = session.prepared();
+    progress(Progress::of(Stage::Read));
     let (matched, pure) = read_parts(files, opts)?;
     let points = measurement_points(prepared.part(), &matched);
     let mut noise = match &pure {
@@ -196,6 +210,7 @@ pub fn analyse_parts(
     };
     let deviations = minus_known(matched.deviations(), opts.known.as_ref())?;
     let ids: Vec<String> = matched.points.iter().map(|p| p.file.id.clone()).collect();
+    progress(Progress::of(Stage::Model));
     let model = session.points_model(&points);
     let scan = model.scan().map(|s| s.layout.clone());
     // what a scan's heights tell apart that the built-in points cannot (issue 31 item 2)
@@ -203,6 +218,10 @@ pub fn analyse_parts(
         .as_ref()
         .and_then(|_| model.part_model().ok())
         .map(|m| crate::gap::separability::separability(m, prepared.builtin_model()));
+    let path_position = model
+        .part_model()
+        .ok()
+        .map(|m| m.points.iter().map(|p| p.s).collect());
     let PointsFit {
         mut diagnosis,
         outliers,
@@ -212,7 +231,7 @@ pub fn analyse_parts(
         refinement: final_refinement,
         correction,
         observations: obs,
-    } = fit_points(prepared, &model, &deviations, &ids, opts)?;
+    } = fit_points_with(prepared, &model, &deviations, &ids, opts, progress)?;
     let repeat = pure.map(|pe| {
         let baseline = &baseline.identification;
         let used: Vec<f64> = baseline
@@ -262,6 +281,7 @@ pub fn analyse_parts(
         repeat,
         scan,
         separability,
+        path_position,
         file: matched,
         points,
         design: columns_of(&final_design),
@@ -441,5 +461,33 @@ mod tests {
         };
         let e = analyse_once(CLEAN.as_bytes(), "x.csv", &o).unwrap_err();
         assert_eq!(e.to_string(), "L0 = -1 mm is not a positive finite length");
+    }
+
+    #[test]
+    fn the_path_position_is_the_tool_tip_length_at_each_point() {
+        // Against the tip-length tables of the part (src/toolpath/tip_length.rs, checked there
+        // against a chord sum): A's points at s_A(u), B's after the whole of A's pass; to 1e-9 mm.
+        use crate::part::Surface;
+        use crate::toolpath::tip_length::TipLength;
+        let a = analyse_once(
+            CLEAN.as_bytes(),
+            "example_clean.csv",
+            &AnalysisOptions::default(),
+        )
+        .unwrap();
+        let s = a.path_position.as_ref().expect("a diagnosis model");
+        assert_eq!(s.len(), a.points.len());
+        let part = SShape::iso();
+        let (ta, tb) = (
+            TipLength::new(&part, Surface::A),
+            TipLength::new(&part, Surface::B),
+        );
+        for (p, &got) in a.points.iter().zip(s) {
+            let want = match p.surface {
+                Surface::A => ta.at(&part, p.u),
+                Surface::B => ta.total() + tb.at(&part, p.u),
+            };
+            assert!((got - want).abs() < 1e-9, "id {}: {got} vs {want}", p.id);
+        }
     }
 }

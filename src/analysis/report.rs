@@ -95,6 +95,12 @@ pub struct Analysis {
     /// cannot, and the other way round ([`crate::gap::separability`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub separability: Option<Separability>,
+    /// Each point's position along the tool path: the tool-tip path length (mm) from the start
+    /// of surface A's pass to the pose that generated the point (the `s` of the diagnosis's axis
+    /// reversals; [`crate::effects::data::PointMeta::s`]), in the order of `points`. Absent when
+    /// the diagnosis has no part model for the points.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub path_position: Option<Vec<f64>>,
 }
 
 /// What repeat measurements of the part gave ([`crate::measurement::repeat`]).

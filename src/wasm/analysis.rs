@@ -7,7 +7,7 @@ use wasm_bindgen::prelude::*;
 
 use super::prepared::PreparedSettings;
 use crate::analysis::{
-    analyse as run, analyse_repeats, Analysis, AnalysisError, AnalysisOptions, Diagnosis,
+    analyse_parts_with, Analysis, AnalysisError, AnalysisOptions, Diagnosis, Progress,
 };
 use crate::effects::catalogue::{machine_effects, EffectStatus};
 use crate::effects::prepared::Prepared;
@@ -70,23 +70,37 @@ fn analysis_error(e: AnalysisError) -> JsValue {
     error.into()
 }
 
+/// A progress sink calling the page's `progress` function (when given) with each stage as a
+/// plain object `{stage, step, steps, fraction, text}` ([`Progress`]); a failing call is ignored
+/// (the progress line is not the result).
+fn sink_of(progress: Option<js_sys::Function>) -> impl FnMut(Progress) {
+    move |p: Progress| {
+        if let (Some(f), Ok(v)) = (&progress, super::to_js(&p)) {
+            let _ = f.call1(&JsValue::NULL, &v);
+        }
+    }
+}
+
 /// Reads, matches and identifies one CMM file on `prepared` (the settings of `options`, held by
 /// the worker: [`super::prepared`]). `options` is `{machine, mode, branch, l0,
 /// tool_radius, exclude_bad_rows, noise_sigma, noise_mpe: {a_um, k_mm, r0_um}, keep_outliers,
 /// effects}` (any may be absent: defaults of `AnalysisOptions`; `noise_sigma` and `noise_mpe`
 /// not both). Returns the [`Analysis`] as a plain object with `verdict_line` and `error_set`
 /// (see `PageAnalysis`); a bad file throws the reader's message (line, column, text found,
-/// what was expected) and, for rejected rows, `bad_rows`.
+/// what was expected) and, for rejected rows, `bad_rows`. `progress` (optional): a function
+/// called with each stage of the analysis as it begins ([`sink_of`]).
 #[wasm_bindgen]
 pub fn analyse(
     prepared: &PreparedSettings,
     bytes: &[u8],
     name: &str,
     options: JsValue,
+    progress: Option<js_sys::Function>,
 ) -> Result<JsValue, JsValue> {
     let opts: AnalysisOptions = super::settings_from_js(options, "bad analysis settings")?;
     let session = prepared.session();
-    let a = run(session, bytes, name, &opts).map_err(analysis_error)?;
+    let (a, _) = analyse_parts_with(session, &[(bytes, name)], &opts, &mut sink_of(progress))
+        .map_err(analysis_error)?;
     Ok(page_analysis(&a, session.prepared())?)
 }
 
@@ -95,12 +109,13 @@ pub fn analyse(
 /// its repeats (the same point ids measured again, at least 2 files); `options` as for
 /// `analyse`, without `noise_sigma` or `noise_mpe` (σ comes from the repeats). Returns what
 /// `analyse` returns for their mean, with `repeat` = {pure_error {sigma, dof, sigma_mean,
-/// largest}, lack_of_fit {f, dof_fit, dof_pure, p_value}, summary}.
+/// largest}, lack_of_fit {f, dof_fit, dof_pure, p_value}, summary}; `progress` as for `analyse`.
 #[wasm_bindgen(js_name = analyseRepeats)]
 pub fn analyse_repeats_js(
     prepared: &PreparedSettings,
     files: JsValue,
     options: JsValue,
+    progress: Option<js_sys::Function>,
 ) -> Result<JsValue, JsValue> {
     let files = super::pool::files_from_js(&files, "repeat files: expected [{name, bytes}]")?;
     let opts: AnalysisOptions = super::settings_from_js(options, "bad analysis settings")?;
@@ -109,6 +124,7 @@ pub fn analyse_repeats_js(
         .map(|(name, bytes)| (bytes.as_slice(), name.as_str()))
         .collect();
     let session = prepared.session();
-    let a = analyse_repeats(session, &list, &opts).map_err(analysis_error)?;
+    let (a, _) = analyse_parts_with(session, &list, &opts, &mut sink_of(progress))
+        .map_err(analysis_error)?;
     Ok(page_analysis(&a, session.prepared())?)
 }

@@ -3,6 +3,7 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
+import { execFileSync } from 'node:child_process';
 import { chromium } from 'playwright-core';
 import { serve } from '../../scripts/serve.mjs';
 
@@ -27,4 +28,29 @@ export async function openBrowser(prefix, options = {}) {
       fs.rmSync(userDataDir, { recursive: true, force: true });
     },
   };
+}
+
+/** `testpiece ARGS` (the debug build, through cargo): its stdout. */
+export function testpiece(args) {
+  return execFileSync('cargo', ['run', '--quiet', '--bin', 'testpiece', '--', ...args], { cwd: ROOT, encoding: 'utf8', maxBuffer: 1 << 26 });
+}
+
+/** A scan written by `testpiece simulate --scan SCAN` (EX0B = 0.01 mm, noise 1.5 µm, `seed`) as
+ * scan_SCAN.csv in a fresh temporary folder: {file, dir}. */
+export function simulatedScan(prefix, scan, seed) {
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), `testpiece-${prefix}-`));
+  const file = path.join(dir, `scan_${scan}.csv`);
+  fs.writeFileSync(file, testpiece(['simulate', '--errors', 'EX0B=0.01', '--noise', '0.0015', '--seed', String(seed), '--scan', scan]));
+  return { file, dir };
+}
+
+/** A new page of `context` at `url`, once ready (the example analysed): {page, errors} (`errors`
+ * collects the page's uncaught errors). */
+export async function readyPage(context, url) {
+  const page = await context.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  await page.goto(url);
+  await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
+  return { page, errors };
 }

@@ -50,6 +50,7 @@ mod geometry_table2;
 mod identify_cli;
 mod identify_export;
 mod identify_formats;
+mod identify_progress;
 mod identify_properties;
 mod identify_reference;
 mod identify_refine;

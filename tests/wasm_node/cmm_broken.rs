@@ -71,8 +71,13 @@ fn every_broken_file_is_an_error_with_the_native_message() {
     );
     let prepared = crate::prepared();
     for (name, bytes) in BROKEN {
-        let v = match testpiece::wasm::analysis::analyse(&prepared, bytes, name, JsValue::UNDEFINED)
-        {
+        let v = match testpiece::wasm::analysis::analyse(
+            &prepared,
+            bytes,
+            name,
+            JsValue::UNDEFINED,
+            None,
+        ) {
             Ok(_) => panic!("{name}: read without error under wasm"),
             Err(e) => e,
         };

@@ -52,8 +52,9 @@ fn check(what: &str, verdict: &serde_json::Value, case: &(&str, &[u8], &str, &[&
 fn analyse_carries_the_native_verdicts() {
     let prepared = crate::prepared();
     for case in &CASES {
-        let js = testpiece::wasm::analysis::analyse(&prepared, case.1, case.0, JsValue::UNDEFINED)
-            .expect("analysis");
+        let js =
+            testpiece::wasm::analysis::analyse(&prepared, case.1, case.0, JsValue::UNDEFINED, None)
+                .expect("analysis");
         let back: serde_json::Value = serde_wasm_bindgen::from_value(js).expect("plain object");
         assert_eq!(back["diagnosis"]["status"], "made", "{}", case.0);
         let d = &back["diagnosis"]["report"];

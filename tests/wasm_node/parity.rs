@@ -68,8 +68,14 @@ fn analysis_of_the_examples_matches_native() {
         for (key, v) in n.as_object().expect("an object") {
             report.push(format!("{name} {key}: {:.1e}", max_rel(v, &wasm[key])));
         }
-        testpiece::wasm::analysis::analyse(&crate::prepared(), bytes, name, JsValue::UNDEFINED)
-            .unwrap_or_else(|_| panic!("{name}: the export failed"));
+        testpiece::wasm::analysis::analyse(
+            &crate::prepared(),
+            bytes,
+            name,
+            JsValue::UNDEFINED,
+            None,
+        )
+        .unwrap_or_else(|_| panic!("{name}: the export failed"));
     }
     assert!(
         failures.is_empty(),

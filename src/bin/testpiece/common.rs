@@ -5,7 +5,11 @@
 //! A value parser's message says what was expected; `main` prefixes the option and the value
 //! (``--machine `paper9`: expected paper000, paper001 or paper002``).
 
-use testpiece::analysis::{analyse_parts, Analysis, AnalysisOptions, Fitted, Session};
+use std::io::IsTerminal;
+
+use testpiece::analysis::{
+    analyse_parts, analyse_parts_with, Analysis, AnalysisOptions, Fitted, Progress, Session,
+};
 use testpiece::identify::monte_carlo::CmmMpe;
 use testpiece::machine::Branch;
 use testpiece::part::ConeFrustum;
@@ -122,6 +126,9 @@ pub fn read(path: &str) -> Result<Vec<u8>, String> {
 
 /// Reads FILE and its repeats (the same points measured again) and analyses their mean
 /// ([`analyse_parts`]) on the settings prepared once for the command; errors name the file.
+/// When stderr is a terminal, the analysis's stages are written there on one line, overwritten
+/// as each begins and cleared at the end ([`stage_line`]); piped or redirected, nothing is
+/// written (the outputs stay byte for byte what they were).
 pub fn analyse_files(
     file: &str,
     repeats: &[String],
@@ -136,7 +143,28 @@ pub fn analyse_files(
         .map(|(b, n)| (b.as_slice(), n.as_str()))
         .collect();
     let session = Session::new(settings).map_err(|e| format!("{file}: {e}"))?;
-    analyse_parts(&session, &files, settings).map_err(|e| format!("{file}: {e}"))
+    let result = if std::io::stderr().is_terminal() {
+        let name = file_name(file);
+        let mut show = |p: Progress| eprint!("\r\x1b[K{}", stage_line(&name, &p));
+        let r = analyse_parts_with(&session, &files, settings, &mut show);
+        eprint!("\r\x1b[K");
+        r
+    } else {
+        analyse_parts(&session, &files, settings)
+    };
+    result.map_err(|e| format!("{file}: {e}"))
+}
+
+/// One stage on the terminal's progress line: `part.csv: stage 4 of 6: diagnosing … [###...]`.
+pub fn stage_line(name: &str, p: &Progress) -> String {
+    const WIDTH: usize = 12;
+    let done = (p.fraction() * WIDTH as f64).round() as usize;
+    format!(
+        "{name}: {} [{}{}]",
+        p.text(),
+        "#".repeat(done),
+        ".".repeat(WIDTH - done)
+    )
 }
 
 /// Prints a value as pretty JSON.

@@ -54,7 +54,9 @@ The whole test, in order: plan (where to probe, what it will tell; DMIS for the 
 (the finishing pass) -> machine and measure -> identify / diagnose / budget -> identify
 --compensation (the errors in the controller's terms, the part after correction).
 
-Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.";
+Every command accepts --help. Units are mm and rad. Errors go to stderr with a non-zero exit.
+On a terminal, identify and diagnose show the analysis's stages on one stderr line (cleared at
+the end); piped or redirected, nothing is written there.";
 
 /// five-axis machine geometric errors from a measured ISO 10791-7 S-shape test piece
 #[cfg(not(target_arch = "wasm32"))]
