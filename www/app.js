@@ -145,7 +145,7 @@ async function analyseList(list) {
 
 async function analyseAll() {
   await analyseList(st.files);
-  render();
+  await showResults();
 }
 
 // ---------------------------------------------------------------- several parts
@@ -232,7 +232,7 @@ async function addFiles(list) {
   st.current = st.files.length - added.length;
   render();
   await analyseList(added);
-  render();
+  await showResults();
 }
 
 async function loadExample(name) {
@@ -240,8 +240,8 @@ async function loadExample(name) {
   st.files = [{ name, bytes: new TextEncoder().encode(e.text), example: true }];
   st.current = 0;
   await analyseList(st.files);
-  mark('tp-example-computed'); // the analysis back from the worker; the views rendered after
-  render();
+  mark('tp-example-computed'); // the analysis back from the worker
+  await showResults(() => mark('tp-verdict-painted'));
 }
 
 // ---------------------------------------------------------------- rendering
@@ -283,6 +283,16 @@ const VIEWS = [
 const current = () => st.files[st.current] && st.files[st.current].analysis;
 
 function renderFig19(root) { sensitivityView(root, st); }
+
+/** The verdict first: the summary is written and painted before the views are drawn (drawing
+ * them all takes 100-150 ms on the example, issue 33 item 2); `painted` is called once the frame
+ * with the summary has been painted. */
+async function showResults(painted) {
+  summaryText();
+  await new Promise((resolve) => requestAnimationFrame(() => setTimeout(resolve, 0)));
+  painted?.();
+  render();
+}
 
 function render() {
   summaryText();
