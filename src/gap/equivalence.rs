@@ -17,6 +17,8 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
+use crate::effects::data::{Candidate, NamedColumns};
+use crate::identify::solve::Factor;
 use crate::numerics::order::sort_f64_descending;
 use crate::parameter::Effect;
 
@@ -54,27 +56,69 @@ pub fn cos_to_span(v: &DVector<f64>, qb: &DMatrix<f64>) -> f64 {
     ((qb.transpose() * v).norm() / nv).min(1.0)
 }
 
+/// Two candidates' unabsorbed spans compared, the smaller span first.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpanPair {
+    /// The candidate of the smaller span (the first given when both are the same size).
+    pub a: Effect,
+    pub b: Effect,
+    /// Cosine of the smallest principal angle (the largest singular value of `Q_aᵀ Q_b`).
+    pub cosine: f64,
+    /// The smallest singular value: 1 when every direction of `a`'s span lies in `b`'s.
+    pub a_within_b: f64,
+    /// Whether `a`'s span has fewer dimensions than `b`'s.
+    pub smaller: bool,
+}
+
+/// [`SpanPair`] of the spans `x` and `y` (orthonormal bases); `None` when either is empty.
+pub fn compare_spans(x: (Effect, &DMatrix<f64>), y: (Effect, &DMatrix<f64>)) -> Option<SpanPair> {
+    // the smaller span first, so that `a_within_b` is meaningful
+    let ((a, qa), (b, qb)) = if x.1.ncols() <= y.1.ncols() {
+        (x, y)
+    } else {
+        (y, x)
+    };
+    let sv = principal_cosines(qa, qb);
+    Some(SpanPair {
+        a,
+        b,
+        cosine: *sv.first()?,
+        a_within_b: *sv.last()?,
+        smaller: qa.ncols() < qb.ncols(),
+    })
+}
+
+/// Orthonormal bases of the unabsorbed spans `(I − P) S_c` of `candidates` (`P` the projector on
+/// the baseline design `baseline`), for the candidates that leave something visible.
+pub fn unabsorbed_spans(
+    baseline: &NamedColumns,
+    candidates: &[Candidate],
+) -> Vec<(Effect, DMatrix<f64>)> {
+    let base = Factor::new(&baseline.matrix, None);
+    candidates
+        .iter()
+        .map(|c| {
+            let u = base.unabsorbed(&c.signature.matrix);
+            (c.effect, Factor::new(&u, None).basis)
+        })
+        .filter(|(_, q)| q.ncols() > 0)
+        .collect()
+}
+
 /// All pairs whose unabsorbed spans are within [`EQUIVALENT_COS`].
 pub fn near_equivalent_pairs(spans: &[(Effect, DMatrix<f64>)]) -> Vec<Equivalence> {
     let mut out = Vec::new();
-    for i in 0..spans.len() {
-        for j in i + 1..spans.len() {
-            let (na, qa) = &spans[i];
-            let (nb, qb) = &spans[j];
-            // Put the smaller span first so that `a_within_b` is meaningful.
-            let (na, qa, nb, qb) = if qa.ncols() <= qb.ncols() {
-                (na, qa, nb, qb)
-            } else {
-                (nb, qb, na, qa)
+    for (i, (na, qa)) in spans.iter().enumerate() {
+        for (nb, qb) in &spans[i + 1..] {
+            let Some(p) = compare_spans((*na, qa), (*nb, qb)) else {
+                continue;
             };
-            let sv = principal_cosines(qa, qb);
-            let Some(&first) = sv.first() else { continue };
-            if first >= EQUIVALENT_COS {
+            if p.cosine >= EQUIVALENT_COS {
                 out.push(Equivalence {
-                    a: *na,
-                    b: *nb,
-                    cosine: first,
-                    a_within_b: sv.get(qa.ncols() - 1).copied(),
+                    a: p.a,
+                    b: p.b,
+                    cosine: p.cosine,
+                    a_within_b: Some(p.a_within_b),
                 });
             }
         }

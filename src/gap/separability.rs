@@ -10,13 +10,10 @@
 //!
 //! Units: cosines are dimensionless, in [0, 1].
 
-use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::effects::builtin::PartModel;
-use crate::effects::data::{Candidate, NamedColumns};
-use crate::gap::equivalence::{principal_cosines, EQUIVALENT_COS};
-use crate::identify::solve::Factor;
+use crate::gap::equivalence::{compare_spans, unabsorbed_spans, EQUIVALENT_COS};
 use crate::parameter::Effect;
 
 /// The smallest principal cosine at or above which the smaller span is inside the larger: a
@@ -51,67 +48,34 @@ pub struct Separability {
     pub neither: Vec<PairCosines>,
 }
 
-/// Orthonormal bases of the candidates' unabsorbed spans `(I − P) S_c` on `model` (`P` the
-/// projector on its baseline), for the candidates that leave something visible.
-pub fn unabsorbed_spans(model: &PartModel) -> Vec<(Effect, DMatrix<f64>)> {
-    spans_of(&model.baseline, &model.candidates)
-}
-
-/// [`unabsorbed_spans`] of `candidates` on the baseline design `baseline`.
-pub fn spans_of(baseline: &NamedColumns, candidates: &[Candidate]) -> Vec<(Effect, DMatrix<f64>)> {
-    let base = Factor::new(&baseline.matrix, None);
-    candidates
-        .iter()
-        .map(|c| {
-            let u = base.unabsorbed(&c.signature.matrix);
-            (c.effect, Factor::new(&u, None).basis)
-        })
-        .filter(|(_, q)| q.ncols() > 0)
-        .collect()
-}
-
-/// The largest and the smallest principal cosine of the spans of `a` and `b` in `spans` (`None`
-/// when one of them has none).
-fn cosines(spans: &[(Effect, DMatrix<f64>)], a: Effect, b: Effect) -> Option<(f64, f64)> {
-    let qa = &spans.iter().find(|s| s.0 == a)?.1;
-    let qb = &spans.iter().find(|s| s.0 == b)?.1;
-    let c = principal_cosines(qa, qb);
-    Some((*c.first()?, *c.last()?))
-}
-
-/// The dimension of the span of `e` in `spans` (0 when it has none).
-fn qa_dim(spans: &[(Effect, DMatrix<f64>)], e: Effect) -> usize {
-    spans.iter().find(|s| s.0 == e).map_or(0, |s| s.1.ncols())
-}
-
 /// The separability of the candidates on `here` against `builtin` (the same settings' built-in
 /// points): every pair visible on both layouts, sorted into [`Separability`]'s three lists in
 /// the candidates' order.
 pub fn separability(here: &PartModel, builtin: &PartModel) -> Separability {
-    let (sh, sb) = (unabsorbed_spans(here), unabsorbed_spans(builtin));
+    let sh = unabsorbed_spans(&here.baseline, &here.candidates);
+    let sb = unabsorbed_spans(&builtin.baseline, &builtin.candidates);
+    let on_builtin = |e: Effect| sb.iter().find(|s| s.0 == e).map(|s| (e, &s.1));
     let mut out = Separability::default();
-    for (i, (a, _)) in sh.iter().enumerate() {
-        for (b, _) in &sh[i + 1..] {
-            let (Some((here, smallest)), Some((builtin, _))) =
-                (cosines(&sh, *a, *b), cosines(&sb, *a, *b))
-            else {
+    for (i, (ea, qa)) in sh.iter().enumerate() {
+        for (eb, qb) in &sh[i + 1..] {
+            let (Some(p), Some(ba), Some(bb)) = (
+                compare_spans((*ea, qa), (*eb, qb)),
+                on_builtin(*ea),
+                on_builtin(*eb),
+            ) else {
                 continue;
             };
-            // the smaller span first; nested when its every direction is in the larger one
-            // (its last principal cosine)
-            let (a, b) = if qa_dim(&sh, *a) <= qa_dim(&sh, *b) {
-                (*a, *b)
-            } else {
-                (*b, *a)
+            let Some(q) = compare_spans(ba, bb) else {
+                continue;
             };
             let pair = PairCosines {
-                a,
-                b,
-                here,
-                builtin,
-                nested: qa_dim(&sh, a) < qa_dim(&sh, b) && smallest >= NESTED_COS,
+                a: p.a,
+                b: p.b,
+                here: p.cosine,
+                builtin: q.cosine,
+                nested: p.smaller && p.a_within_b >= NESTED_COS,
             };
-            match (here >= EQUIVALENT_COS, builtin >= EQUIVALENT_COS) {
+            match (pair.here >= EQUIVALENT_COS, pair.builtin >= EQUIVALENT_COS) {
                 (false, true) => out.told_apart.push(pair),
                 (true, false) => out.merged.push(pair),
                 (true, true) => out.neither.push(pair),

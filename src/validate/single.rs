@@ -171,7 +171,7 @@ impl ValidationModel {
     /// span nearly the same directions, [`near_equivalent_pairs`]): the diagnosis may name
     /// either, so a validation counts either as right.
     pub fn near_equivalence(&self) -> impl Fn(Effect, Effect) -> bool {
-        let pairs = near_equivalent_pairs(&crate::gap::separability::spans_of(
+        let pairs = near_equivalent_pairs(&crate::gap::equivalence::unabsorbed_spans(
             &self.baseline,
             &self.candidates,
         ));
