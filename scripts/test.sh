@@ -16,26 +16,12 @@ step() {
   times+=("$(printf '%5d s  %s' $(( $(date +%s) - s )) "$name")")
 }
 
-# The wasm tests under Node and the page's release wasm at the same time (issue 33 item 5): each
-# is mostly one rustc on one core (the test crate; the release modules' LTO), in build
-# directories of their own. The release build's lines are printed when both have ended.
-wasm_steps() {
-  mkdir -p target
-  local log=target/build-wasm.log status=0
-  bash scripts/build-wasm.sh > "$log" 2>&1 &
-  local pid=$!
-  wasm-pack test --node --mode no-install -- --test wasm_node || status=$?
-  wait "$pid" || status=$?
-  printf '\n\033[1m== release wasm for the page (built beside the wasm tests)\033[0m\n'
-  cat "$log"
-  return "$status"
-}
-
 step "setup"                        bash scripts/setup.sh
 step "cargo fmt --check"            cargo fmt --check
 step "cargo clippy"                 cargo clippy --all-targets -- -D warnings
 step "cargo test"                   cargo test
-step "wasm-pack test --node, and the release wasm for the page beside it" wasm_steps
+step "wasm-pack test --node"        wasm-pack test --node --mode no-install -- --test wasm_node
+step "release wasm for the page"    bash scripts/build-wasm.sh
 step "browser end-to-end tests"     node --test tests/e2e/
 printf '\n\033[1m== time per step\033[0m\n'
 printf '%s\n' "${times[@]}"
