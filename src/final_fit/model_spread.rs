@@ -69,7 +69,7 @@ struct Fit {
 fn fit(x: &DMatrix<f64>, y: &DVector<f64>, p: usize) -> Fit {
     let scale: Vec<f64> = x.column_iter().map(|c| c.norm().max(1e-300)).collect();
     let f = Factor::new(x, Some(&scale));
-    let beta = &f.pinv * y;
+    let beta = f.solve(y);
     let rss = f.unabsorbed_vec(y).norm_squared();
     Fit {
         beta: beta.rows(0, p).into_owned(),

@@ -70,7 +70,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let residual = factor.unabsorbed_vec(&y);
     let rss = residual.norm_squared();
     let p = factor.rank;
-    let beta = &factor.pinv * &y;
+    let beta = factor.solve(&y);
     let s2 = rss / (n - p).max(1) as f64;
     let parameters = estimates(&input.baseline.names(), &beta, &factor.cov, s2);
     let max_q = input

@@ -58,7 +58,7 @@ fn fwl(factor: &Factor, r0: &DVector<f64>, s: &DMatrix<f64>) -> (f64, usize) {
     let scale: Vec<f64> = (0..s.ncols()).map(|j| s.column(j).norm()).collect();
     let u = factor.unabsorbed(s);
     let fu = Factor::new(&u, Some(&scale));
-    let theta = &fu.pinv * r0;
+    let theta = fu.solve(r0);
     ((r0 - &u * theta).norm_squared(), fu.rank)
 }
 

@@ -108,15 +108,15 @@ pub fn cross_validate(folds: &[FoldFactor], s: &DMatrix<f64>, n: usize) -> CvRes
     let mut count = vec![0; n];
     for f in folds {
         let pred_err = if s.ncols() == 0 {
-            let beta = &f.base.pinv * &f.y_train;
+            let beta = f.base.solve(&f.y_train);
             &f.y_test - &f.a_test * beta
         } else {
             let s_train = s.select_rows(&f.train);
             let scale: Vec<f64> = (0..s.ncols()).map(|j| s_train.column(j).norm()).collect();
             let u = f.base.unabsorbed(&s_train);
             let fu = Factor::new(&u, Some(&scale));
-            let theta = &fu.pinv * &f.r0_train;
-            let beta = &f.base.pinv * (&f.y_train - &s_train * &theta);
+            let theta = fu.solve(&f.r0_train);
+            let beta = f.base.solve(&(&f.y_train - &s_train * &theta));
             let s_test = s.select_rows(&f.test);
             &f.y_test - &f.a_test * beta - s_test * theta
         };
@@ -346,7 +346,7 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
     let fu = Factor::new(&u, Some(&scale));
     let q = fu.rank;
     let r0 = &ctx.baseline.residual;
-    let theta = &fu.pinv * r0;
+    let theta = fu.solve(r0);
     let r1 = r0 - &u * &theta;
     let rss0 = ctx.baseline.rss;
     let rss1 = r1.norm_squared();
@@ -361,7 +361,7 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
     let sigma_smooth = ctx.given_sigma.unwrap_or_else(|| {
         let us = ctx.smooth.factor.unabsorbed(s);
         let fs = Factor::new(&us, Some(&scale));
-        let th = &fs.pinv * &ctx.smooth.residual;
+        let th = fs.solve(&ctx.smooth.residual);
         let rss = (&ctx.smooth.residual - us * th).norm_squared();
         (rss / (n - ctx.smooth.factor.rank - fs.rank).max(1) as f64).sqrt()
     });

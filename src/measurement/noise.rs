@@ -368,6 +368,10 @@ pub fn second_difference_sigma(seqs: &[Vec<f64>]) -> f64 {
     }
 }
 
+/// Frequencies between two direct evaluations of the phases in [`periodogram_sigma`] (the
+/// rotation's rounding grows by ~1e-16 a step).
+pub const PHASE_REFRESH: usize = 64;
+
 /// Noise σ from the tapered Lomb–Scargle periodogram of sequences sampled at positions `t`
 /// (mm of tool path along each curve): the lower quartile of the ordinates, pooled over the
 /// sequences, over `−ln(3/4)` ([`PERIODOGRAM_QUANTILE`]).
@@ -409,17 +413,39 @@ pub fn periodogram_sigma(
             .iter()
             .map(|&v| 0.5 - 0.5 * (2.0 * PI * (v - t0 + pad) / (span + 2.0 * pad)).cos())
             .collect();
-        for k in (skip(m) + 1)..m.div_ceil(2) {
-            let om = 2.0 * PI * k as f64 / (span + 2.0 * pad);
-            let (mut s2, mut c2) = (0.0, 0.0);
-            for (tj, wj) in t.iter().zip(&w) {
-                s2 += wj * wj * (2.0 * om * tj).sin();
-                c2 += wj * wj * (2.0 * om * tj).cos();
+        // The phases `k θ_j` (θ_j = 2π(t_j − t₀ + pad)/(T + 2 pad): the ordinates do not depend
+        // on the origin of `t`, `τ` takes it up) by rotation from one frequency to the next,
+        // `e^{i(k+1)θ} = e^{ikθ}·e^{iθ}`, set afresh every [`PHASE_REFRESH`] frequencies: one
+        // complex product a point instead of three sines and cosines (20,000 points: 0.1 s of
+        // the diagnosis, issue 31; the ordinates equal the direct sums to ~1e-13 relative).
+        let period = span + 2.0 * pad;
+        let theta: Vec<f64> = t
+            .iter()
+            .map(|&v| 2.0 * PI * (v - t0 + pad) / period)
+            .collect();
+        let step: Vec<(f64, f64)> = theta.iter().map(|th| th.sin_cos()).collect();
+        let mut rot: Vec<(f64, f64)> = Vec::new();
+        let w2: Vec<f64> = w.iter().map(|v| v * v).collect();
+        let first = skip(m) + 1;
+        for k in first..m.div_ceil(2) {
+            if (k - first) % PHASE_REFRESH == 0 {
+                rot = theta.iter().map(|th| (k as f64 * th).sin_cos()).collect();
+            } else {
+                for (r, (s1, c1)) in rot.iter_mut().zip(&step) {
+                    *r = (r.0 * c1 + r.1 * s1, r.1 * c1 - r.0 * s1);
+                }
             }
-            let tau = s2.atan2(c2) / (2.0 * om);
+            let (mut s2, mut c2) = (0.0, 0.0);
+            for ((sn, cs), wj2) in rot.iter().zip(&w2) {
+                s2 += wj2 * 2.0 * sn * cs;
+                c2 += wj2 * (cs * cs - sn * sn);
+            }
+            // ω τ, and the rotation of every phase by it
+            let (sp, cp) = (0.5 * s2.atan2(c2)).sin_cos();
             let (mut xc, mut xs, mut cc, mut ss) = (0.0, 0.0, 0.0, 0.0);
-            for ((tj, wj), xj) in t.iter().zip(&w).zip(x) {
-                let (sn, cs) = (om * (tj - tau)).sin_cos();
+            for (((s0, c0), wj), xj) in rot.iter().zip(&w).zip(x) {
+                let cs = c0 * cp + s0 * sp;
+                let sn = s0 * cp - c0 * sp;
                 xc += wj * xj * cs;
                 xs += wj * xj * sn;
                 cc += wj * wj * cs * cs;
@@ -1050,5 +1076,64 @@ mod tests {
         let (b, r) = project(&curves, &t, 5, &y);
         let free = sinusoid_free_sigma(&curves, &t, &b, &r).unwrap();
         assert!((free - 1.0).abs() < 0.2, "{free}");
+    }
+
+    /// The periodogram's ordinates by rotation of the phases equal the direct sums of their
+    /// definition (the formula of [`periodogram_sigma`]'s doc, with `ω t` evaluated directly):
+    /// σ to 1e-12 relative on 3 uneven sequences of 1,000 points (500 frequencies each, 7
+    /// refreshes of the phases), a wave plus noise.
+    #[test]
+    fn periodogram_by_rotation_equals_the_direct_sums() {
+        use std::f64::consts::PI;
+        let mut rng = crate::numerics::random::Sampler::new(11);
+        let seqs: Vec<(Vec<f64>, Vec<f64>)> = (0..3)
+            .map(|c| {
+                let mut t: Vec<f64> = (0..1000)
+                    .map(|j| 40.0 * c as f64 + 0.3 * j as f64 + 0.1 * rng.uniform(0.0, 1.0))
+                    .collect();
+                t.sort_by(f64::total_cmp);
+                let x = t
+                    .iter()
+                    .map(|v| 3.0 * (v / 7.0).sin() + rng.normal())
+                    .collect();
+                (t, x)
+            })
+            .collect();
+        let direct = {
+            let mut ords = Vec::new();
+            for (t, x) in &seqs {
+                let m = x.len();
+                let (t0, t1) = (t[0], t[m - 1]);
+                let pad = 0.5 * (t1 - t0) / (m - 1) as f64;
+                let period = t1 - t0 + 2.0 * pad;
+                let w: Vec<f64> = t
+                    .iter()
+                    .map(|&v| 0.5 - 0.5 * (2.0 * PI * (v - t0 + pad) / period).cos())
+                    .collect();
+                for k in 4..m.div_ceil(2) {
+                    let om = 2.0 * PI * k as f64 / period;
+                    let (mut s2, mut c2) = (0.0, 0.0);
+                    for (tj, wj) in t.iter().zip(&w) {
+                        s2 += wj * wj * (2.0 * om * tj).sin();
+                        c2 += wj * wj * (2.0 * om * tj).cos();
+                    }
+                    let tau = s2.atan2(c2) / (2.0 * om);
+                    let (mut xc, mut xs, mut cc, mut ss) = (0.0, 0.0, 0.0, 0.0);
+                    for ((tj, wj), xj) in t.iter().zip(&w).zip(x) {
+                        let (sn, cs) = (om * (tj - tau)).sin_cos();
+                        xc += wj * xj * cs;
+                        xs += wj * xj * sn;
+                        cc += wj * wj * cs * cs;
+                        ss += wj * wj * sn * sn;
+                    }
+                    ords.push(0.5 * (xc * xc / cc + xs * xs / ss));
+                }
+            }
+            ords.sort_by(f64::total_cmp);
+            let q = quantile_sorted(&ords, PERIODOGRAM_QUANTILE);
+            (q / -(1.0 - PERIODOGRAM_QUANTILE).ln()).sqrt()
+        };
+        let got = periodogram_sigma(&seqs, |_| 3).unwrap();
+        assert!((got / direct - 1.0).abs() < 1e-12, "{got} vs {direct}");
     }
 }
