@@ -26,8 +26,6 @@
 //! rigid tool motion evaluated where the tool touches the wall), `N` the normal of the mode
 //! ([`super`]). Units: mm, rad.
 
-use nalgebra::Vector3;
-
 use crate::machine::direct::jacobian_body_point;
 use crate::machine::inverse::RotaryPair;
 use crate::machine::rates::axis_rates;
@@ -630,21 +628,26 @@ pub fn backlash_gains(
     opts: &SensitivityOptions,
 ) -> Result<Vec<Vec<f64>>, SensitivityError> {
     super::defect::check_poses(points, q)?;
-    axes.iter()
-        .map(|&axis| {
-            points
-                .iter()
-                .zip(q)
-                .map(|(pt, q)| {
-                    let n = match opts.mode {
-                        Mode::Physical => pt.normal,
-                        Mode::Paper => part.frame_at(pt.surface, pt.u, 1.0).n,
-                    };
-                    Ok(axis_derivative(opts, q, &pt.point, axis)?.dot(&n))
-                })
-                .collect()
-        })
-        .collect()
+    // `∂x/∂q` of the tool-body point at the contact point `x`: the axis's positioning error
+    // motion `E{axis}{axis}` is exactly a change of its value. (On the flank, the contact point
+    // and the tool-axis point at the same height differ by `10·N(u,1)`; for C, whose axis is
+    // not perpendicular to the tool, their normal displacements differ.) Every axis's column
+    // from one Jacobian a point: the chain's factors and products once, each column computed
+    // as it would be alone.
+    let params: Vec<ErrorParam> = axes.iter().map(|&a| ErrorParam::axis_value(a)).collect();
+    let mut out = vec![Vec::with_capacity(points.len()); axes.len()];
+    for (pt, q) in points.iter().zip(q) {
+        let n = match opts.mode {
+            Mode::Physical => pt.normal,
+            Mode::Paper => part.frame_at(pt.surface, pt.u, 1.0).n,
+        };
+        let (j, _) =
+            jacobian_body_point(&opts.chain, q, &pt.point, &MachineErrors::none(), &params)?;
+        for (a, col) in out.iter_mut().enumerate() {
+            col.push(j.column(a).dot(&n));
+        }
+    }
+    Ok(out)
 }
 
 /// The backlash columns on the lags `lags` (A and B, same axes) from the gains of
@@ -704,21 +707,6 @@ pub fn lagged_columns_at(lags: &[Lag; 2], spots: &[GridSpot], gains: &[Vec<f64>]
         }
     }
     out
-}
-
-/// `∂x/∂q` of the tool-body point at the contact point `x` for one axis (mm per mm or per rad):
-/// the axis's positioning error motion `E{axis}{axis}` is exactly a change of its value. (On the
-/// flank, the contact point and the tool-axis point at the same height differ by `10·N(u,1)`;
-/// for C, whose axis is not perpendicular to the tool, their normal displacements differ.)
-fn axis_derivative(
-    opts: &SensitivityOptions,
-    q: &AxisValues,
-    x: &Vector3<f64>,
-    axis: AxisName,
-) -> Result<Vector3<f64>, SensitivityError> {
-    let param = ErrorParam::axis_value(axis);
-    let (j, _) = jacobian_body_point(&opts.chain, q, x, &MachineErrors::none(), &[param])?;
-    Ok(j.column(0).into_owned())
 }
 
 /// The first grid sample at or after `u`, within `1..=`[`REVERSAL_GRID`] (the partition point
