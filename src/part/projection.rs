@@ -72,7 +72,26 @@ const MAX_ITER: usize = 100;
 pub struct Projector<'a, P: RuledPart + ?Sized> {
     part: &'a P,
     rulings: Vec<(Surface, Vec<Ruling>)>,
+    /// Per surface, how much nearer than its nearest start ruling's line a foot can be (mm,
+    /// [`ruling_margin`]).
+    margins: Vec<f64>,
 }
+
+/// Twice the largest step between neighbouring start rulings, `2·max(|ΔC0| + V·|ΔD|)` for feet
+/// of `|v| ≤ V =` [`MARGIN_V`]: a point `C0(u) + v·D(u)` between two start rulings lies within
+/// `|C0(u) − C0ᵢ| + |v|·|D(u) − Dᵢ|` of the nearer one's line (the factor 2 holds the curves'
+/// sag between samples), so the foot on a surface is at least its nearest ruling's distance
+/// less this.
+fn ruling_margin(rulings: &[Ruling]) -> f64 {
+    let step = rulings
+        .windows(2)
+        .map(|w| (w[1].0 - w[0].0).norm() + MARGIN_V * (w[1].1 - w[0].1).norm())
+        .fold(0.0, f64::max);
+    2.0 * step
+}
+
+/// The `|v|` up to which [`ruling_margin`] holds (three times the part's height).
+pub const MARGIN_V: f64 = 3.0;
 
 /// A ruling `C0 + v·D` of the start search (mm).
 type Ruling = (Vector3<f64>, Vector3<f64>);
@@ -89,19 +108,49 @@ fn start_rulings<P: RuledPart + ?Sized>(part: &P, s: Surface) -> Vec<Ruling> {
 impl<'a, P: RuledPart + ?Sized> Projector<'a, P> {
     /// Samples the start rulings of every surface of `part`.
     pub fn new(part: &'a P) -> Self {
-        let rulings = part
+        let rulings: Vec<(Surface, Vec<Ruling>)> = part
             .surfaces()
             .iter()
             .map(|&s| (s, start_rulings(part, s)))
             .collect();
-        Self { part, rulings }
+        let margins = rulings.iter().map(|(_, r)| ruling_margin(r)).collect();
+        Self {
+            part,
+            rulings,
+            margins,
+        }
     }
 
-    /// Projects `p` (mm) onto the nearest surface of the part (S-shape: A or B).
+    /// Projects `p` (mm) onto the nearest surface of the part (S-shape: A or B); of equally near
+    /// feet the first surface's. A surface whose nearest start ruling is farther, less its
+    /// [`ruling_margin`], than a foot already found cannot hold the nearest foot and is not
+    /// projected on (the surfaces tried nearest start first): a scan's point on A is not
+    /// projected onto B (half the projections of a file, issue 31).
     pub fn project(&self, p: &Vector3<f64>) -> Result<Projection, GeometryError> {
+        check_finite(p)?;
+        let starts: Vec<(f64, f64, f64)> = self
+            .rulings
+            .iter()
+            .map(|(_, r)| best_ruling(r, p))
+            .collect();
+        let mut order: Vec<usize> = (0..starts.len()).collect();
+        order.sort_by(|&a, &b| starts[a].2.total_cmp(&starts[b].2));
+        let mut found: Vec<(usize, Projection)> = Vec::new();
+        for k in order {
+            let (u, v, d2) = starts[k];
+            let nearest = found
+                .iter()
+                .map(|(_, f)| (p - f.foot).norm())
+                .fold(f64::INFINITY, f64::min);
+            if v.abs() <= MARGIN_V && d2.sqrt() - self.margins[k] > nearest {
+                continue;
+            }
+            found.push((k, newton_from(self.part, self.rulings[k].0, u, v, p)?));
+        }
+        // in the surfaces' order, the first of the nearest
+        found.sort_by_key(|(k, _)| *k);
         let mut best: Option<Projection> = None;
-        for (s, rulings) in &self.rulings {
-            let pr = project_from(self.part, *s, rulings, p)?;
+        for (_, pr) in found {
             if best.is_none_or(|b| (p - pr.foot).norm() < (p - b.foot).norm()) {
                 best = Some(pr);
             }
@@ -146,14 +195,26 @@ fn project_from<P: RuledPart + ?Sized>(
     rulings: &[Ruling],
     p: &Vector3<f64>,
 ) -> Result<Projection, GeometryError> {
-    if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
-        return Err(GeometryError::NonFinitePoint {
+    check_finite(p)?;
+    let (u, v, _) = best_ruling(rulings, p);
+    newton_from(part, s, u, v, p)
+}
+
+fn check_finite(p: &Vector3<f64>) -> Result<(), GeometryError> {
+    if p.x.is_finite() && p.y.is_finite() && p.z.is_finite() {
+        Ok(())
+    } else {
+        Err(GeometryError::NonFinitePoint {
             x: p.x,
             y: p.y,
             z: p.z,
-        });
+        })
     }
-    // 1. start on the best ruling
+}
+
+/// The start of a projection: `(u, v)` on the ruling of `rulings` nearest to `p`, and the
+/// squared distance from `p` to that ruling's line (mm²).
+fn best_ruling(rulings: &[Ruling], p: &Vector3<f64>) -> (f64, f64, f64) {
     let (mut u, mut v, mut best) = (0.0, 0.0, f64::INFINITY);
     for (i, (c0, d)) in rulings.iter().enumerate() {
         let ui = i as f64 / START_SAMPLES as f64;
@@ -163,6 +224,17 @@ fn project_from<P: RuledPart + ?Sized>(
             (u, v, best) = (ui, vi, f);
         }
     }
+    (u, v, best)
+}
+
+/// The safeguarded Newton iteration of a projection of `p` onto `s` from `(u, v)`.
+fn newton_from<P: RuledPart + ?Sized>(
+    part: &P,
+    s: Surface,
+    mut u: f64,
+    mut v: f64,
+    p: &Vector3<f64>,
+) -> Result<Projection, GeometryError> {
     // 2. safeguarded Newton
     let objective = |u: f64, v: f64| 0.5 * (part.point_at(s, u, v) - p).norm_squared();
     let mut converged = false;
@@ -249,6 +321,37 @@ mod tests {
     use super::*;
     use crate::assert_near;
     use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// The projection that skips a surface by its start rulings' margin is, bit for bit,
+        /// the nearer of the projections onto each surface (the first on a tie): points anywhere
+        /// in and around the part's box, near A, near B, between them and far off.
+        #[test]
+        fn skipping_a_far_surface_changes_no_projection(
+            x in -60.0f64..160.0, y in -60.0f64..160.0, z in -20.0f64..50.0
+        ) {
+            let part = SShape::iso();
+            let pr = Projector::new(&part);
+            let p = Vector3::new(x, y, z);
+            let a = pr.project_on(Surface::A, &p);
+            let b = pr.project_on(Surface::B, &p);
+            let got = pr.project(&p);
+            match (a, b) {
+                (Ok(a), Ok(b)) => {
+                    let want = if (p - b.foot).norm() < (p - a.foot).norm() { b } else { a };
+                    prop_assert_eq!(got.unwrap(), want);
+                }
+                // a failure on a surface the margin skips becomes the other's foot
+                (Ok(q), Err(_)) | (Err(_), Ok(q)) => {
+                    if let Ok(g) = got {
+                        prop_assert_eq!(g, q);
+                    }
+                }
+                (Err(_), Err(_)) => prop_assert!(got.is_err()),
+            }
+        }
+    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(200))]
