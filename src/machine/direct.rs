@@ -444,11 +444,22 @@ fn jacobian_of(
     let td = t * vd;
     let mut jp = Matrix3xX::zeros(params.len());
     let mut jd = Matrix3xX::zeros(params.len());
+    // the products before and after each factor, once per factor: the location errors of one
+    // axis share theirs (the same products, so the same numbers)
+    let mut around: Vec<((bool, usize), Matrix4<f64>, Matrix4<f64>)> = Vec::new();
     for (k, p) in params.iter().enumerate() {
         let fd = derivative_factor(chain, q, errors, p)?;
-        let list = if fd.tool_side { &f.t } else { &f.w };
-        let pre = product(&list[..fd.factor]);
-        let post = product(&list[fd.factor + 1..]);
+        let key = (fd.tool_side, fd.factor);
+        let (pre, post) = match around.iter().find(|a| a.0 == key) {
+            Some(a) => (a.1, a.2),
+            None => {
+                let list = if fd.tool_side { &f.t } else { &f.w };
+                let pre = product(&list[..fd.factor]);
+                let post = product(&list[fd.factor + 1..]);
+                around.push((key, pre, post));
+                (pre, post)
+            }
+        };
         let dm = pre * fd.d * post;
         let (dp, dd) = if fd.tool_side {
             (wi * dm * vp, wi * dm * vd)
