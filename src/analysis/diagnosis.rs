@@ -150,12 +150,16 @@ pub(super) fn diagnose_modelled<'a>(
 }
 
 /// The diagnosis's input for a part model and deviations.
-pub(super) fn input_of(m: &PartModel, deviations: &[f64], noise_sigma: Option<f64>) -> GapInput {
+pub(super) fn input_of<'a>(
+    m: &'a PartModel,
+    deviations: &[f64],
+    noise_sigma: Option<f64>,
+) -> GapInput<'a> {
     GapInput {
         deviations: deviations.to_vec(),
         points: m.points.clone(),
         baseline: m.baseline.clone(),
-        candidates: m.candidates.clone(),
+        candidates: std::borrow::Cow::Borrowed(&m.candidates),
         noise_sigma,
         reversals: m.reversals.clone(),
     }

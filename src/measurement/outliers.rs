@@ -492,7 +492,7 @@ fn with_best_candidate<'a>(
     let base = Base::new(x, y, keep);
     let plain = robust_sigma(&base.r, &base.h, keep);
     let mut best = (CANDIDATE_GAIN * plain, None);
-    for c in &input.candidates {
+    for c in input.candidates.iter() {
         let (r, h, _) = fit_added(&base, x, &c.signature.matrix, y);
         let s = robust_sigma(&r, &h, keep);
         if s < best.0 {
@@ -546,7 +546,7 @@ fn explained(
 }
 
 /// The input without the rows `drop` (deviations, points, designs; σ and reversals kept).
-pub fn without_rows(input: &GapInput, drop: &[usize]) -> GapInput {
+pub fn without_rows(input: &GapInput, drop: &[usize]) -> GapInput<'static> {
     let keep: Vec<usize> = (0..input.deviations.len())
         .filter(|i| !drop.contains(i))
         .collect();
@@ -558,7 +558,8 @@ pub fn without_rows(input: &GapInput, drop: &[usize]) -> GapInput {
             .candidates
             .iter()
             .map(|c| c.select_rows(&keep))
-            .collect(),
+            .collect::<Vec<_>>()
+            .into(),
         noise_sigma: input.noise_sigma,
         reversals: input.reversals.clone(),
     }

@@ -107,7 +107,7 @@ pub fn validate_pairs(
                 deviations: y.iter().copied().collect(),
                 points: model.points.clone(),
                 baseline: model.baseline.clone(),
-                candidates: model.candidates.clone(),
+                candidates: std::borrow::Cow::Borrowed(&model.candidates),
                 noise_sigma: opts.known_sigma.then_some(opts.noise_sigma),
                 reversals: Vec::new(),
             },

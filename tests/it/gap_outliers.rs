@@ -129,7 +129,7 @@ fn builtin_model() -> PartModel {
 }
 
 /// Simulated parts of the built-in points: random location errors, an effect, noise σ.
-fn simulated(seed: u64, effect: Option<(Effect, f64)>, sigma: f64) -> GapInput {
+fn simulated(seed: u64, effect: Option<(Effect, f64)>, sigma: f64) -> GapInput<'static> {
     let m = builtin_model();
     let mut rng = Sampler::new(seed);
     let n = m.points.len();
@@ -162,7 +162,7 @@ fn simulated(seed: u64, effect: Option<(Effect, f64)>, sigma: f64) -> GapInput {
         deviations: y,
         points: m.points,
         baseline: m.baseline,
-        candidates: m.candidates,
+        candidates: m.candidates.into(),
         noise_sigma: None,
         reversals: m.reversals,
     }

@@ -60,12 +60,12 @@ pub fn baseline() -> NamedColumns {
 }
 
 /// The reference input with deviations `y` (no reversals, sigma estimated).
-pub fn input(y: Vec<f64>) -> GapInput {
+pub fn input(y: Vec<f64>) -> GapInput<'static> {
     GapInput {
         deviations: y,
         points: points(),
         baseline: baseline(),
-        candidates: table("effect_signatures.csv").candidates().unwrap(),
+        candidates: table("effect_signatures.csv").candidates().unwrap().into(),
         noise_sigma: None,
         reversals: Vec::new(),
     }
