@@ -446,7 +446,8 @@ fn jacobian_of(
     let mut jd = Matrix3xX::zeros(params.len());
     // the products before and after each factor, once per factor: the location errors of one
     // axis share theirs (the same products, so the same numbers)
-    let mut around: Vec<((bool, usize), Matrix4<f64>, Matrix4<f64>)> = Vec::new();
+    type Around = ((bool, usize), Matrix4<f64>, Matrix4<f64>);
+    let mut around: Vec<Around> = Vec::new();
     for (k, p) in params.iter().enumerate() {
         let fd = derivative_factor(chain, q, errors, p)?;
         let key = (fd.tool_side, fd.factor);

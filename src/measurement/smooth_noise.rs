@@ -122,26 +122,20 @@ pub fn surface_basis(points: &[PointMeta], degree: usize, height_degree: usize) 
 
 /// `(σ, σ_robust, dof)` from the residual of `[A | smooth basis]`.
 pub fn smooth_noise(points: &[PointMeta], a: &DMatrix<f64>, y: &DVector<f64>) -> (f64, f64, usize) {
-    smooth_noise_with(&smooth_basis(points, SMOOTH_DEGREE), a, y)
-}
-
-/// Same, with the smooth basis `b` already built.
-pub fn smooth_noise_with(
-    b: &DMatrix<f64>,
-    a: &DMatrix<f64>,
-    y: &DVector<f64>,
-) -> (f64, f64, usize) {
-    let (f, r) = smooth_factor(b, a, y);
+    let (f, r) = smooth_factor(smooth_basis(points, SMOOTH_DEGREE), a, y);
     smooth_sigmas(&f, &r)
 }
 
 /// The factor of `[A | b]` and the residual of `y` on it.
 pub fn smooth_factor(
-    b: &DMatrix<f64>,
+    b: DMatrix<f64>,
     a: &DMatrix<f64>,
     y: &DVector<f64>,
 ) -> (Factor, DVector<f64>) {
-    let f = Factor::new(&hstack(a, b), None);
+    // `[A | b]` factorised in place, `b` dropped first (a dense scan's peak memory, issue 31)
+    let x = hstack(a, &b);
+    drop(b);
+    let f = Factor::of(x, None);
     let r = f.unabsorbed_vec(y);
     (f, r)
 }

@@ -135,7 +135,7 @@ fn unabsorbed_parts_match_the_keys() {
             k["unexplained_rms"].as_f64().unwrap(),
             1e-9
         );
-        for other in &inp.candidates {
+        for other in inp.candidates.iter() {
             if other.effect.id() == id {
                 continue;
             }
