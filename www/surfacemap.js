@@ -4,8 +4,8 @@
 // - Horizontal: the core's `path_position` (src/analysis/report.rs): the tool-tip path length in
 //   mm from the start of A's pass to the pose that cut the point, the `s` at which the diagnosis
 //   places the axis reversals; when the core sends none, the surface parameter u (unitless).
-// - Vertical: the height z (mm) of the matched point on the nominal surface (`points[i].z`).
-// - Rows: the core's group of each point (`identification.points[i].curve`: its scan line for a
+// - Vertical: the height z (mm) of the matched point on the nominal surface (`points`' `z`).
+// - Rows: the core's group of each point (`identification.points`' `curve`: its scan line for a
 //   scan, its measurement curve for a few discrete points), at the mean height of its points; a
 //   point's cell reaches half-way to the next row and to its neighbours along its row, so a scan
 //   tiles the surface and the 100 built-in points are drawn as 4 rows of cells.
@@ -16,9 +16,9 @@
 // mean), so 200,000 points cost a few passes over typed arrays. The axis reversals are drawn as
 // vertical lines (all faint; the ones the core marks bold), the highlighted where-group
 // (where.js) as a yellow tint with an outline; hovering reads out the point under the cursor.
-import { h } from './ui.js';
+import { h, later } from './ui.js';
 import { ticks, fmt } from './plot.js';
-import { whereOf, onWhereChange } from './where.js';
+import { whereOf, onWhereChange, pointsOf } from './where.js';
 
 const NS = 'http://www.w3.org/2000/svg';
 const W = 900, H = 250;
@@ -43,12 +43,13 @@ const lutIndex = (r, R) => Math.max(0, Math.min(255, Math.round(((r / R + 1) / 2
 /** The points of one surface, with their cells: {i, s, z, r, s0, s1, z0, z1}. */
 function cellsOf(a, id, surface, xOf) {
   const rows = new Map();
-  a.points.forEach((p, i) => {
-    if (p.surface !== surface) return;
-    const label = id.points[i].curve;
+  const surfaces = a.points.col('surface'), zs = a.points.num('z'), labels = id.points.col('curve'), res = id.points.num('residual');
+  for (let i = 0; i < zs.length; i++) {
+    if (surfaces.at(i) !== surface) continue;
+    const label = labels.at(i);
     if (!rows.has(label)) rows.set(label, []);
-    rows.get(label).push({ i, s: xOf(i), z: p.z, r: id.points[i].residual * 1000 });
-  });
+    rows.get(label).push({ i, s: xOf(i), z: zs[i], r: res[i] * 1000 });
+  }
   const list = [...rows.entries()].map(([label, pts]) => ({ label, pts, z: pts.reduce((t, q) => t + q.z, 0) / pts.length }))
     .sort((p, q) => p.z - q.z);
   list.forEach((row, k) => {
@@ -71,7 +72,7 @@ function cellsOf(a, id, surface, xOf) {
 
 /** The end of the colour scale (µm): the QUANTILE of |r| over every point. */
 function scaleOf(id) {
-  const v = id.points.map((p) => Math.abs(p.residual * 1000)).sort((p, q) => p - q);
+  const v = id.points.num('residual').map((r) => Math.abs(r * 1000)).sort();
   return Math.max(1e-6, v[Math.min(v.length - 1, Math.floor(QUANTILE * (v.length - 1)))] || 0);
 }
 
@@ -91,27 +92,27 @@ function surfaceMap(a, id, surface, R, xAxis) {
   const X = (s) => M.l + ((s - s0) / (s1 - s0 || 1)) * PW, Y = (z) => M.t + PH - ((z - z0) / (z1 - z0 || 1)) * PH;
   // bin: per pixel of the plot area, the sum and count of the residuals of the cells over it
   const sum = new Float64Array(PW * PH), count = new Uint32Array(PW * PH), owner = new Int32Array(PW * PH).fill(-1);
-  const cellPx = cells.map((c) => {
+  // each cell's pixels: px0, px1, py0, py1 (4 a cell; 100,000 cells a surface for a dense scan)
+  const px = new Int32Array(4 * cells.length);
+  const cellPx = (k) => px.subarray(4 * k, 4 * k + 4);
+  cells.forEach((c, k) => {
     const px0 = Math.max(0, Math.min(PW - 1, Math.floor(X(c.s0) - M.l))), px1 = Math.max(px0 + 1, Math.min(PW, Math.round(X(c.s1) - M.l)));
     const py0 = Math.max(0, Math.min(PH - 1, Math.floor(Y(c.z1) - M.t))), py1 = Math.max(py0 + 1, Math.min(PH, Math.round(Y(c.z0) - M.t)));
-    return [px0, px1, py0, py1];
-  });
-  cells.forEach((c, k) => {
-    const [px0, px1, py0, py1] = cellPx[k];
+    px[4 * k] = px0; px[4 * k + 1] = px1; px[4 * k + 2] = py0; px[4 * k + 3] = py1;
     for (let y = py0; y < py1; y++) for (let x = px0; x < px1; x++) { const p = y * PW + x; sum[p] += c.r; count[p]++; owner[p] = k; }
   });
   const canvas = h('canvas', { width: PW, height: PH, class: 'surface-map-cells', 'aria-hidden': 'true' });
   const g = canvas.getContext('2d');
-  const img = g.createImageData(PW, PH);
+  const img = g.createImageData(PW, PH), data = img.data;
   let filled = 0;
   for (let p = 0; p < PW * PH; p++) {
     const o = p * 4;
     if (count[p]) {
       const k = lutIndex(sum[p] / count[p], R) * 3;
-      img.data[o] = LUT[k]; img.data[o + 1] = LUT[k + 1]; img.data[o + 2] = LUT[k + 2];
+      data[o] = LUT[k]; data[o + 1] = LUT[k + 1]; data[o + 2] = LUT[k + 2];
       filled++;
-    } else { img.data[o] = EMPTY[0]; img.data[o + 1] = EMPTY[1]; img.data[o + 2] = EMPTY[2]; }
-    img.data[o + 3] = 255;
+    } else { data[o] = EMPTY[0]; data[o + 1] = EMPTY[1]; data[o + 2] = EMPTY[2]; }
+    data[o + 3] = 255;
   }
   g.putImageData(img, 0, 0);
   canvas.style.left = `${(M.l / W) * 100}%`; canvas.style.top = `${(M.t / H) * 100}%`;
@@ -120,7 +121,8 @@ function surfaceMap(a, id, surface, R, xAxis) {
   // the where highlight: the cells of the chosen group tinted, on a canvas of its own
   const shade = h('canvas', { width: PW, height: PH, class: 'surface-map-shade', 'aria-hidden': 'true' });
   Object.assign(shade.style, { left: canvas.style.left, top: canvas.style.top, width: canvas.style.width, height: canvas.style.height });
-  const byId = new Map(cells.map((c, k) => [String(id.points[c.i].id), k]));
+  const cellOf = new Int32Array(id.points.length).fill(-1);
+  cells.forEach((c, k) => { cellOf[c.i] = k; });
 
   const svg = el('svg', { viewBox: `0 0 ${W} ${H}`, class: 'surface-map-axes', role: 'img', xmlns: NS, 'font-family': 'system-ui, sans-serif', 'font-size': 11,
     'aria-label': `surface ${surface}: residual of ${cells.length} points on ${rows.length} rows, colour from −${R.toFixed(1)} to +${R.toFixed(1)} µm` });
@@ -149,21 +151,20 @@ function surfaceMap(a, id, surface, R, xAxis) {
     const mask = new Uint8Array(PW * PH);
     let shaded = 0;
     if (w && w.chosen) {
-      for (const id of w.chosen.ids) {
-        const k = byId.get(String(id));
-        if (k === undefined) continue;
+      for (const i of pointsOf(a, w.chosen.ids)) {
+        const k = cellOf[i];
+        if (k < 0) continue;
         shaded++;
-        const [px0, px1, py0, py1] = cellPx[k];
-        for (let y = py0; y < py1; y++) mask.fill(1, y * PW + px0, y * PW + px1);
+        for (let y = px[4 * k + 2]; y < px[4 * k + 3]; y++) mask.fill(1, y * PW + px[4 * k], y * PW + px[4 * k + 1]);
       }
-      const im = sg.createImageData(PW, PH);
+      const im = sg.createImageData(PW, PH), data = im.data;
       for (let y = 0; y < PH; y++) {
         for (let x = 0; x < PW; x++) {
           const p = y * PW + x;
           if (!mask[p]) continue;
           const edge = x === 0 || y === 0 || x === PW - 1 || y === PH - 1 || !mask[p - 1] || !mask[p + 1] || !mask[p - PW] || !mask[p + PW];
           const o = p * 4;
-          if (edge) { im.data[o] = 184; im.data[o + 1] = 134; im.data[o + 2] = 11; im.data[o + 3] = 255; } else { im.data[o] = 255; im.data[o + 1] = 213; im.data[o + 2] = 79; im.data[o + 3] = 90; }
+          if (edge) { data[o] = 184; data[o + 1] = 134; data[o + 2] = 11; data[o + 3] = 255; } else { data[o] = 255; data[o + 1] = 213; data[o + 2] = 79; data[o + 3] = 90; }
         }
       }
       sg.putImageData(im, 0, 0);
@@ -189,6 +190,7 @@ function surfaceMap(a, id, surface, R, xAxis) {
     wrap.dataset.reversals = String(drawn);
   }
 
+  const ids = id.points.col('id'), labels = id.points.col('curve');
   const wrap = h('div', { class: 'surface-map', 'data-surface': surface, 'data-points': cells.length, 'data-rows': rows.length, 'data-filled': filled },
     canvas, shade, svg);
   wrap.addEventListener('mousemove', (ev) => {
@@ -196,8 +198,8 @@ function surfaceMap(a, id, surface, R, xAxis) {
     const px = Math.floor(((ev.clientX - r.left) / r.width) * W - M.l), py = Math.floor(((ev.clientY - r.top) / r.height) * H - M.t);
     const k = px >= 0 && py >= 0 && px < PW && py < PH ? owner[py * PW + px] : -1;
     if (k < 0) { readout.textContent = ''; cursor.setAttribute('visibility', 'hidden'); return; }
-    const c = cells[k], p = id.points[c.i], n = count[py * PW + px];
-    const [cx0, cx1, cy0, cy1] = cellPx[k];
+    const c = cells[k], p = { id: ids.at(c.i), curve: labels.at(c.i) }, n = count[py * PW + px];
+    const [cx0, cx1, cy0, cy1] = cellPx(k);
     cursor.setAttribute('x', M.l + cx0); cursor.setAttribute('y', M.t + cy0);
     cursor.setAttribute('width', cx1 - cx0); cursor.setAttribute('height', cy1 - cy0); cursor.setAttribute('visibility', 'visible');
     readout.textContent = `point ${p.id} (${p.curve}): ${xAxis.short} ${c.s.toFixed(xAxis.isPath ? 1 : 4)}${xAxis.isPath ? ' mm' : ''}, z ${c.z.toFixed(2)} mm, residual ${c.r.toFixed(2)} µm` +
@@ -239,12 +241,13 @@ function colourBar(R) {
  * identification, or the baseline's), or a sentence when there are no points. */
 export function surfaceMaps(a, id = a.identification, what = 'the final answer') {
   if (!a || !a.points.length) return h('p', {}, 'No points to map.');
-  const path = a.path_position;
+  const path = a.path_position, u = a.points.num('u');
   const xAxis = path && path.length === a.points.length
     ? { of: (i) => path[i], isPath: true, short: 's', label: 'tool-tip path position s (mm from the start of surface A\'s pass; the reversals\' position)' }
-    : { of: (i) => a.points[i].u, isPath: false, short: 'u', label: 'surface parameter u (unitless; no tool-path position from the core)' };
+    : { of: (i) => u[i], isPath: false, short: 'u', label: 'surface parameter u (unitless; no tool-path position from the core)' };
   const R = scaleOf(id);
-  const maps = ['A', 'B'].map((s) => surfaceMap(a, id, s, R, xAxis)).filter(Boolean);
+  // each surface in a task of its own (ui.js later): 100,000 points a surface for a dense scan
+  const maps = ['A', 'B'].map((s) => later(() => surfaceMap(a, id, s, R, xAxis) ?? h('span')));
   return h('div', { class: 'surface-maps', 'data-chart': 'surface-map' },
     h('p', { class: 'where-legend' }, `Each cell is a measured point on its row (a scan line, or a measurement curve), coloured by the residual of ${what}; `,
       'purple lines: the axis reversals of the tool path (bold, ▼: the marked ones); yellow with an outline: the highlighted where-group. Hover for a point\'s values.'),
