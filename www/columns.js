@@ -1,9 +1,11 @@
-// The per-point parts of an analysis as columns (issue 31 item 3): the worker repacks each array
-// of `PER_POINT` (an array of 200,000 objects for a dense scan) into typed-array columns it
-// transfers to the page, so that the page's thread neither deserialises nor collects an object
-// per point. The repacking follows the values, not a list of fields: every field of a point
-// arrives (what the core adds to a point arrives too), and `Table.row`/`toJSON` rebuild the
-// point exactly as the core sent it, key order included, so the JSON export is unchanged.
+// The per-point parts of an analysis as columns (issue 31 item 3): each array of `PER_POINT` (an
+// array of 200,000 objects for a dense scan) travels from the worker to the page as typed-array
+// columns, transferred, so that the page's thread neither deserialises nor collects an object
+// per point. The core's export writes them so (src/wasm/columns.rs, the same layout); an array
+// it leaves as JSON (a shape it does not write as columns) the worker packs here. Both follow
+// the values, not a list of fields: every field of a point arrives (what the core adds to a
+// point arrives too), and `Table.row`/`toJSON` rebuild the point exactly as the core wrote it,
+// key order included, so the JSON export is unchanged.
 //
 // A packed array is `{$col: kind, n, ...}` (plain data: it crosses postMessage):
 // - `num`: numbers, `v` a Float64Array; `numnull`: numbers or null, `v` (NaN at a null) and
@@ -18,8 +20,9 @@
 // The page unpacks (`unpack`) a `table` into a `Table`, a `num` into its Float64Array (NaN at a
 // null), any other kind into a `Column`; `toJsonText` writes them back as the arrays they were.
 
-/** The arrays of an analysis (`analyse`, `analyseRepeats`: src/wasm/analysis.rs) that hold a
- * value per point, as paths (`*`: each element of an array). */
+/** The arrays of an analysis (`analyse`, `analyseRepeats`: src/wasm/analysis.rs, whose
+ * `take_columns` writes the same ones) that hold a value per point, as paths (`*`: each element
+ * of an array). */
 export const PER_POINT = [
   'points', 'file.points', 'path_position',
   'identification.points', 'baseline.identification.points',
@@ -134,11 +137,22 @@ function visit(root, path, fn) {
   walk(root, head, tail);
 }
 
-/** Replaces, in place, the per-point arrays (`PER_POINT`) of the analysis `a` by packed columns;
- * returns the buffers to transfer. */
+/** The buffers of the typed arrays of the packed column `c`, added to `transfer`. */
+function buffersOf(c, transfer) {
+  for (const v of Object.values(c)) if (ArrayBuffer.isView(v)) transfer.push(v.buffer);
+  if (c.$col === 'table') for (const col of Object.values(c.cols)) buffersOf(col, transfer);
+}
+
+/** Packs, in place, the per-point arrays (`PER_POINT`) of the analysis `a` that the core left as
+ * arrays; returns the buffers of every packed column, to transfer. */
 export function packAnalysis(a) {
   const transfer = [];
-  for (const path of PER_POINT) visit({ a }, `a.${path}`, (holder, key) => { if (Array.isArray(holder[key])) holder[key] = packColumn(holder[key], transfer); });
+  for (const path of PER_POINT) {
+    visit({ a }, `a.${path}`, (holder, key) => {
+      if (Array.isArray(holder[key])) holder[key] = packColumn(holder[key], transfer);
+      else if (holder[key].$col) buffersOf(holder[key], transfer);
+    });
+  }
   return transfer;
 }
 
