@@ -244,6 +244,16 @@ fn refused<T>(what: &str) -> Result<T, NotColumns> {
     Err(NotColumns(format!("{what} in an item")))
 }
 
+/// The serializer's methods for numbers: each the number as f64 (integers of up to 2^53 exactly,
+/// as in the JSON the page parsed before).
+macro_rules! numbers {
+    ($($name:ident: $t:ty),*) => {
+        $(fn $name(self, v: $t) -> Result<(), NotColumns> {
+            self.number(v as f64)
+        })*
+    };
+}
+
 impl<'a> ser::Serializer for Cell<'a> {
     type Ok = ();
     type Error = NotColumns;
@@ -258,35 +268,17 @@ impl<'a> ser::Serializer for Cell<'a> {
     fn serialize_bool(self, v: bool) -> Result<(), NotColumns> {
         self.boolean(v)
     }
-    fn serialize_i8(self, v: i8) -> Result<(), NotColumns> {
-        self.number(f64::from(v))
-    }
-    fn serialize_i16(self, v: i16) -> Result<(), NotColumns> {
-        self.number(f64::from(v))
-    }
-    fn serialize_i32(self, v: i32) -> Result<(), NotColumns> {
-        self.number(f64::from(v))
-    }
-    fn serialize_i64(self, v: i64) -> Result<(), NotColumns> {
-        self.number(v as f64)
-    }
-    fn serialize_u8(self, v: u8) -> Result<(), NotColumns> {
-        self.number(f64::from(v))
-    }
-    fn serialize_u16(self, v: u16) -> Result<(), NotColumns> {
-        self.number(f64::from(v))
-    }
-    fn serialize_u32(self, v: u32) -> Result<(), NotColumns> {
-        self.number(f64::from(v))
-    }
-    fn serialize_u64(self, v: u64) -> Result<(), NotColumns> {
-        self.number(v as f64)
-    }
-    fn serialize_f32(self, v: f32) -> Result<(), NotColumns> {
-        self.number(f64::from(v))
-    }
-    fn serialize_f64(self, v: f64) -> Result<(), NotColumns> {
-        self.number(v)
+    numbers! {
+        serialize_i8: i8,
+        serialize_i16: i16,
+        serialize_i32: i32,
+        serialize_i64: i64,
+        serialize_u8: u8,
+        serialize_u16: u16,
+        serialize_u32: u32,
+        serialize_u64: u64,
+        serialize_f32: f32,
+        serialize_f64: f64
     }
     fn serialize_char(self, v: char) -> Result<(), NotColumns> {
         self.string(&v.to_string())
@@ -434,27 +426,23 @@ impl ListCell<'_> {
     }
 }
 
-impl ser::SerializeSeq for ListCell<'_> {
-    type Ok = ();
-    type Error = NotColumns;
-    fn serialize_element<T: ?Sized + Serialize>(&mut self, value: &T) -> Result<(), NotColumns> {
-        self.element(value)
-    }
-    fn end(self) -> Result<(), NotColumns> {
-        self.finish()
-    }
+/// A list is a sequence or a tuple (serde's two traits, the same for a list of numbers).
+macro_rules! list_of {
+    ($($trait:path),*) => {
+        $(impl $trait for ListCell<'_> {
+            type Ok = ();
+            type Error = NotColumns;
+            fn serialize_element<T: ?Sized + Serialize>(&mut self, value: &T) -> Result<(), NotColumns> {
+                self.element(value)
+            }
+            fn end(self) -> Result<(), NotColumns> {
+                self.finish()
+            }
+        })*
+    };
 }
 
-impl ser::SerializeTuple for ListCell<'_> {
-    type Ok = ();
-    type Error = NotColumns;
-    fn serialize_element<T: ?Sized + Serialize>(&mut self, value: &T) -> Result<(), NotColumns> {
-        self.element(value)
-    }
-    fn end(self) -> Result<(), NotColumns> {
-        self.finish()
-    }
-}
+list_of!(ser::SerializeSeq, ser::SerializeTuple);
 
 /// The fields of one item's object, field `j` next.
 struct TableCell<'a> {
