@@ -62,10 +62,10 @@ function dependencyOrder(entry) {
 }
 const modules = dependencyOrder('app');
 let app = modules.map((m) => fold(m, read(`${m}.js`))).join('\n');
-// The worker's source: the glue, then the message handler. `</script` cannot occur in it.
+// The worker's source: the glue, the packing of an analysis (columns.js), then the message handler. `</script` cannot occur in it.
 // (The glue's default init resolves the wasm next to `import.meta.url`; only initSync is used
 // here, and a classic worker cannot parse `import.meta`.)
-const workerSource = `${glue.replace(/import\.meta\.url/g, 'self.location.href')}\n${read('worker-inline.js')}`;
+const workerSource = `${glue.replace(/import\.meta\.url/g, 'self.location.href')}\n${fold('columns', read('columns.js'))}\n${read('worker-inline.js')}`;
 if (/import\.meta/.test(workerSource)) throw new Error('import.meta left in the worker source');
 if (/<\/script/i.test(workerSource)) throw new Error('the worker source contains </script');
 const boot = `

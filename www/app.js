@@ -7,7 +7,8 @@
 import { startCore, call, callPrepared, callPreparedWithProgress, cancel, Cancelled, tools } from './core.js';
 import { BUILD } from './pkg/build.js';
 import { download, sha256Hex } from './export.js';
-import { h, core, machineName, fittedWith } from './ui.js';
+import { h, core, machineName, fittedWith, nextLater } from './ui.js';
+import { toJsonText } from './columns.js';
 import { dataView } from './data.js';
 import { sensitivityView } from './fig19.js';
 import { identifyView } from './identify.js';
@@ -47,7 +48,7 @@ const st = {
   exportJson() {
     const f = st.files[st.current];
     if (!f || !f.analysis) return;
-    download(`${f.name.replace(/\.[^.]*$/, '')}.testpiece.json`, JSON.stringify({ file: f.name, sha256: f.sha256, analysis: f.analysis }, null, 1), 'application/json');
+    download(`${f.name.replace(/\.[^.]*$/, '')}.testpiece.json`, toJsonText({ file: f.name, sha256: f.sha256, analysis: f.analysis }, 1), 'application/json');
   },
 };
 
@@ -232,7 +233,7 @@ async function addFiles(list) {
   st.current = st.files.length - added.length;
   render();
   await analyseList(added);
-  await showResults();
+  await showResults(() => mark('tp-verdict-painted'));
 }
 
 async function loadExample(name) {
@@ -286,18 +287,42 @@ function renderFig19(root) { sensitivityView(root, st); }
 
 /** The verdict first: the summary is written and painted before the views are drawn (drawing
  * them all takes 100-150 ms on the example, issue 33 item 2); `painted` is called once the frame
- * with the summary has been painted. */
-async function showResults(painted) {
-  summaryText();
-  await new Promise((resolve) => requestAnimationFrame(() => setTimeout(resolve, 0)));
-  painted?.();
-  render();
+ * with the summary has been painted; `body[data-busy]` from the summary to the last view. */
+function showResults(painted) {
+  return withProgress('Drawing the results…', async () => {
+    summaryText();
+    await new Promise((resolve) => requestAnimationFrame(() => setTimeout(resolve, 0)));
+    painted?.();
+    await render();
+  });
 }
 
+/** Lets the page's thread take other work (input, painting) before the next piece. */
+const nextTask = () => (globalThis.scheduler?.yield ? scheduler.yield() : new Promise((resolve) => setTimeout(resolve, 0)));
+let drawing = 0; // bumped by each render: an older one stops before its next piece
+
+/** The summary, then each view in a task of its own, and each part a view left for later
+ * (ui.js `later`: a scan's charts, plan view and maps) in one of its own, so that no task of the
+ * page's thread draws more than one of them (issue 31 item 3: a 200,000-point scan's views took
+ * one task of 4 s); `body[data-busy]` until the last is drawn. */
 function render() {
+  const g = ++drawing;
   summaryText();
-  for (const v of VIEWS) { const root = $(`view-${v.id}`); if (root) v.render(root); }
-  document.body.dataset.ready = 'true';
+  return withProgress('Drawing the results…', async () => {
+    for (const v of VIEWS) {
+      const root = $(`view-${v.id}`);
+      if (root) v.render(root);
+      for (let part = nextLater(); part; part = nextLater()) {
+        await nextTask();
+        if (g !== drawing) return; // the newer render draws what is left (ui.js later)
+        part();
+      }
+      await nextTask();
+      if (g !== drawing) return;
+    }
+    mark('tp-views-drawn');
+    document.body.dataset.ready = 'true';
+  });
 }
 
 // ---------------------------------------------------------------- tabs (arrow keys move between them)

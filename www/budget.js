@@ -3,7 +3,7 @@
 // (overcut), the CAM path, the NC controller, the machine, the tool and what is left, with the
 // CMM's MPE band (paper 000 §3-§6). Every number comes from the core's `budget` export
 // (src/budget/); this file only draws.
-import { chart } from './plot.js';
+import { chart, xNameOf } from './plot.js';
 import { exportButtons, toCsv } from './export.js';
 import { h, table, layout } from './ui.js';
 
@@ -111,6 +111,6 @@ function block(name, spec) {
   const c = chart(holder, spec);
   const bar = h('div', { class: 'bar' }, h('span', { class: 'spacer' }));
   exportButtons(bar, { name, svg: () => c.svg, csv: () => toCsv(['x', 'label', ...spec.series.map((s) => s.name)],
-    spec.x.map((xv, i) => [xv, spec.xNames[i], ...spec.series.map((s) => s.y[i])])) });
+    spec.x.map((xv, i) => [xv, xNameOf(spec, i), ...spec.series.map((s) => s.y[i])])) });
   return h('div', { class: 'chart-block', 'data-chart': name }, bar, holder);
 }

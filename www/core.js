@@ -10,8 +10,12 @@
 // and Correction views), which the worker loads on the first `tools.load()` (each tools call
 // loads it first): a dynamic import when served, the inlined bytes, decoded then, in the single
 // file.
+// An analysis arrives with its per-point arrays as columns (columns.js), read here into
+// `Table`s and Float64Arrays.
 // Every call returns a promise. Cancel terminates the worker and starts a fresh one; the calls it
 // stops reject with a `Cancelled`, the core's own errors with a `CoreError`.
+
+import { unpackAnalysis } from './columns.js';
 
 /** The outcome of a call stopped by Cancel: not an error of the core. */
 export class Cancelled extends Error {
@@ -52,12 +56,12 @@ export async function startCore(inline) {
     worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
   }
   worker.onmessage = (ev) => {
-    const { id, ok, result, error, badRows, progress } = ev.data;
+    const { id, ok, result, error, badRows, progress, packed } = ev.data;
     const p = pending.get(id);
     if (!p) return;
     if (progress) { p.onProgress?.(progress); return; }
     pending.delete(id);
-    ok ? p.resolve(result) : p.reject(new CoreError(error, badRows));
+    ok ? p.resolve(packed ? unpackAnalysis(result) : result) : p.reject(new CoreError(error, badRows));
   };
   worker.onerror = (ev) => {
     ev.preventDefault?.();

@@ -34,13 +34,18 @@ export function dataView(root, st) {
     root.append(h('h2', {}, 'Warnings'), h('ul', { id: 'warnings' }, file.warnings.map((w) => h('li', { class: 'warn' }, w.line ? `line ${w.line}: ${w.message}` : w.message))));
   }
   const header = ['id', 'line', 'curve', 'u', 'x (mm)', 'y (mm)', 'z (mm)', 'nx', 'ny', 'nz', 'deviation (µm)'];
-  const row = (p, i) => [p.file.id, { text: p.file.line, num: true }, a.points[i].curve, { text: p.u.toFixed(5), num: true, value: p.u },
-    ...p.foot.map((v) => ({ text: v.toFixed(4), num: true, value: v })), ...p.normal.map((v) => ({ text: v.toFixed(5), num: true, value: v })),
-    { text: (p.deviation * 1000).toFixed(2), num: true, value: p.deviation * 1000 }];
+  // the points as columns (columns.js): the file's id and line, the matched curve, u, foot, normal
+  const read = file.points.table('file'), ids = read.col('id'), lines = read.col('line'), curves = a.points.col('curve');
+  const u = file.points.num('u'), foot = file.points.vec('foot').v, normal = file.points.vec('normal').v, dev = file.points.num('deviation');
+  const row = (i) => [ids.at(i), { text: lines.at(i), num: true }, curves.at(i), { text: u[i].toFixed(5), num: true, value: u[i] },
+    ...[0, 1, 2].map((j) => ({ text: foot[3 * i + j].toFixed(4), num: true, value: foot[3 * i + j] })),
+    ...[0, 1, 2].map((j) => ({ text: normal[3 * i + j].toFixed(5), num: true, value: normal[3 * i + j] })),
+    { text: (dev[i] * 1000).toFixed(2), num: true, value: dev[i] * 1000 }];
+  const rows = (n) => Array.from({ length: n }, (_, i) => row(i));
   // a scan's table: its first rows; the CSV has every point
   const dense = file.points.length > DENSE_POINTS;
-  const shown = dense ? file.points.slice(0, TABLE_ROWS) : file.points;
-  const csv = dense ? () => toCsv(header, file.points.map((p, i) => row(p, i).map((c) => (typeof c === 'object' ? c.value ?? c.text : c)))) : undefined;
+  const shown = rows(dense ? TABLE_ROWS : file.points.length);
+  const csv = dense ? () => toCsv(header, rows(file.points.length).map((r) => r.map((c) => (typeof c === 'object' ? c.value ?? c.text : c)))) : undefined;
   root.append(table('points', `Matched points: nominal foot on the surface, outward normal, measured normal deviation (+ = material left, − = overcut)${dense ? `; the first ${TABLE_ROWS} of ${file.points.length} (the CSV has every point)` : ''}`,
-    header, shown.map(row), csv));
+    header, shown, csv));
 }

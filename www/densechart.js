@@ -4,8 +4,8 @@
 // joined as a vertical stroke (what thousands of points a pixel look like), and the points
 // themselves once a zoom leaves fewer than one a column. Zoom: the wheel (about the cursor) or
 // a drag (the box's x range); double-click or "Whole range" goes back. The cursor reads out the
-// nearest point: its name (`xNames[i]`), and each visible series' value in `yUnit`.
-import { ticks, fmt, PALETTE } from './plot.js';
+// nearest point: its name (`xNames`, plot.js's xNameOf), and each visible series' value in `yUnit`.
+import { ticks, fmt, PALETTE, xNameOf } from './plot.js';
 
 const W = 900;
 
@@ -35,7 +35,7 @@ export function denseChart(container, spec) {
 
   // the points in order of x, once
   const n = spec.x.length;
-  const order = Int32Array.from({ length: n }, (_, i) => i).sort((a, b) => spec.x[a] - spec.x[b]);
+  const order = spec.order ? Int32Array.from(spec.order) : Int32Array.from({ length: n }, (_, i) => i).sort((a, b) => spec.x[a] - spec.x[b]);
   const xs = Float64Array.from(order, (i) => spec.x[i]);
   let lo = xs[0], hi = xs[n - 1];
   const full = [lo, hi];
@@ -173,7 +173,7 @@ export function denseChart(container, spec) {
     if (j > 0 && Math.abs(xs[j - 1] - v) < Math.abs(xs[j] - v)) j--;
     const i = order[j];
     const vals = spec.series.filter((s) => s.visible !== false).map((s) => `${s.name} ${fmt(s.y[i])}`).join(' · ');
-    readout.textContent = `${spec.xNames ? spec.xNames[i] : fmt(xs[j])}: ${vals}${spec.yUnit ? ' ' + spec.yUnit : ''}`;
+    readout.textContent = `${spec.xNames ? xNameOf(spec, i) : fmt(xs[j])}: ${vals}${spec.yUnit ? ' ' + spec.yUnit : ''}`;
     wrap.dataset.hover = String(i);
   });
   canvas.addEventListener('mouseleave', () => { readout.textContent = ''; });

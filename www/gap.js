@@ -1,7 +1,7 @@
 // The Sim-to-real gap view: the diagnosis's summary, how far the verdict's effect shrinks the
 // gap, the pair, every candidate, the effects this part cannot tell apart, where the baseline
 // residual lies, and the same drawn on the plots and the plan view.
-import { h, table, diagnosisOf } from './ui.js';
+import { h, table, diagnosisOf, later } from './ui.js';
 import { whereControl, residualChart, planView } from './where.js';
 import { surfaceMaps } from './surfacemap.js';
 
@@ -53,9 +53,10 @@ export function gapView(root, a) {
       { text: Number(w.concentration.toPrecision(3)), num: true }])));
   root.append(h('h2', {}, 'Where, on the plots and the plan view'),
     h('p', {}, 'The shaded points are those of the chosen group of the table above (by default the curve or region where the core finds the baseline residual concentrated); the ▼ marks are the axis reversals of the tool path that the core marks. The plots show the baseline identification\'s residual (the location errors alone) at the same points: the gap the diagnosis explains.'),
-    whereControl(a, 'gap'), residualChart(a, 'gap-where-residual', a.baseline.identification), planView(a, 'gap-where-plan', a.baseline.identification),
+    whereControl(a, 'gap'), later(() => residualChart(a, 'gap-where-residual', a.baseline.identification)),
+    later(() => planView(a, 'gap-where-plan', a.baseline.identification)),
     h('h3', {}, 'Baseline residual map of each surface (developed: tool-path position × height)'),
-    surfaceMaps(a, a.baseline.identification, 'the baseline (the location errors alone)'));
+    later(() => surfaceMaps(a, a.baseline.identification, 'the baseline (the location errors alone)')));
 }
 
 /** A family's fitted shape with its 95 % interval (the core's `shape`: a backlash's lag `tau` in

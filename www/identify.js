@@ -1,7 +1,7 @@
 // The Identification view: the final answer (the location errors fitted with what the
 // diagnosis found), the baseline, the outliers, the machine's location errors, what this part
 // cannot separate, and the residual per point and on the part with the where highlight.
-import { h, table, fmtNum, fittedWith, fittedWithId, word } from './ui.js';
+import { h, table, fmtNum, fittedWith, fittedWithId, word, later } from './ui.js';
 import { whereControl, residualChart, planView } from './where.js';
 import { surfaceMaps } from './surfacemap.js';
 
@@ -64,9 +64,9 @@ export function identifyView(root, a) {
   if (id.notes && id.notes.length) root.append(h('ul', {}, id.notes.map((n) => h('li', {}, n))));
   // measured vs simulated vs residual, and the plan view, with where the gap diagnosis lies
   root.append(h('h2', {}, 'Residual per point and on the part (final answer)'), whereControl(a, 'identify'));
-  root.append(residualChart(a, 'measured-simulated-residual'));
-  root.append(planView(a, 'plan-view'));
-  root.append(h('h3', {}, 'Residual map of each surface (developed: tool-path position × height)'), surfaceMaps(a));
+  root.append(later(() => residualChart(a, 'measured-simulated-residual')));
+  root.append(later(() => planView(a, 'plan-view')));
+  root.append(h('h3', {}, 'Residual map of each surface (developed: tool-path position × height)'), later(() => surfaceMaps(a)));
   root.append(table('residual-per-curve', 'Residual per curve (paper 001 eq. 15-17)', ['curve', 'n', 'RMS (µm)', 'max |r| (µm)', 'MAD (µm)', 'RMSE (µm)', 'MAPE (%)'],
     id.per_curve.map((cv) => [cv.curve, { text: cv.n, num: true }, ...[cv.rms, cv.max_abs, cv.mad, cv.rmse].map((v) => ({ text: (v * 1000).toFixed(2), num: true, value: v * 1000 })),
       { text: cv.mape === null ? '—' : cv.mape.toFixed(1), num: true, value: cv.mape ?? '' }])));

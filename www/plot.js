@@ -32,12 +32,17 @@ export function fmt(v) {
   return String(Number(v.toPrecision(4)));
 }
 
+/** The name of the `i`-th x of `spec` (its `xNames`: a list, or a function of `i` for a scan's
+ * 200,000 points), or undefined. */
+export const xNameOf = (spec, i) => (typeof spec.xNames === 'function' ? spec.xNames(i) : spec.xNames?.[i]);
+
 /**
  * Draws a chart into `container` (its content is replaced) and returns {svg, update}.
  * spec = {
  *   title, xLabel, yLabel,                 // labels carry units, e.g. 'defect (µm)'
  *   x: number[],                           // x positions (shared by all series)
- *   xNames?: string[],                     // per-x name for the hover readout (e.g. point id)
+ *   order?: number[],                      // the indices in order of x (densechart.js sorts without)
+ *   xNames?: string[] | (i) => string,     // per-x name for the hover readout (e.g. point id): xNameOf
  *   groups?: [{label, from, to}],          // x ranges drawn as labelled bands with separators
  *   series: [{name, y: number[], color?, visible?, dashed?, points?}],
  *   highlight?: [{from, to, label, ids?}], // x ranges shaded (e.g. where the residual lies);
@@ -150,7 +155,7 @@ export function chart(container, spec) {
       xs.forEach((x, i) => { if (Math.abs(X(x) - px) < Math.abs(X(xs[best]) - px)) best = i; });
       cursor.setAttribute('x1', X(xs[best])); cursor.setAttribute('x2', X(xs[best]));
       cursor.setAttribute('visibility', 'visible');
-      const name = spec.xNames ? spec.xNames[best] : fmt(xs[best]);
+      const name = spec.xNames ? xNameOf(spec, best) : fmt(xs[best]);
       const vals = vis.slice(0, 4).map((s) => `${s.name} ${fmt(s.y[best])}`).join(' · ');
       readout.textContent = `${name}: ${vals}${vis.length > 4 ? ' …' : ''}${spec.yUnit ? ' ' + spec.yUnit : ''}`;
     });

@@ -4,8 +4,8 @@
 // - Horizontal: the core's `path_position` (src/analysis/report.rs): the tool-tip path length in
 //   mm from the start of A's pass to the pose that cut the point, the `s` at which the diagnosis
 //   places the axis reversals; when the core sends none, the surface parameter u (unitless).
-// - Vertical: the height z (mm) of the matched point on the nominal surface (`points[i].z`).
-// - Rows: the core's group of each point (`identification.points[i].curve`: its scan line for a
+// - Vertical: the height z (mm) of the matched point on the nominal surface (`points`' `z`).
+// - Rows: the core's group of each point (`identification.points`' `curve`: its scan line for a
 //   scan, its measurement curve for a few discrete points), at the mean height of its points; a
 //   point's cell reaches half-way to the next row and to its neighbours along its row, so a scan
 //   tiles the surface and the 100 built-in points are drawn as 4 rows of cells.
@@ -16,9 +16,9 @@
 // mean), so 200,000 points cost a few passes over typed arrays. The axis reversals are drawn as
 // vertical lines (all faint; the ones the core marks bold), the highlighted where-group
 // (where.js) as a yellow tint with an outline; hovering reads out the point under the cursor.
-import { h } from './ui.js';
+import { h, later } from './ui.js';
 import { ticks, fmt } from './plot.js';
-import { whereOf, onWhereChange } from './where.js';
+import { whereOf, onWhereChange, pointsOf } from './where.js';
 
 const NS = 'http://www.w3.org/2000/svg';
 const W = 900, H = 250;
@@ -40,38 +40,50 @@ const LUT = (() => {
 /** The LUT index of a residual `r` on the scale ±`R` (same unit). */
 const lutIndex = (r, R) => Math.max(0, Math.min(255, Math.round(((r / R + 1) / 2) * 255)));
 
-/** The points of one surface, with their cells: {i, s, z, r, s0, s1, z0, z1}. */
+/** The points of one surface, with their cells, as columns (a surface of a dense scan holds
+ * 100,000 points: no object per cell): {rows: [{label, idx, z}], cells: {n, i (the point's
+ * index), s, z, r (µm), s0, s1, z0, z1}}, row after row (by height), along each row by s. */
 function cellsOf(a, id, surface, xOf) {
   const rows = new Map();
-  a.points.forEach((p, i) => {
-    if (p.surface !== surface) return;
-    const label = id.points[i].curve;
+  const surfaces = a.points.col('surface'), zs = a.points.num('z'), labels = id.points.col('curve'), res = id.points.num('residual');
+  for (let i = 0; i < zs.length; i++) {
+    if (surfaces.at(i) !== surface) continue;
+    const label = labels.at(i);
     if (!rows.has(label)) rows.set(label, []);
-    rows.get(label).push({ i, s: xOf(i), z: p.z, r: id.points[i].residual * 1000 });
-  });
-  const list = [...rows.entries()].map(([label, pts]) => ({ label, pts, z: pts.reduce((t, q) => t + q.z, 0) / pts.length }))
+    rows.get(label).push(i);
+  }
+  const list = [...rows.entries()].map(([label, idx]) => ({ label, idx, z: idx.reduce((t, i) => t + zs[i], 0) / idx.length }))
     .sort((p, q) => p.z - q.z);
-  list.forEach((row, k) => {
-    const below = k > 0 ? (row.z - list[k - 1].z) / 2 : null, above = k < list.length - 1 ? (list[k + 1].z - row.z) / 2 : null;
+  const n = list.reduce((t, row) => t + row.idx.length, 0);
+  const f64 = () => new Float64Array(n);
+  const c = { n, i: new Int32Array(n), s: f64(), z: f64(), r: f64(), s0: f64(), s1: f64(), z0: f64(), z1: f64() };
+  let k = 0;
+  list.forEach((row, j) => {
+    const below = j > 0 ? (row.z - list[j - 1].z) / 2 : null, above = j < list.length - 1 ? (list[j + 1].z - row.z) / 2 : null;
     const half = (below ?? above ?? 1);
     const z0 = row.z - (below ?? half), z1 = row.z + (above ?? half);
-    const pts = row.pts.sort((p, q) => p.s - q.s);
-    const gaps = pts.slice(1).map((q, j) => q.s - pts[j].s).sort((p, q) => p - q);
+    const sv = row.idx.map(xOf);
+    const order = sv.map((_, m) => m).sort((p, q) => sv[p] - sv[q]);
+    const ps = order.map((m) => sv[m]);
+    const gaps = ps.slice(1).map((v, m) => v - ps[m]).sort((p, q) => p - q);
     const typical = gaps.length ? gaps[gaps.length >> 1] / 2 : 1;
-    pts.forEach((q, j) => {
-      const left = j > 0 ? (q.s - pts[j - 1].s) / 2 : null, right = j < pts.length - 1 ? (pts[j + 1].s - q.s) / 2 : null;
+    order.forEach((m, q) => {
+      const i = row.idx[m], sq = ps[q];
+      const left = q > 0 ? (sq - ps[q - 1]) / 2 : null, right = q < ps.length - 1 ? (ps[q + 1] - sq) / 2 : null;
       // a hole in a line stays a hole: no cell reaches further than 1.5 typical half-gaps
-      q.s0 = q.s - Math.min(left ?? right ?? typical, 1.5 * typical);
-      q.s1 = q.s + Math.min(right ?? left ?? typical, 1.5 * typical);
-      q.z0 = z0; q.z1 = z1;
+      c.i[k] = i; c.s[k] = sq; c.z[k] = zs[i]; c.r[k] = res[i] * 1000;
+      c.s0[k] = sq - Math.min(left ?? right ?? typical, 1.5 * typical);
+      c.s1[k] = sq + Math.min(right ?? left ?? typical, 1.5 * typical);
+      c.z0[k] = z0; c.z1[k] = z1;
+      k++;
     });
   });
-  return { rows: list, cells: list.flatMap((row) => row.pts) };
+  return { rows: list, cells: c };
 }
 
 /** The end of the colour scale (µm): the QUANTILE of |r| over every point. */
 function scaleOf(id) {
-  const v = id.points.map((p) => Math.abs(p.residual * 1000)).sort((p, q) => p - q);
+  const v = id.points.num('residual').map((r) => Math.abs(r * 1000)).sort();
   return Math.max(1e-6, v[Math.min(v.length - 1, Math.floor(QUANTILE * (v.length - 1)))] || 0);
 }
 
@@ -85,33 +97,34 @@ function el(name, attrs, parent) {
 /** The map of one surface: a canvas of binned cells under an SVG of axes, reversals and read-out. */
 function surfaceMap(a, id, surface, R, xAxis) {
   const { rows, cells } = cellsOf(a, id, surface, xAxis.of);
-  if (!cells.length) return null;
+  if (!cells.n) return null;
   let s0 = Infinity, s1 = -Infinity, z0 = Infinity, z1 = -Infinity; // (no spread: 100,000 arguments overflow)
-  for (const c of cells) { s0 = Math.min(s0, c.s0); s1 = Math.max(s1, c.s1); z0 = Math.min(z0, c.z0); z1 = Math.max(z1, c.z1); }
+  for (let k = 0; k < cells.n; k++) { s0 = Math.min(s0, cells.s0[k]); s1 = Math.max(s1, cells.s1[k]); z0 = Math.min(z0, cells.z0[k]); z1 = Math.max(z1, cells.z1[k]); }
   const X = (s) => M.l + ((s - s0) / (s1 - s0 || 1)) * PW, Y = (z) => M.t + PH - ((z - z0) / (z1 - z0 || 1)) * PH;
   // bin: per pixel of the plot area, the sum and count of the residuals of the cells over it
   const sum = new Float64Array(PW * PH), count = new Uint32Array(PW * PH), owner = new Int32Array(PW * PH).fill(-1);
-  const cellPx = cells.map((c) => {
-    const px0 = Math.max(0, Math.min(PW - 1, Math.floor(X(c.s0) - M.l))), px1 = Math.max(px0 + 1, Math.min(PW, Math.round(X(c.s1) - M.l)));
-    const py0 = Math.max(0, Math.min(PH - 1, Math.floor(Y(c.z1) - M.t))), py1 = Math.max(py0 + 1, Math.min(PH, Math.round(Y(c.z0) - M.t)));
-    return [px0, px1, py0, py1];
-  });
-  cells.forEach((c, k) => {
-    const [px0, px1, py0, py1] = cellPx[k];
-    for (let y = py0; y < py1; y++) for (let x = px0; x < px1; x++) { const p = y * PW + x; sum[p] += c.r; count[p]++; owner[p] = k; }
-  });
+  // each cell's pixels: px0, px1, py0, py1 (4 a cell; 100,000 cells a surface for a dense scan)
+  const px = new Int32Array(4 * cells.n);
+  const cellPx = (k) => px.subarray(4 * k, 4 * k + 4);
+  for (let k = 0; k < cells.n; k++) {
+    const px0 = Math.max(0, Math.min(PW - 1, Math.floor(X(cells.s0[k]) - M.l))), px1 = Math.max(px0 + 1, Math.min(PW, Math.round(X(cells.s1[k]) - M.l)));
+    const py0 = Math.max(0, Math.min(PH - 1, Math.floor(Y(cells.z1[k]) - M.t))), py1 = Math.max(py0 + 1, Math.min(PH, Math.round(Y(cells.z0[k]) - M.t)));
+    px[4 * k] = px0; px[4 * k + 1] = px1; px[4 * k + 2] = py0; px[4 * k + 3] = py1;
+    const r = cells.r[k];
+    for (let y = py0; y < py1; y++) for (let x = px0; x < px1; x++) { const p = y * PW + x; sum[p] += r; count[p]++; owner[p] = k; }
+  }
   const canvas = h('canvas', { width: PW, height: PH, class: 'surface-map-cells', 'aria-hidden': 'true' });
   const g = canvas.getContext('2d');
-  const img = g.createImageData(PW, PH);
+  const img = g.createImageData(PW, PH), data = img.data;
   let filled = 0;
   for (let p = 0; p < PW * PH; p++) {
     const o = p * 4;
     if (count[p]) {
       const k = lutIndex(sum[p] / count[p], R) * 3;
-      img.data[o] = LUT[k]; img.data[o + 1] = LUT[k + 1]; img.data[o + 2] = LUT[k + 2];
+      data[o] = LUT[k]; data[o + 1] = LUT[k + 1]; data[o + 2] = LUT[k + 2];
       filled++;
-    } else { img.data[o] = EMPTY[0]; img.data[o + 1] = EMPTY[1]; img.data[o + 2] = EMPTY[2]; }
-    img.data[o + 3] = 255;
+    } else { data[o] = EMPTY[0]; data[o + 1] = EMPTY[1]; data[o + 2] = EMPTY[2]; }
+    data[o + 3] = 255;
   }
   g.putImageData(img, 0, 0);
   canvas.style.left = `${(M.l / W) * 100}%`; canvas.style.top = `${(M.t / H) * 100}%`;
@@ -120,12 +133,13 @@ function surfaceMap(a, id, surface, R, xAxis) {
   // the where highlight: the cells of the chosen group tinted, on a canvas of its own
   const shade = h('canvas', { width: PW, height: PH, class: 'surface-map-shade', 'aria-hidden': 'true' });
   Object.assign(shade.style, { left: canvas.style.left, top: canvas.style.top, width: canvas.style.width, height: canvas.style.height });
-  const byId = new Map(cells.map((c, k) => [String(id.points[c.i].id), k]));
+  const cellOf = new Int32Array(id.points.length).fill(-1);
+  for (let k = 0; k < cells.n; k++) cellOf[cells.i[k]] = k;
 
   const svg = el('svg', { viewBox: `0 0 ${W} ${H}`, class: 'surface-map-axes', role: 'img', xmlns: NS, 'font-family': 'system-ui, sans-serif', 'font-size': 11,
-    'aria-label': `surface ${surface}: residual of ${cells.length} points on ${rows.length} rows, colour from −${R.toFixed(1)} to +${R.toFixed(1)} µm` });
+    'aria-label': `surface ${surface}: residual of ${cells.n} points on ${rows.length} rows, colour from −${R.toFixed(1)} to +${R.toFixed(1)} µm` });
   el('text', { x: M.l, y: 18, 'font-weight': 600, 'font-size': 13 }, svg).textContent =
-    `Surface ${surface}: ${cells.length} points on ${rows.length} ${rows.length === 1 ? 'row' : 'rows'}`;
+    `Surface ${surface}: ${cells.n} points on ${rows.length} ${rows.length === 1 ? 'row' : 'rows'}`;
   for (const t of ticks(s0, s1, 8)) {
     el('line', { x1: X(t), x2: X(t), y1: M.t + PH, y2: M.t + PH + 4, stroke: '#555' }, svg);
     el('text', { x: X(t), y: M.t + PH + 16, 'text-anchor': 'middle' }, svg).textContent = fmt(t);
@@ -149,21 +163,20 @@ function surfaceMap(a, id, surface, R, xAxis) {
     const mask = new Uint8Array(PW * PH);
     let shaded = 0;
     if (w && w.chosen) {
-      for (const id of w.chosen.ids) {
-        const k = byId.get(String(id));
-        if (k === undefined) continue;
+      for (const i of pointsOf(a, w.chosen.ids)) {
+        const k = cellOf[i];
+        if (k < 0) continue;
         shaded++;
-        const [px0, px1, py0, py1] = cellPx[k];
-        for (let y = py0; y < py1; y++) mask.fill(1, y * PW + px0, y * PW + px1);
+        for (let y = px[4 * k + 2]; y < px[4 * k + 3]; y++) mask.fill(1, y * PW + px[4 * k], y * PW + px[4 * k + 1]);
       }
-      const im = sg.createImageData(PW, PH);
+      const im = sg.createImageData(PW, PH), data = im.data;
       for (let y = 0; y < PH; y++) {
         for (let x = 0; x < PW; x++) {
           const p = y * PW + x;
           if (!mask[p]) continue;
           const edge = x === 0 || y === 0 || x === PW - 1 || y === PH - 1 || !mask[p - 1] || !mask[p + 1] || !mask[p - PW] || !mask[p + PW];
           const o = p * 4;
-          if (edge) { im.data[o] = 184; im.data[o + 1] = 134; im.data[o + 2] = 11; im.data[o + 3] = 255; } else { im.data[o] = 255; im.data[o + 1] = 213; im.data[o + 2] = 79; im.data[o + 3] = 90; }
+          if (edge) { data[o] = 184; data[o + 1] = 134; data[o + 2] = 11; data[o + 3] = 255; } else { data[o] = 255; data[o + 1] = 213; data[o + 2] = 79; data[o + 3] = 90; }
         }
       }
       sg.putImageData(im, 0, 0);
@@ -189,15 +202,16 @@ function surfaceMap(a, id, surface, R, xAxis) {
     wrap.dataset.reversals = String(drawn);
   }
 
-  const wrap = h('div', { class: 'surface-map', 'data-surface': surface, 'data-points': cells.length, 'data-rows': rows.length, 'data-filled': filled },
+  const ids = id.points.col('id'), labels = id.points.col('curve');
+  const wrap = h('div', { class: 'surface-map', 'data-surface': surface, 'data-points': cells.n, 'data-rows': rows.length, 'data-filled': filled },
     canvas, shade, svg);
   wrap.addEventListener('mousemove', (ev) => {
     const r = svg.getBoundingClientRect();
     const px = Math.floor(((ev.clientX - r.left) / r.width) * W - M.l), py = Math.floor(((ev.clientY - r.top) / r.height) * H - M.t);
     const k = px >= 0 && py >= 0 && px < PW && py < PH ? owner[py * PW + px] : -1;
     if (k < 0) { readout.textContent = ''; cursor.setAttribute('visibility', 'hidden'); return; }
-    const c = cells[k], p = id.points[c.i], n = count[py * PW + px];
-    const [cx0, cx1, cy0, cy1] = cellPx[k];
+    const c = { s: cells.s[k], z: cells.z[k], r: cells.r[k] }, p = { id: ids.at(cells.i[k]), curve: labels.at(cells.i[k]) }, n = count[py * PW + px];
+    const [cx0, cx1, cy0, cy1] = cellPx(k);
     cursor.setAttribute('x', M.l + cx0); cursor.setAttribute('y', M.t + cy0);
     cursor.setAttribute('width', cx1 - cx0); cursor.setAttribute('height', cy1 - cy0); cursor.setAttribute('visibility', 'visible');
     readout.textContent = `point ${p.id} (${p.curve}): ${xAxis.short} ${c.s.toFixed(xAxis.isPath ? 1 : 4)}${xAxis.isPath ? ' mm' : ''}, z ${c.z.toFixed(2)} mm, residual ${c.r.toFixed(2)} µm` +
@@ -239,12 +253,13 @@ function colourBar(R) {
  * identification, or the baseline's), or a sentence when there are no points. */
 export function surfaceMaps(a, id = a.identification, what = 'the final answer') {
   if (!a || !a.points.length) return h('p', {}, 'No points to map.');
-  const path = a.path_position;
+  const path = a.path_position, u = a.points.num('u');
   const xAxis = path && path.length === a.points.length
     ? { of: (i) => path[i], isPath: true, short: 's', label: 'tool-tip path position s (mm from the start of surface A\'s pass; the reversals\' position)' }
-    : { of: (i) => a.points[i].u, isPath: false, short: 'u', label: 'surface parameter u (unitless; no tool-path position from the core)' };
+    : { of: (i) => u[i], isPath: false, short: 'u', label: 'surface parameter u (unitless; no tool-path position from the core)' };
   const R = scaleOf(id);
-  const maps = ['A', 'B'].map((s) => surfaceMap(a, id, s, R, xAxis)).filter(Boolean);
+  // each surface in a task of its own (ui.js later): 100,000 points a surface for a dense scan
+  const maps = ['A', 'B'].map((s) => later(() => surfaceMap(a, id, s, R, xAxis) ?? h('span')));
   return h('div', { class: 'surface-maps', 'data-chart': 'surface-map' },
     h('p', { class: 'where-legend' }, `Each cell is a measured point on its row (a scan line, or a measurement curve), coloured by the residual of ${what}; `,
       'purple lines: the axis reversals of the tool path (bold, ▼: the marked ones); yellow with an outline: the highlighted where-group. Hover for a point\'s values.'),

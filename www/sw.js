@@ -7,7 +7,7 @@
 const BUILD = new URL(self.location.href).searchParams.get('build') || 'dev';
 const CACHE = `testpiece-${BUILD}`;
 const ASSETS = [
-  './', 'index.html', 'style.css', 'app.js', 'core.js', 'worker.js', 'plot.js', 'densechart.js', 'plancanvas.js', 'export.js', 'ui.js', 'where.js', 'surfacemap.js',
+  './', 'index.html', 'style.css', 'app.js', 'core.js', 'columns.js', 'worker.js', 'plot.js', 'densechart.js', 'plancanvas.js', 'export.js', 'ui.js', 'where.js', 'surfacemap.js',
   'data.js', 'fig19.js', 'identify.js', 'gap.js', 'parts.js', 'plan.js', 'program.js', 'budget.js', 'compensation.js', 'report.js',
   'pkg/testpiece.js', 'pkg/testpiece_bg.wasm', 'pkg/testpiece_tools.js', 'pkg/testpiece_tools_bg.wasm', 'pkg/build.js',
 ];

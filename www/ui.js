@@ -2,7 +2,7 @@
 // per-point layout, and what the core sent when the page opened (`start()` of src/wasm/page.rs:
 // the machines, the measurement curves, the words for the tags the results carry, the
 // thresholds). No result is computed here.
-import { chart } from './plot.js';
+import { chart, xNameOf } from './plot.js';
 import { denseChart } from './densechart.js';
 import { exportButtons, toCsv } from './export.js';
 
@@ -43,6 +43,19 @@ export function h(tag, attrs = {}, ...children) {
   return e;
 }
 
+/** The parts of the views left for later (`later`), in order. */
+const parts = [];
+/** A part of a view drawn later, in a task of its own (app.js `render` takes them after each
+ * view): returns a placeholder that `make()`'s element replaces, unless the view was drawn again
+ * in the meantime. */
+export function later(make) {
+  const slot = h('div', { class: 'later' });
+  parts.push(() => { if (slot.isConnected) slot.replaceWith(make()); });
+  return slot;
+}
+/** The first part left for later (app.js draws each in a task of its own), or undefined. */
+export const nextLater = () => parts.shift();
+
 /** A number with a sensible precision for its unit. */
 export function fmtNum(v, unit) {
   if (v === null || v === undefined || !Number.isFinite(v)) return '—';
@@ -67,9 +80,11 @@ export function table(name, caption, header, rows, csv) {
 }
 
 /** x positions and groups for points laid out curve by curve (the core's curve order, then any
- * other curve in order of appearance). */
+ * other curve in order of appearance), the indices in order of x (`order`) and the name of each
+ * point (`xNames(i)`); `ids`: a list, or a function of the index. */
 export function layout(curves, ids) {
   const x = [];
+  const order = []; // the indices in order of x
   const groups = [];
   let pos = 0;
   const of = new Map(core.curves.map((c) => [c, []])); // one pass: a scan has hundreds of lines
@@ -77,11 +92,12 @@ export function layout(curves, ids) {
   for (const [c, idx] of of) {
     if (!idx.length) continue;
     const from = pos + 1;
-    for (const i of idx) x[i] = ++pos;
+    for (const i of idx) { x[i] = ++pos; order.push(i); }
     groups.push({ label: c, from, to: pos });
     pos += 2;
   }
-  return { x, groups, xNames: ids.map((id, i) => `point ${id} (${curves[i]})`) };
+  const idOf = typeof ids === 'function' ? ids : (i) => ids[i];
+  return { x, groups, order, xNames: (i) => `point ${idOf(i)} (${curves[i]})` };
 }
 
 /** A chart with its export buttons (SVG, PNG, CSV of the series) and `extra` controls. */
@@ -91,6 +107,6 @@ export function chartBlock(name, spec, extra) {
   const c = (dense ? denseChart : chart)(holder, spec);
   const bar = h('div', { class: 'bar' }, extra || '', h('span', { class: 'spacer' }));
   exportButtons(bar, { name, ...(dense ? { png: c.png } : { svg: () => c.svg }), csv: () => toCsv(['x', 'label', ...spec.series.map((s) => s.name)],
-    spec.x.map((x, i) => [x, spec.xNames ? spec.xNames[i] : '', ...spec.series.map((s) => s.y[i])])) });
+    spec.x.map((x, i) => [x, spec.xNames ? xNameOf(spec, i) : '', ...spec.series.map((s) => s.y[i])])) });
   return { el: h('div', { class: 'chart-block', 'data-chart': name }, bar, holder), chart: c };
 }

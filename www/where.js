@@ -82,26 +82,48 @@ function whereNote(w) {
   return `${shade}\nBaseline residual of the diagnosis: ${what}.\n${rev}units µm, tool path in mm.`;
 }
 
-/** Runs of consecutive x positions of the points `ids` (for shaded bands). */
-function runsOf(ids, idToX) {
-  const xs = ids.map((id) => idToX.get(String(id))).filter((x) => x !== undefined).sort((p, q) => p - q);
+/** Each point's index by its id (as text) in the per-point tables of the analysis `a` (all in
+ * the order of `file.points`), made once per analysis: the where-groups name their points by id. */
+const indexes = new WeakMap();
+export function pointIndex(a) {
+  if (!indexes.has(a)) {
+    const ids = a.identification.points.col('id'), index = new Map();
+    for (let i = 0; i < ids.length; i++) index.set(String(ids.at(i)), i);
+    indexes.set(a, index);
+  }
+  return indexes.get(a);
+}
+
+/** The indices of the points named by `ids` (those of the analysis `a`). */
+export function pointsOf(a, ids) {
+  const index = pointIndex(a), out = [];
+  for (const id of ids) { const i = index.get(String(id)); if (i !== undefined) out.push(i); }
+  return out;
+}
+
+/** Runs of consecutive x positions of the points `rows` (indices; for shaded bands): {from, to,
+ * rows} with the rows in order of x. */
+function runsOf(rows, x) {
+  const sorted = rows.slice().sort((p, q) => x[p] - x[q]);
   const runs = [];
-  for (const x of xs) {
+  for (const i of sorted) {
     const last = runs[runs.length - 1];
-    if (last && x === last.to + 1) { last.to = x; last.xs.push(x); } else runs.push({ from: x, to: x, xs: [x] });
+    if (last && x[i] === last.to + 1) { last.to = x[i]; last.rows.push(i); } else runs.push({ from: x[i], to: x[i], rows: [i] });
   }
   return runs;
 }
 
-/** highlight / markers / note for a per-point chart laid out by `layout`. */
-function whereChartPatch(a, ids, x) {
+/** highlight / markers / note for a per-point chart laid out by `layout` (`x`), its points named
+ * by `idOf(i)`. A dense chart's bands carry no list of their points (densechart.js draws none). */
+function whereChartPatch(a, x, idOf) {
   const w = whereOf(a);
   if (!w) return { highlight: [], markers: [], note: undefined };
-  const idToX = new Map(ids.map((id, i) => [String(id), x[i]]));
-  const xToId = new Map(ids.map((id, i) => [x[i], String(id)]));
-  const highlight = w.chosen ? runsOf(w.chosen.ids, idToX).map((r) => ({ from: r.from, to: r.to, ids: r.xs.map((v) => xToId.get(v)),
-    label: `${describeEntry(w.chosen)}; points ${r.xs.map((v) => xToId.get(v)).join(', ')}` })) : [];
-  const markers = w.marks.filter((k) => idToX.has(String(k.id))).map((k) => ({ x: idToX.get(String(k.id)), id: k.id, short: k.short, label: k.label }));
+  const index = pointIndex(a);
+  const dense = x.length > DENSE_POINTS;
+  const highlight = w.chosen ? runsOf(pointsOf(a, w.chosen.ids), x).map((r) => (dense ? { from: r.from, to: r.to, label: describeEntry(w.chosen) } : {
+    from: r.from, to: r.to, ids: r.rows.map((i) => String(idOf(i))),
+    label: `${describeEntry(w.chosen)}; points ${r.rows.map((i) => String(idOf(i))).join(', ')}` })) : [];
+  const markers = w.marks.filter((k) => index.has(String(k.id))).map((k) => ({ x: x[index.get(String(k.id))], id: k.id, short: k.short, label: k.label }));
   return { highlight, markers, note: whereNote(w) };
 }
 
@@ -115,6 +137,9 @@ export function onWhereChange(isConnected, redraw) {
 export function whereControl(a, idSuffix) {
   const w = whereOf(a);
   if (!w) return h('p', { class: 'where-legend' }, 'No gap diagnosis: nothing to highlight.');
+  // the points' index by id, made here with the view (0.1 s for 200,000 points) rather than
+  // with the first figure that needs it (app.js draws the figures each in a task of its own)
+  pointIndex(a);
   const sel = h('select', { id: `where-choice-${idSuffix}`, class: 'where-choice', 'aria-describedby': `where-legend-${idSuffix}` },
     h('option', { value: 'auto' }, w.auto ? `where the residual is concentrated (${w.auto.name})` : 'where the residual is concentrated (nowhere markedly: nothing)'),
     h('option', { value: 'none' }, 'nothing'),
@@ -142,20 +167,22 @@ export function whereControl(a, idSuffix) {
 
 /** The measured / simulated / residual chart with the where highlight. */
 export function residualChart(a, name, id = a.identification) {
-  const curves = id.points.map((p) => p.curve);
-  const ids = id.points.map((p) => p.id);
-  const L = layout(curves, ids);
+  const P = id.points, n = P.length;
+  const curves = P.col('curve').toArray(), ids = P.col('id');
+  const idOf = (i) => ids.at(i);
+  const L = layout(curves, idOf);
   // the read-out names the point, its line and where it is: tool-path position and height
-  const s = a.path_position;
-  const xNames = s && s.length === ids.length ? L.xNames.map((t, i) => `${t}, s ${s[i].toFixed(1)} mm, z ${a.points[i].z.toFixed(2)} mm`) : L.xNames;
-  const spec = { title: 'Measured, simulated (identified model) and residual', x: L.x, xNames, groups: L.groups,
+  const s = a.path_position, z = a.points.num('z');
+  const xNames = s && s.length === n ? (i) => `${L.xNames(i)}, s ${s[i].toFixed(1)} mm, z ${z[i].toFixed(2)} mm` : L.xNames;
+  const um = (key) => { const v = P.num(key), y = new Float64Array(n); for (let i = 0; i < n; i++) y[i] = v[i] * 1000; return y; };
+  const spec = { title: 'Measured, simulated (identified model) and residual', x: L.x, order: L.order, xNames, groups: L.groups,
     series: [
-      { name: 'measured', y: id.points.map((p) => p.measured * 1000), points: true },
-      { name: 'simulated', y: id.points.map((p) => p.fitted * 1000) },
-      { name: 'residual', y: id.points.map((p) => p.residual * 1000), dashed: true },
-    ], xLabel: 'measurement point (grouped by curve)', yLabel: 'normal deviation (µm)', yUnit: 'µm', ...whereChartPatch(a, ids, L.x) };
+      { name: 'measured', y: um('measured'), points: true },
+      { name: 'simulated', y: um('fitted') },
+      { name: 'residual', y: um('residual'), dashed: true },
+    ], xLabel: 'measurement point (grouped by curve)', yLabel: 'normal deviation (µm)', yUnit: 'µm', ...whereChartPatch(a, L.x, idOf) };
   const block = chartBlock(name, spec);
-  where.figures.add({ isConnected: () => block.el.isConnected, redraw: () => block.chart.update(whereChartPatch(a, ids, L.x)) });
+  where.figures.add({ isConnected: () => block.el.isConnected, redraw: () => block.chart.update(whereChartPatch(a, L.x, idOf)) });
   return block.el;
 }
 
@@ -167,12 +194,15 @@ const LINE_GAP_MM = 0.05;
 
 /** What the plan view draws, in its frame: points (x, y mm), the arrows' ends, the lines. */
 function planOf(a, id) {
-  const pts = a.file.points;
-  const res = id.points.map((p) => p.residual);
+  const pts = a.file.points, n = pts.length;
+  const res = id.points.num('residual');
+  const foot = pts.vec('foot').v, normal = pts.vec('normal').v;
+  const xs = new Float64Array(n), ys = new Float64Array(n), zs = new Float64Array(n);
   let maxr = 1e-9, x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity; // (no spread: 100,000 arguments overflow)
-  for (let i = 0; i < pts.length; i++) {
+  for (let i = 0; i < n; i++) {
     maxr = Math.max(maxr, Math.abs(res[i]));
-    const [x, y] = pts[i].foot;
+    const x = xs[i] = foot[3 * i], y = ys[i] = foot[3 * i + 1];
+    zs[i] = foot[3 * i + 2];
     x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y);
   }
   const W = 640, H = 570, pad = 30;
@@ -180,14 +210,18 @@ function planOf(a, id) {
   const k = Math.min((W - 2 * pad) / (x1 - x0), (H - 2 * pad - 44) / (y1 - y0));
   const X = (x) => pad + (x - x0) * k, Y = (y) => H - pad - 44 - (y - y0) * k;
   const arrowMm = 12; // the largest residual is drawn 12 mm long
-  const xs = pts.map((p) => p.foot[0]), ys = pts.map((p) => p.foot[1]);
-  const tips = pts.map((p, i) => { const len = (res[i] / maxr) * arrowMm; return [p.foot[0] + p.normal[0] * len, p.foot[1] + p.normal[1] * len]; });
+  // the arrows' ends (mm)
+  const tx = new Float64Array(n), ty = new Float64Array(n);
+  for (let i = 0; i < n; i++) {
+    const len = (res[i] / maxr) * arrowMm;
+    tx[i] = xs[i] + normal[3 * i] * len; ty[i] = ys[i] + normal[3 * i + 1] * len;
+  }
   // one line per measured line: a curve's points in file order, cut where the height jumps by
   // more than the reader's scan-line gap (LINE_GAP_MM, src/measurement/scan_lines.rs), so that a
   // scan's lines are not joined across the part
-  const zs = pts.map((p) => p.foot[2]);
   const byCurve = new Map(core.curves.map((c) => [c, []]));
-  a.points.forEach((p, i) => byCurve.get(p.curve)?.push(i));
+  const curves = a.points.col('curve');
+  for (let i = 0; i < n; i++) byCurve.get(curves.at(i))?.push(i);
   const lines = [];
   for (const idx of byCurve.values()) {
     idx.forEach((i, j) => {
@@ -195,22 +229,23 @@ function planOf(a, id) {
       lines[lines.length - 1].push(i);
     });
   }
-  return { pts, res, maxr, W, H, pad, X, Y, xs, ys, tips, lines, arrowMm,
+  const ids = pts.table('file').col('id');
+  return { n, res, maxr, W, H, pad, X, Y, xs, ys, tx, ty, lines, arrowMm, idOf: (i) => ids.at(i),
     title: `Plan view: residual along the outward normal (largest ${(maxr * 1000).toFixed(1)} µm = ${arrowMm} mm arrow)`,
     legend: 'blue: material left (+), red: overcut (−); dashed red ring: outlier; x, y in mm' };
 }
 
 /** The plan view on a canvas (plancanvas.js), for files of more than DENSE_POINTS points. */
 function densePlanView(a, name, plan) {
-  const byId = new Map(plan.pts.map((p, i) => [String(p.file.id), i]));
-  const outliers = ((a.outliers && a.outliers.points) || []).filter((o) => o.row !== undefined && plan.pts[o.row]).map((o) => ({ i: o.row }));
+  const byId = pointIndex(a);
+  const outliers = ((a.outliers && a.outliers.points) || []).filter((o) => o.row !== undefined && o.row < plan.n).map((o) => ({ i: o.row }));
   const overlay = () => {
     const w = whereOf(a);
-    const rings = w && w.chosen ? w.chosen.ids.map((id) => byId.get(String(id))).filter((i) => i !== undefined) : [];
+    const rings = w && w.chosen ? pointsOf(a, w.chosen.ids) : [];
     const marks = w ? w.marks.filter((m) => byId.has(String(m.id))).map((m) => ({ i: byId.get(String(m.id)), short: m.short, label: m.label })) : [];
     return { rings, marks, note: whereNote(w) };
   };
-  const c = planCanvas({ ...plan, ids: plan.pts.map((p) => p.file.id), outliers }, overlay);
+  const c = planCanvas({ ...plan, outliers }, overlay);
   const holder = h('div', { 'data-chart': name, class: 'dense-plan' });
   where.figures.add({ isConnected: () => holder.isConnected, redraw: c.redraw });
   const bar = h('div', { class: 'bar' }, h('span', { class: 'spacer' }));
@@ -221,8 +256,8 @@ function densePlanView(a, name, plan) {
 
 export function planView(a, name, id = a.identification) {
   const plan = planOf(a, id);
-  if (plan.pts.length > DENSE_POINTS) return densePlanView(a, name, plan);
-  const { pts, res, W, H, pad, X, Y, xs, ys } = plan;
+  if (plan.n > DENSE_POINTS) return densePlanView(a, name, plan);
+  const { n, res, W, H, pad, X, Y, xs, ys, idOf } = plan;
   const NS = 'http://www.w3.org/2000/svg';
   const svg = document.createElementNS(NS, 'svg');
   svg.setAttribute('viewBox', `0 0 ${W} ${H}`); svg.setAttribute('class', 'chart'); svg.setAttribute('role', 'img');
@@ -235,24 +270,24 @@ export function planView(a, name, id = a.identification) {
     add('polyline', { class: 'plan-line', points: run.map((i) => `${X(xs[i]).toFixed(1)},${Y(ys[i]).toFixed(1)}`).join(' '), fill: 'none', stroke: '#bbb' });
   }
   const layer = add('g', { class: 'where-layer' });
-  pts.forEach((p, i) => {
+  for (let i = 0; i < n; i++) {
     const r = res[i];
     const color = r >= 0 ? '#1f77b4' : '#d62728';
-    const xa = X(p.foot[0]), ya = Y(p.foot[1]);
-    const xb = X(plan.tips[i][0]), yb = Y(plan.tips[i][1]);
+    const xa = X(xs[i]), ya = Y(ys[i]);
+    const xb = X(plan.tx[i]), yb = Y(plan.ty[i]);
     add('line', { x1: xa, y1: ya, x2: xb, y2: yb, stroke: color, 'stroke-width': 2 });
-    add('circle', { cx: xb, cy: yb, r: 2, fill: color }).appendChild(document.createElementNS(NS, 'title')).textContent = `point ${p.file.id}: residual ${(r * 1000).toFixed(2)} µm`;
-  });
+    add('circle', { cx: xb, cy: yb, r: 2, fill: color }).appendChild(document.createElementNS(NS, 'title')).textContent = `point ${idOf(i)}: residual ${(r * 1000).toFixed(2)} µm`;
+  }
   for (const o of (a.outliers && a.outliers.points) || []) {
     const i = o.row;
-    if (i === undefined || !pts[i]) continue;
+    if (i === undefined || !(i < n)) continue;
     const ring = add('circle', { cx: X(xs[i]), cy: Y(ys[i]), r: 9, fill: 'none', stroke: '#d62728', 'stroke-width': 2.5, 'stroke-dasharray': '3 2',
       class: 'outlier-ring', 'data-id': o.id, role: 'img', 'aria-label': `outlier: point ${o.id}, ${(o.size * 1000).toFixed(1)} µm` });
     add('title', {}, ring).textContent = `outlier: point ${o.id}, ${(o.size * 1000).toFixed(1)} µm from the fit without it (|t| = ${o.statistic.toFixed(1)}); ${a.outliers.excluded ? 'left out' : 'kept'}`;
   }
   add('text', { x: W - pad, y: H - 8, 'text-anchor': 'end', fill: '#555' }).textContent = plan.legend;
   const note = add('text', { x: pad, y: H - 52, fill: '#7a4b00', class: 'note' });
-  const byId = new Map(pts.map((p, i) => [String(p.file.id), i]));
+  const byId = pointIndex(a);
   function drawWhere() {
     layer.textContent = '';
     const w = whereOf(a);

@@ -3,7 +3,9 @@
 // `__m_pkg_testpiece` and `__m_pkg_testpiece_tools`, before this text). Same protocol as
 // worker.js, plus a first message {init: the first module's wasm bytes}; the load message of the
 // second module carries its bytes ({id, load: 'tools', wasm}), which the page decodes only then.
-/* global __m_pkg_testpiece, __m_pkg_testpiece_tools */
+// An analysis is packed into columns as in worker.js (`__m_columns`: columns.js, folded before
+// this text).
+/* global __m_pkg_testpiece, __m_pkg_testpiece_tools, __m_columns */
 let startError = null;
 let toolsStarted = false;
 const kept = new Map(); // the prepared settings per module, as in worker.js
@@ -43,7 +45,11 @@ self.onmessage = (ev) => {
     if (typeof fn !== 'function') throw new Error(`the core has no operation "${op}"`);
     const first = prepare === undefined ? [] : [preparedFor(m, prepare)];
     const last = msg.progress ? [(p) => self.postMessage({ id, progress: p })] : [];
-    self.postMessage({ id, ok: true, result: fn(...first, ...(args || []), ...last) });
+    const result = fn(...first, ...(args || []), ...last);
+    if (__m_columns.PACKED_OPS.includes(op) && !msg.module) {
+      const transfer = __m_columns.packAnalysis(result);
+      self.postMessage({ id, ok: true, result, packed: true }, transfer);
+    } else self.postMessage({ id, ok: true, result });
   } catch (e) {
     self.postMessage({ id, ok: false, error: e && e.message ? e.message : String(e), badRows: e && e.bad_rows });
   }

@@ -7,12 +7,14 @@
 // fraction, text}} for each stage the export reports through the function it is given last (`badRows`: the `bad_rows` of an error of `analyse`, src/wasm/analysis.rs).
 // `op` names an export of the module `module` ('tools' for the second, else the first, src/wasm/);
 // {id, load: 'tools'} loads the second module and answers with no result. Arguments and results
-// are structured-cloned.
+// are structured-cloned, but for an analysis (`PACKED_OPS`, columns.js): its per-point arrays
+// travel as typed-array columns, transferred, and the answer says `packed: true`.
 // With `prepare` (analysis settings), the export gets the module's prepared settings for their
 // machine, L0, branch and mode as its first argument (src/wasm/prepared.rs): the worker keeps the
 // last two it built per module (a wasm object lives in its own module's memory) and builds
 // another only when those settings change.
 import init, * as core from './pkg/testpiece.js';
+import { packAnalysis, PACKED_OPS } from './columns.js';
 
 const started = init().then(() => core);
 let tools = null; // the second module's exports once imported and started
@@ -51,7 +53,10 @@ self.onmessage = async (ev) => {
     const first = prepare === undefined ? [] : [preparedFor(m, prepare)];
     const last = ev.data.progress ? [(p) => self.postMessage({ id, progress: p })] : [];
     const result = fn(...first, ...(args || []), ...last);
-    self.postMessage({ id, ok: true, result });
+    if (PACKED_OPS.includes(op) && !ev.data.module) {
+      const transfer = packAnalysis(result);
+      self.postMessage({ id, ok: true, result, packed: true }, transfer);
+    } else self.postMessage({ id, ok: true, result });
   } catch (e) {
     self.postMessage({ id, ok: false, error: e && e.message ? e.message : String(e), badRows: e && e.bad_rows });
   }

@@ -5,6 +5,7 @@
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
+use super::columns::{packed, packed_numbers};
 use super::prepared::PreparedSettings;
 use crate::analysis::{
     analyse_parts_with, Analysis, AnalysisError, AnalysisOptions, Diagnosis, Progress,
@@ -37,18 +38,138 @@ struct PageAnalysis<'a> {
     error_set: MachineSet<'a>,
 }
 
-fn page_analysis(a: &Analysis, prepared: &Prepared) -> Result<JsValue, JsError> {
+/// A step from the page's object to one of its per-point arrays: a key or an index.
+enum Step {
+    Key(&'static str),
+    Index(usize),
+}
+
+impl Step {
+    fn js(&self) -> JsValue {
+        match self {
+            Step::Key(k) => JsValue::from_str(k),
+            Step::Index(i) => JsValue::from(*i as u32),
+        }
+    }
+}
+
+/// The per-point arrays of `a` (www/columns.js `PER_POINT`) as packed columns
+/// ([`super::columns`]), each with where it goes; each one written is left empty in `a`, so
+/// that the JSON of the rest holds `[]` in its place (an array refused, `NotColumns`, stays
+/// whole in the JSON: the worker packs it).
+fn take_columns(a: &mut Analysis) -> Vec<(Vec<Step>, JsValue)> {
+    use Step::{Index, Key};
+    let mut out = Vec::new();
+    fn table<T: Serialize>(
+        list: &mut Vec<T>,
+        path: Vec<Step>,
+        out: &mut Vec<(Vec<Step>, JsValue)>,
+    ) {
+        if let Ok(col) = packed(list) {
+            *list = Vec::new();
+            out.push((path, col));
+        }
+    }
+    fn numbers(list: &mut Vec<f64>, path: Vec<Step>, out: &mut Vec<(Vec<Step>, JsValue)>) {
+        if !list.is_empty() {
+            out.push((path, packed_numbers(list)));
+            *list = Vec::new();
+        }
+    }
+    fn ids(list: &mut Vec<u32>, path: Vec<Step>, out: &mut Vec<(Vec<Step>, JsValue)>) {
+        if !list.is_empty() {
+            let v: Vec<f64> = list.iter().map(|&i| f64::from(i)).collect();
+            out.push((path, packed_numbers(&v)));
+            *list = Vec::new();
+        }
+    }
+    table(&mut a.points, vec![Key("points")], &mut out);
+    table(
+        &mut a.file.points,
+        vec![Key("file"), Key("points")],
+        &mut out,
+    );
+    table(
+        &mut a.identification.points,
+        vec![Key("identification"), Key("points")],
+        &mut out,
+    );
+    table(
+        &mut a.baseline.identification.points,
+        vec![Key("baseline"), Key("identification"), Key("points")],
+        &mut out,
+    );
+    if let Some(p) = &mut a.path_position {
+        numbers(p, vec![Key("path_position")], &mut out);
+    }
+    for (k, c) in a.design.columns.iter_mut().enumerate() {
+        numbers(c, vec![Key("design"), Key("columns"), Index(k)], &mut out);
+    }
+    for (k, c) in a.baseline.design.columns.iter_mut().enumerate() {
+        let path = vec![Key("baseline"), Key("design"), Key("columns"), Index(k)];
+        numbers(c, path, &mut out);
+    }
+    if let Diagnosis::Made { report, .. } = &mut a.diagnosis {
+        for (k, e) in report.where_.iter_mut().enumerate() {
+            let path = vec![
+                Key("diagnosis"),
+                Key("report"),
+                Key("where"),
+                Index(k),
+                Key("ids"),
+            ];
+            ids(&mut e.ids, path, &mut out);
+        }
+        for (k, e) in report.structure.entries.iter_mut().enumerate() {
+            let path = vec![
+                Key("diagnosis"),
+                Key("report"),
+                Key("structure"),
+                Key("entries"),
+                Index(k),
+                Key("ids"),
+            ];
+            ids(&mut e.ids, path, &mut out);
+        }
+    }
+    out
+}
+
+/// Puts `value` at `path` under `root` (a path [`take_columns`] gave: it exists in the JSON).
+fn place(root: &JsValue, path: &[Step], value: &JsValue) -> Result<(), JsError> {
+    let missing = || {
+        JsError::new(
+            "could not convert the result for the page: a per-point array's place is missing",
+        )
+    };
+    let (last, steps) = path.split_last().ok_or_else(missing)?;
+    let mut holder = root.clone();
+    for step in steps {
+        holder = js_sys::Reflect::get(&holder, &step.js()).map_err(|_| missing())?;
+    }
+    js_sys::Reflect::set(&holder, &last.js(), value).map_err(|_| missing())?;
+    Ok(())
+}
+
+/// `a` as the page receives it: the JSON of [`PageAnalysis`] with its per-point arrays as
+/// packed columns ([`take_columns`]).
+fn page_analysis(mut a: Analysis, prepared: &Prepared) -> Result<JsValue, JsError> {
     let set = prepared.error_set();
     let effects = machine_effects(prepared);
     let verdict_line = match &a.diagnosis {
         Diagnosis::Made { report, .. } => crate::gap::report::verdict_line(&report.verdict),
         Diagnosis::NotMade { reason } => format!("Verdict: not available ({reason})"),
     };
-    super::to_js(&PageAnalysis {
-        analysis: a,
+    let columns = take_columns(&mut a);
+    let page = super::to_js(&PageAnalysis {
+        analysis: &a,
         verdict_line,
         error_set: MachineSet { set, effects },
-    })
+    })?;
+    for (path, col) in &columns {
+        place(&page, path, col)?;
+    }
+    Ok(page)
 }
 
 /// A failed analysis as a JS `Error` whose message is the core's; when the file was refused
@@ -101,7 +222,7 @@ pub fn analyse(
     let session = prepared.session();
     let (a, _) = analyse_parts_with(session, &[(bytes, name)], &opts, &mut sink_of(progress))
         .map_err(analysis_error)?;
-    Ok(page_analysis(&a, session.prepared())?)
+    Ok(page_analysis(a, session.prepared())?)
 }
 
 /// Repeat measurements of one part on `prepared` (as for `analyse`): `files` = `[{name, bytes:
@@ -126,5 +247,5 @@ pub fn analyse_repeats_js(
     let session = prepared.session();
     let (a, _) = analyse_parts_with(session, &list, &opts, &mut sink_of(progress))
         .map_err(analysis_error)?;
-    Ok(page_analysis(&a, session.prepared())?)
+    Ok(page_analysis(a, session.prepared())?)
 }

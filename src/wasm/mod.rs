@@ -22,6 +22,8 @@ pub mod analysis;
 #[cfg(feature = "bench")]
 pub mod bench;
 #[cfg(feature = "page-core")]
+mod columns;
+#[cfg(feature = "page-core")]
 pub mod curves;
 #[cfg(feature = "page-core")]
 pub mod page;

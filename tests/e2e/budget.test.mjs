@@ -29,7 +29,7 @@ test('a CMM file and a CL file give the budget table, equal to the CLI', async (
   await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
   const cmm = path.join(DATA, 'example_measured.csv');
   await page.setInputFiles('#file', cmm);
-  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('example_measured.csv'), null, { timeout: 30000 });
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('example_measured.csv') && !document.body.dataset.busy, null, { timeout: 30000 });
   await page.click('#tab-budget');
   await page.setInputFiles('#budget-cl', path.join(DATA, 'example_cl.apt'));
   await page.setInputFiles('#budget-trace', path.join(DATA, 'example_trace.csv'));

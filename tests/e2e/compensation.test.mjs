@@ -29,7 +29,7 @@ test('the Correction view equals identify --compensation on the example part', a
   page.on('pageerror', (e) => errors.push(e.message));
   await page.goto(url);
   await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
-  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('example_backlash_c.csv'), null, { timeout: 60000 });
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('example_backlash_c.csv') && !document.body.dataset.busy, null, { timeout: 60000 });
   await page.click('#tab-compensation');
   await page.waitForSelector('[data-table="compensation-axes"]', { timeout: 60000 });
   const native = JSON.parse(execFileSync('cargo', ['run', '--quiet', '--bin', 'testpiece', '--', 'identify',

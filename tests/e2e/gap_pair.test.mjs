@@ -27,7 +27,7 @@ test('a part with two effects names both, as the CLI does', async () => {
   await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
   const file = path.join(ROOT, 'tests', 'data', 'gap', 'two_effects.csv');
   await page.setInputFiles('#file', file);
-  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('two_effects.csv'), null, { timeout: 60000 });
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('two_effects.csv') && !document.body.dataset.busy, null, { timeout: 60000 });
   const line = await page.locator('#verdict-line').textContent();
   const native = JSON.parse(execFileSync('cargo', ['run', '--quiet', '--bin', 'testpiece', '--', 'diagnose', file, '--json'],
     { cwd: ROOT, encoding: 'utf8' }));

@@ -78,7 +78,7 @@ test('the first view does not fetch the second module; Program and Plan work aft
   await page.click('#tab-identify');
   await page.fill('#sigma', '1.5');
   await page.dispatchEvent('#sigma', 'change');
-  await page.waitForFunction(() => !document.body.dataset.busy && document.querySelector('#summary')?.textContent.includes('from 100 points'), null, { timeout: 60000 });
+  await page.waitForFunction(() => !document.body.dataset.busy && document.querySelector('#summary')?.textContent.includes('from 100 points') && !document.body.dataset.busy, null, { timeout: 60000 });
   assert.deepEqual(errors, []);
   await page.close();
 });

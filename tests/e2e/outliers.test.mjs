@@ -36,7 +36,7 @@ test('a spike at one point is named, ringed and left out, as the CLI does', asyn
   await page.goto(url);
   await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
   await page.setInputFiles('#file', file);
-  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('clean_spike38.csv'), null, { timeout: 60000 });
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('clean_spike38.csv') && !document.body.dataset.busy, null, { timeout: 60000 });
   assert.match(await page.textContent('#verdict-line'), /\(`none`\)/);
   assert.match(await page.textContent('#outlier-line'), /38/);
   await page.click('#tab-identify');

@@ -51,7 +51,7 @@ const num = async (loc) => Number(await loc.getAttribute('data-value'));
 async function upload(page, file) {
   await page.setInputFiles('#file', file);
   const name = path.basename(file);
-  await page.waitForFunction((n) => document.querySelector('#summary')?.textContent.includes(n), name, { timeout: 30000 });
+  await page.waitForFunction((n) => document.querySelector('#summary')?.textContent.includes(n) && !document.body.dataset.busy, name, { timeout: 30000 });
 }
 
 test('the example part is analysed at once and its numbers are the core\'s', async () => {
@@ -240,7 +240,7 @@ test('the single-file build works from file:// with no server, its core in a Blo
   await page.waitForFunction(() => window.__busySeen, null, { timeout: 10000 });
   await page.fill('#sigma', '1.7');
   const typedWhileBusy = await page.evaluate(() => document.body.dataset.busy === 'true' && document.getElementById('sigma').value === '1.7');
-  await page.waitForFunction(() => !document.body.dataset.busy && document.querySelector('#summary')?.textContent.includes('from 100 points'), null, { timeout: 60000 });
+  await page.waitForFunction(() => !document.body.dataset.busy && document.querySelector('#summary')?.textContent.includes('from 100 points') && !document.body.dataset.busy, null, { timeout: 60000 });
   const gaps = await page.evaluate(() => { clearInterval(window.__tick); return window.__gaps; });
   console.log(`single file: first plot ${firstPlot} ms wall clock; re-analysis ${Date.now() - t1} ms, longest main-thread gap while busy ${gaps.max.toFixed(0)} ms over ${gaps.busyTicks} ticks; typed while busy: ${typedWhileBusy}`);
   assert.ok(gaps.busyTicks > 0, 'the page ticked while the core computed');
@@ -253,7 +253,7 @@ test('the single-file build works from file:// with no server, its core in a Blo
   const t2 = Date.now();
   await page.fill('#l0', '499.889');
   await page.dispatchEvent('#l0', 'change');
-  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('from 100 points'), null, { timeout: 60000 });
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('from 100 points') && !document.body.dataset.busy, null, { timeout: 60000 });
   console.log(`single file: after cancel, the restarted worker analysed in ${Date.now() - t2} ms`);
   // The second wasm module (inlined too), started in the worker when the Program view opens.
   await page.click('#tab-program');
@@ -319,7 +319,7 @@ test('the machine setting changes the chain, its error set and the curves; cone 
   // The tilting table's own set (issue 20: EY0C and EZ0B instead of EB0C and EA0B): wait for
   // its residual.
   const rms = `RMS ${(native.residual.rms * 1000).toFixed(2)} µm`;
-  await page.waitForFunction((r) => document.querySelector('#summary')?.textContent.includes(r), rms, { timeout: 60000 });
+  await page.waitForFunction((r) => document.querySelector('#summary')?.textContent.includes(r) && !document.body.dataset.busy, rms, { timeout: 60000 });
   assert.match(await page.textContent('#view-fig19'), /tilting table/);
   const names = await page.locator('[data-table="parameters"] tbody tr td:first-child').allTextContents();
   assert.deepEqual([...names].sort(), Object.keys(native.parameters).sort());
@@ -359,7 +359,7 @@ test('a long computation can be cancelled (worker restarted) and the page keeps 
   const t1 = Date.now();
   await page.fill('#l0', '499.889');
   await page.dispatchEvent('#l0', 'change');
-  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('from 100 points'), null, { timeout: 60000 });
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('from 100 points') && !document.body.dataset.busy, null, { timeout: 60000 });
   const ms = Date.now() - t1;
   const shown = await page.evaluate(() => document.body.dataset.progressShown === 'true');
   console.log(`re-analysis after the restart: ${ms} ms; progress indication shown: ${shown}`);

@@ -36,7 +36,7 @@ test('two measurements of one part are analysed as repeats, as the CLI does', as
   await page.click('#tab-parts');
   await page.waitForSelector('#repeat-run', { timeout: 60000 });
   await page.click('#repeat-run');
-  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('mean of 2 repeats'), null, { timeout: 60000 });
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('mean of 2 repeats') && !document.body.dataset.busy, null, { timeout: 60000 });
   await page.click('#tab-gap');
   const gap = await page.textContent('#gap-summary');
   assert.match(gap, /from 2 repeat measurements/);

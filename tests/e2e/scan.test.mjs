@@ -19,7 +19,7 @@ test('a scan\'s plan view has one line per scan line', async () => {
   const { page, errors } = await readyPage(context, url);
   assert.equal(await page.locator('[data-chart="plan-view"] polyline.plan-line').count(), 4, 'the example: one line per curve');
   await page.setInputFiles('#file', file);
-  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('scan_5x60.csv'), null, { timeout: 120000 });
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('scan_5x60.csv') && !document.body.dataset.busy, null, { timeout: 120000 });
   assert.match(await page.textContent('#verdict-line'), new RegExp(`\\(\`${native.verdict.effect}\`\\)`));
   await page.click('#tab-identify');
   const lines = page.locator('[data-chart="plan-view"] polyline.plan-line');

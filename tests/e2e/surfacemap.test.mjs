@@ -72,7 +72,7 @@ test('a scan is mapped per surface: cells, colours and reversals', async () => {
   }
 
   await page.setInputFiles('#file', file);
-  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('scan_5x60.csv'), null, { timeout: 120000 });
+  await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('scan_5x60.csv') && !document.body.dataset.busy, null, { timeout: 120000 });
   await page.waitForSelector('#view-identify .surface-map[data-surface="A"][data-points="300"]');
   const drawn = [];
   for (const s of ['A', 'B']) {

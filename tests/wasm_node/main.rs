@@ -11,6 +11,8 @@ mod cmm;
 #[cfg(feature = "page-core")]
 mod cmm_broken;
 #[cfg(feature = "page-core")]
+mod columns;
+#[cfg(feature = "page-core")]
 mod gap;
 mod machine;
 #[cfg(feature = "page-core")]
