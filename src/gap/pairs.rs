@@ -39,9 +39,8 @@ use serde::Serialize;
 
 use crate::effects::data::{Candidate, NamedColumns};
 use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
-use crate::gap::shape::rss_with;
+use crate::gap::shape::Unabsorbed;
 use crate::gap::which::{fit_candidate, CandidateFit, Context};
-use crate::identify::solve::hstack;
 use crate::numerics::order::sort_by_key_f64;
 use crate::numerics::stats;
 use crate::numerics::stats::CHI2_1_95;
@@ -86,17 +85,22 @@ fn joint_shapes(
     if a.family.is_none() && b.family.is_none() {
         return (a.at_shape(None), b.at_shape(None), [None, None]);
     }
-    let rss = |s: &DMatrix<f64>| rss_with(&ctx.baseline.factor, &ctx.baseline.residual, s);
+    let factor = &ctx.baseline.factor;
     for _ in 0..2 {
         for which in 0..2 {
             let (me, other) = if which == 0 { (a, b) } else { (b, a) };
             let Some(family) = &me.family else { continue };
             let fixed = other.at_shape(idx[1 - which]);
+            // the other member's part outside the baseline once for the whole grid
+            let fixed = Unabsorbed::of(factor, &fixed.signature.matrix);
             let best = family
                 .signatures
                 .iter()
                 .enumerate()
-                .map(|(k, m)| (k, rss(&hstack(m, &fixed.signature.matrix))))
+                .map(|(k, m)| {
+                    let u = Unabsorbed::of(factor, m).beside(&fixed);
+                    (k, u.rss(&ctx.baseline.residual).0)
+                })
                 .min_by(|x, y| x.1.total_cmp(&y.1))
                 .map(|(k, _)| k);
             idx[which] = best;

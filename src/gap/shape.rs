@@ -21,7 +21,7 @@ use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use serde::Serialize;
 
 use crate::effects::data::Candidate;
-use crate::identify::solve::Factor;
+use crate::identify::solve::{hstack, Factor};
 use crate::machine::Unit;
 use crate::numerics::stats;
 
@@ -52,14 +52,44 @@ pub struct ShapeFit {
     pub effective_shapes: f64,
 }
 
+/// Columns' parts outside the baseline (`u = s − QQᵀs`, [`Factor::unabsorbed`]) with the norms of
+/// the columns themselves (what the rank of `u` is judged against): all a Frisch–Waugh–Lovell fit
+/// needs of them ([`Unabsorbed::rss`]). Columns held fixed while a family's member is searched
+/// are unabsorbed once ([`Unabsorbed::beside`]: the same numbers, column by column).
+pub struct Unabsorbed {
+    pub u: DMatrix<f64>,
+    pub norms: Vec<f64>,
+}
+
+impl Unabsorbed {
+    pub fn of(factor: &Factor, s: &DMatrix<f64>) -> Self {
+        Self {
+            norms: (0..s.ncols()).map(|j| s.column(j).norm()).collect(),
+            u: factor.unabsorbed(s),
+        }
+    }
+
+    /// `[self | other]`.
+    pub fn beside(&self, other: &Unabsorbed) -> Self {
+        Self {
+            u: hstack(&self.u, &other.u),
+            norms: self.norms.iter().chain(&other.norms).copied().collect(),
+        }
+    }
+
+    /// The residual sum of squares of the baseline plus these columns on the baseline residual
+    /// `r0` (Frisch–Waugh–Lovell), and the rank they add.
+    pub fn rss(&self, r0: &DVector<f64>) -> (f64, usize) {
+        let fu = Factor::new(&self.u, Some(&self.norms));
+        let theta = fu.solve(r0);
+        ((r0 - &self.u * theta).norm_squared(), fu.rank)
+    }
+}
+
 /// The residual sum of squares of the baseline plus the columns `s` on the baseline residual
 /// `r0` (Frisch–Waugh–Lovell), and the rank `s` adds.
 fn fwl(factor: &Factor, r0: &DVector<f64>, s: &DMatrix<f64>) -> (f64, usize) {
-    let scale: Vec<f64> = (0..s.ncols()).map(|j| s.column(j).norm()).collect();
-    let u = factor.unabsorbed(s);
-    let fu = Factor::new(&u, Some(&scale));
-    let theta = fu.solve(r0);
-    ((r0 - &u * theta).norm_squared(), fu.rank)
+    Unabsorbed::of(factor, s).rss(r0)
 }
 
 /// The residual sum of squares of the baseline plus the columns `s`, on the baseline residual
