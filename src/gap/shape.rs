@@ -92,12 +92,6 @@ fn fwl(factor: &Factor, r0: &DVector<f64>, s: &DMatrix<f64>) -> (f64, usize) {
     Unabsorbed::of(factor, s).rss(r0)
 }
 
-/// The residual sum of squares of the baseline plus the columns `s`, on the baseline residual
-/// `r0` (Frisch–Waugh–Lovell).
-pub fn rss_with(factor: &Factor, r0: &DVector<f64>, s: &DMatrix<f64>) -> f64 {
-    fwl(factor, r0, s).0
-}
-
 /// `m_eff` of the family of `c` on the baseline `factor` (module doc); 1 for a candidate of one
 /// shape.
 pub fn effective_shapes(factor: &Factor, c: &Candidate) -> f64 {

@@ -44,8 +44,7 @@ impl Factor {
     pub fn new(a: &DMatrix<f64>, scale: Option<&[f64]>) -> Self {
         if a.ncols() == 1 {
             // by its norm, without a copy
-            let d = scale.map_or_else(|| a.column(0).norm(), |s| s[0]);
-            return Self::column(a, usable_scale(d));
+            return Self::column(a, column_scales(a, scale)[0]);
         }
         Self::of(a.clone(), scale)
     }
@@ -63,9 +62,7 @@ impl Factor {
                 condition: 1.0,
             };
         }
-        let d: Vec<f64> = (0..p)
-            .map(|j| usable_scale(scale.map_or_else(|| a.column(j).norm(), |s| s[j])))
-            .collect();
+        let d = column_scales(&a, scale);
         if p == 1 {
             return Self::column(&a, d[0]);
         }
@@ -140,8 +137,16 @@ impl Factor {
     }
 }
 
-/// A column's scale: its norm (or the norm given), 1 when that is 0 or not finite.
-fn usable_scale(s: f64) -> f64 {
+/// The norm each column of `a` is measured against: `scale[j]` when given, else the column's
+/// norm; 1 where that is 0 or not finite ([`usable_scale`]).
+fn column_scales(a: &DMatrix<f64>, scale: Option<&[f64]>) -> Vec<f64> {
+    (0..a.ncols())
+        .map(|j| usable_scale(scale.map_or_else(|| a.column(j).norm(), |s| s[j])))
+        .collect()
+}
+
+/// A scale usable as a divisor: `s`, or 1 when `s` is 0, negative or not finite.
+pub(crate) fn usable_scale(s: f64) -> f64 {
     if s > 0.0 && s.is_finite() {
         s
     } else {

@@ -691,15 +691,9 @@ fn waves_gram_rss(waves: &[WaveSums], btr: &nalgebra::DVector<f64>, rr: f64) -> 
         gram[(2 * j + 1, 2 * j + 1)] = w.ss;
     }
     gram -= bcm.tr_mul(&bcm);
+    // the norms of the columns of `W` (1 for a column with none)
     let d: Vec<f64> = (0..k)
-        .map(|j| {
-            let v = gram[(j, j)];
-            if v > 0.0 && v.is_finite() {
-                v.sqrt()
-            } else {
-                1.0
-            }
-        })
+        .map(|j| crate::identify::solve::usable_scale(gram[(j, j)].sqrt()))
         .collect();
     for i in 0..k {
         g[i] /= d[i];

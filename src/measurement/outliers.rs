@@ -509,6 +509,8 @@ fn with_best_candidate<'a>(
     }
 }
 
+/// Whether no neighbour of row `i` shares its excursion `d` (deleted residuals, in the fit
+/// without `i`).
 fn isolated(
     x: &DMatrix<f64>,
     y: &DVector<f64>,

@@ -291,13 +291,14 @@ pub(crate) fn golden_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f
             fd = f(d);
         }
     }
-    let mut best = if fc <= fd { (c, fc) } else { (d, fd) };
-    for cand in [(a0, fa0), (b0, fb0)] {
-        if cand.1 < best.1 {
-            best = cand;
-        }
-    }
-    best
+    let best = if fc <= fd { (c, fc) } else { (d, fd) };
+    lowest_with_ends(best, [(a0, fa0), (b0, fb0)])
+}
+
+/// `best`, or an end of the interval whose value is lower (the minimisers' last step).
+fn lowest_with_ends(best: (f64, f64), ends: [(f64, f64); 2]) -> (f64, f64) {
+    ends.into_iter()
+        .fold(best, |b, cand| if cand.1 < b.1 { cand } else { b })
 }
 
 /// Brent's minimum of `f` on `[a, b]` (R. P. Brent, *Algorithms for Minimization without
@@ -379,13 +380,7 @@ pub(crate) fn brent_min(f: &impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> (f
             }
         }
     }
-    let mut best = (x, fx);
-    for cand in [(a0, fa0), (b0, fb0)] {
-        if cand.1 < best.1 {
-            best = cand;
-        }
-    }
-    best
+    lowest_with_ends((x, fx), [(a0, fa0), (b0, fb0)])
 }
 
 /// The envelope deviation at one built-in point.
