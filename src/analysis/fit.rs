@@ -93,6 +93,7 @@ pub fn fit_points_with(
     // the candidates at the shapes the diagnosis fitted (a backlash's lag, a warm-up)
     let shaped = modelled
         .model
+        .as_deref()
         .map_or_else(Vec::new, |m| match diagnosis.report() {
             Some(r) => crate::gap::which::at_fitted_shapes(
                 &m.candidates,
@@ -111,7 +112,7 @@ pub fn fit_points_with(
             observations: &obs,
             baseline: &identification,
             baseline_refinement: refinement.as_ref(),
-            model: modelled.model,
+            model: modelled.model.as_deref(),
             verdict: diagnosis.report().map(|r| &r.verdict),
             noise_sigma: diagnosis.report().map(|r| r.structure.noise.used),
             unavailable: &modelled.unavailable,

@@ -1,15 +1,17 @@
 //! The signatures and point metadata of the built-in S-shape points, from the geometry.
 
 use crate::effects::data::{Candidate, Family, NamedColumns, PointMeta};
-use crate::effects::effect::SignatureModel;
+use crate::effects::effect::{warm_up_basis, SignatureModel};
+use crate::effects::family::Members;
 use crate::effects::path_model::PathModel;
 use crate::effects::EffectPoint;
 use crate::effects::GapError;
 use crate::machine::{AxisName, AxisValues, ErrorParam};
 use crate::numerics::order::argsort;
-use crate::parameter::{Effect, ParamId};
+use crate::parameter::{Effect, ParamId, Shape};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
+use crate::sensitivity::reversal::{backlash_gains, grid_spots, lagged_columns_at, GridSpot};
 use crate::sensitivity::SensitivityOptions;
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
 use crate::toolpath::tip_length::TipLength;
@@ -44,6 +46,7 @@ fn effect_points_on(
                 n: m.normal,
                 h: m.h,
                 s,
+                second: m.surface == Surface::B,
             }
         })
         .collect()
@@ -84,9 +87,97 @@ pub struct PartModel {
     pub baseline: NamedColumns,
     pub candidates: Vec<Candidate>,
     pub reversals: Vec<crate::effects::data::Reversal>,
+    /// What the backlash candidates are made of beside the lags, to rebuild them with the play's
+    /// take-up ([`PartModel::with_take_up`]).
+    pub backlash: BacklashBasis,
+}
+
+/// The profiled parameter of a backlash family rebuilt with the play's take-up: the lost motion
+/// whose take-up a member has (the axis's unit), 0 for the member switched at the reversal.
+pub fn take_up_shape(axis: AxisName, b: f64) -> Shape {
+    Shape {
+        name: "take_up",
+        unit: Effect::Backlash(axis).parameters()[0].1.clone(),
+        reference: 0.0,
+        grid: vec![0.0, b],
+    }
+}
+
+/// The factors of the backlash columns that do not depend on the lag: the gains `(∂x/∂q)·N` of
+/// the lags' axes ([`crate::sensitivity::reversal::backlash_gains`], one vector per axis of
+/// [`PathModel::lags`]) and where each point falls on the passes' grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BacklashBasis {
+    pub gains: Vec<Vec<f64>>,
+    pub spots: Vec<GridSpot>,
 }
 
 impl PartModel {
+    /// This model with the family of the backlash candidates of the axes in `lost` (axis, lost
+    /// motion `b` in its unit) holding, beside each lag's member switched at the reversal, the
+    /// same lag with the play's take-up of `b` ([`crate::sensitivity::take_up`]), the take-up a
+    /// profiled parameter of the family ([`take_up_shape`]). `path` is the path model this model
+    /// was built on. Their signature at the reference lag, axes with `b ≤ 0` and every other
+    /// candidate are kept as they are.
+    pub fn with_take_up(
+        &self,
+        path: &PathModel,
+        lost: &[(AxisName, f64)],
+    ) -> Result<PartModel, GapError> {
+        let axes = &path.lags[0].axes;
+        let b: Vec<f64> = axes
+            .iter()
+            .map(|a| {
+                lost.iter()
+                    .find(|(x, _)| x == a)
+                    .map_or(0.0, |(_, b)| b.max(0.0))
+            })
+            .collect();
+        let mut out = self.clone();
+        if b.iter().all(|v| *v == 0.0) {
+            return Ok(out);
+        }
+        // each lag's columns with the take-up (PathModel::taken_up's order)
+        let columns: Vec<Vec<Vec<f64>>> = path
+            .taken_up(&b)
+            .iter()
+            .map(|lags| lagged_columns_at(lags, &self.backlash.spots, &self.backlash.gains))
+            .collect();
+        for c in out.candidates.iter_mut() {
+            let Effect::Backlash(axis) = c.effect else {
+                continue;
+            };
+            let Some(i) = axes.iter().position(|a| *a == axis) else {
+                continue;
+            };
+            if b[i] == 0.0 {
+                continue;
+            }
+            let ids = c.effect.parameter_ids();
+            // each lag's member switched at the reversal (as it was) and with the take-up: the
+            // take-up is profiled out, so the lag's interval holds every lag either explains
+            let family = match (&c.family, c.effect.shape()) {
+                (Some(old), Some(shape)) if old.len() == shape.grid.len() => {
+                    let mut members = Vec::with_capacity(2 * old.len());
+                    for (k, cols) in columns.iter().enumerate() {
+                        members.push(old.member(k).into_owned());
+                        members.push(
+                            NamedColumns::from_columns(ids.clone(), &[cols[i].clone()])?.matrix,
+                        );
+                    }
+                    Some(Family {
+                        shape,
+                        profiled: Some(take_up_shape(axis, b[i])),
+                        members: Members::Stored(members),
+                    })
+                }
+                _ => None,
+            };
+            c.family = family;
+        }
+        Ok(out)
+    }
+
     /// The deviation (mm, one value per point) that the effects' parameters `values` (an
     /// effect, the index of its parameter, the value in the parameter's unit) leave on this
     /// part: `Σ value · signature column` (effects.md: signatures are per unit of each parameter).
@@ -134,14 +225,19 @@ fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapErr
     let columns = effect
         .signature(model)
         .ok_or(GapError::NotModelled(effect))?;
-    let family = match (effect.shape(), effect.family_signatures(model)) {
-        (Some(shape), Some(members)) => Some(Family {
+    let family = match (effect, effect.shape(), effect.family_signatures(model)) {
+        (Effect::ThermalDrift, Some(shape), _) => Some(Family {
             shape,
-            signatures: members
+            profiled: effect.profiled(),
+            members: Members::WarmUp(warm_up_basis(model)),
+        }),
+        (_, Some(shape), Some(members)) => Some(Family::stored(
+            shape,
+            members
                 .iter()
                 .map(|cols| Ok(NamedColumns::from_columns(effect.parameter_ids(), cols)?.matrix))
                 .collect::<Result<Vec<_>, GapError>>()?,
-        }),
+        )),
         _ => None,
     };
     Ok(invisible_as_zero(Candidate {
@@ -167,7 +263,6 @@ pub(crate) fn every_candidate_model(
     use crate::effects::machine::{
         c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
-    use crate::sensitivity::reversal::{backlash_gains, grid_spots, lagged_columns_at};
     let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
     let baseline = NamedColumns::try_new(
         sens.errors.iter().map(|e| ParamId::Machine(*e)).collect(),
@@ -223,5 +318,6 @@ pub(crate) fn every_candidate_model(
         baseline,
         candidates,
         reversals: path.reversals.clone(),
+        backlash: BacklashBasis { gains, spots },
     })
 }

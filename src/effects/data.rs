@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use crate::effects::GapError;
 use crate::machine::AxisName;
 use crate::numerics::order::sort_by_key_f64;
-use crate::parameter::{Effect, ParamId, Shape};
+use crate::parameter::{Effect, ParamId};
 use crate::part::Surface;
 
 /// Where a measured point lies on the part and on the tool path.
@@ -118,14 +118,7 @@ pub struct Candidate {
     pub family: Option<Family>,
 }
 
-/// The signatures of a family at the values of its shape grid (effects.md, "Shapes are
-/// families"): the diagnosis fits the amplitude linearly at each and keeps the best shape.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Family {
-    pub shape: Shape,
-    /// One `n × q` matrix per value of `shape.grid`, columns as the candidate's `signature`.
-    pub signatures: Vec<DMatrix<f64>>,
-}
+pub use crate::effects::family::Family;
 
 impl Candidate {
     /// A candidate of one shape.
@@ -142,22 +135,19 @@ impl Candidate {
         Self {
             effect: self.effect,
             signature: self.signature.select_rows(rows),
-            family: self.family.as_ref().map(|f| Family {
-                shape: f.shape.clone(),
-                signatures: f.signatures.iter().map(|m| m.select_rows(rows)).collect(),
-            }),
+            family: self.family.as_ref().map(|f| f.select_rows(rows)),
         }
     }
 
-    /// The candidate of one shape at the grid value `index` of its family (itself when it has
+    /// The candidate of one shape at the member `index` of its family (itself when it has
     /// none): what the final fit uses once the diagnosis has fitted the shape.
     pub fn at_shape(&self, index: Option<usize>) -> Self {
         match (&self.family, index) {
-            (Some(f), Some(k)) if k < f.signatures.len() => Self {
+            (Some(f), Some(k)) if k < f.len() => Self {
                 effect: self.effect,
                 signature: NamedColumns {
                     params: self.signature.params.clone(),
-                    matrix: f.signatures[k].clone(),
+                    matrix: f.member(k).into_owned(),
                 },
                 family: None,
             },

@@ -42,12 +42,16 @@
 //! - Families (effects.md, "Shapes are families"): `backlash_<axis>` at each lag `tau` of its grid
 //!   (the reference 2 mm is the table's), `thermal_drift` with the warm-up
 //!   `g·(1 − exp(−s/(f·s_total)))/(1 − exp(−1/f))` at each `f` of its grid (the linear law the
-//!   limit `f = ∞`, the table's) ([`Effect::family_signatures`]).
+//!   limit `f = ∞`, the table's) ([`Effect::family_signatures`]), and at each pause `π` between
+//!   the passes: the head keeps warming while the machine moves from A to B, so B is machined as
+//!   if `π·s_total` more path had been cut before it ([`warm_up_paused`], [`warm_up_basis`]).
 //! - `pivot_length.dL0`: a real pivot-to-tip length `L0 + dL0` moves the tool by `−dL0·w` along
 //!   its own axis `w`, which has no normal component on a flank-milled wall (`N·w = 0`); the part
 //!   origin was set with B = 0, which removed `−dL0·ẑ`, so what shows is `+dL0·ẑ·N = dL0·N_z`.
 
 use nalgebra::Vector3;
+
+use crate::effects::family::WarmUpBasis;
 
 use crate::machine::AxisName;
 use crate::parameter::Effect;
@@ -86,7 +90,9 @@ impl Effect {
     }
 
     /// The signature columns at every value of the effect's shape grid ([`Effect::shape`]), in
-    /// grid order; `None` for an effect of one shape or when the model has no column for it.
+    /// grid order, for a family whose members are stored (a backlash's lags); `None` for an
+    /// effect of one shape, the warm-up (its members are computed from [`warm_up_basis`]) or when
+    /// the model has no column for it.
     pub fn family_signatures(self, m: &SignatureModel) -> Option<Vec<Vec<Vec<f64>>>> {
         let shape = self.shape()?;
         match self {
@@ -95,13 +101,6 @@ impl Effect {
                 .iter()
                 .map(|cols| axis_column(cols, a))
                 .collect(),
-            Effect::ThermalDrift => Some(
-                shape
-                    .grid
-                    .iter()
-                    .map(|&f| vec![thermal_column(m, f)])
-                    .collect(),
-            ),
             _ => None,
         }
     }
@@ -110,29 +109,43 @@ impl Effect {
 /// The fraction of the whole drift reached at the fraction `x` of the path with the warm-up
 /// constant `f` (effects.md): `(1 − exp(−x/f)) / (1 − exp(−1/f))`, `x` itself for `f = ∞`.
 pub fn warm_up(x: f64, f: f64) -> f64 {
+    warm_up_paused(x, false, f, 0.0)
+}
+
+/// [`warm_up`] with a pause between the passes: the head warms in machining time, and the pause
+/// between A and B (`pause`, a share of the cutting path's time) counts for a point of B
+/// (`second`), `x' = x + pause`; normalised to the drift at the end of B, `x' = 1 + pause`:
+/// `(1 − exp(−x'/f)) / (1 − exp(−(1 + pause)/f))`, `x'/(1 + pause)` for `f = ∞`. With no pause
+/// it is [`warm_up`] to the bit.
+pub fn warm_up_paused(x: f64, second: bool, f: f64, pause: f64) -> f64 {
+    let x = if second { x + pause } else { x };
+    let end = 1.0 + pause;
     if f.is_infinite() {
-        x
+        x / end
     } else {
-        (-x / f).exp_m1() / (-1.0 / f).exp_m1()
+        (-x / f).exp_m1() / (-end / f).exp_m1()
+    }
+}
+
+/// What every member of the warm-up family is made of ([`WarmUpBasis`]): `x = s/s_total`, the
+/// point's pass, and `z = (R_W(q)ᵀẑ)·N` (`N_z` where every workpiece-side rotary axis turns
+/// about z).
+pub fn warm_up_basis(m: &SignatureModel) -> WarmUpBasis {
+    let z: Vec<f64> = match &m.machine_z {
+        None => m.points.iter().map(|p| p.n.z).collect(),
+        Some(z) => m.points.iter().zip(z).map(|(p, z)| z.dot(&p.n)).collect(),
+    };
+    WarmUpBasis {
+        x: m.points.iter().map(|p| p.s / m.s_total).collect(),
+        second: m.points.iter().map(|p| p.second).collect(),
+        z,
     }
 }
 
 /// `thermal_drift.g` with the warm-up constant `f`: `−warm_up(s/s_total, f)·(R_W(q)ᵀẑ)·N`
 /// (module doc; `f = ∞` the linear law of the table).
 fn thermal_column(m: &SignatureModel, f: f64) -> Vec<f64> {
-    match &m.machine_z {
-        None => m
-            .points
-            .iter()
-            .map(|p| -warm_up(p.s / m.s_total, f) * p.n.z)
-            .collect(),
-        Some(z) => m
-            .points
-            .iter()
-            .zip(z)
-            .map(|(p, z)| -warm_up(p.s / m.s_total, f) * z.dot(&p.n))
-            .collect(),
-    }
+    warm_up_basis(m).column(f, 0.0)
 }
 
 /// The column of axis `a` among per-axis columns, as a one-column signature (`None` when the
@@ -159,6 +172,8 @@ pub struct EffectPoint {
     pub h: f64,
     /// Tool-tip path length from the start of A (mm).
     pub s: f64,
+    /// On the second pass (B), machined after the pause between the passes.
+    pub second: bool,
 }
 
 /// The part model the signatures are read from: the points, the exact envelope deviation at
@@ -205,6 +220,7 @@ mod tests {
                 n: Vector3::new(0.6, 0.8, 0.0),
                 h: 3.0,
                 s: 50.0,
+                second: false,
             }],
             envelope: vec![0.0],
             s_total: 100.0,

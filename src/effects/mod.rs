@@ -20,6 +20,7 @@ pub mod catalogue;
 pub mod data;
 pub mod effect;
 pub mod error;
+pub mod family;
 pub mod location_equivalent;
 pub mod machine;
 pub mod path_length;

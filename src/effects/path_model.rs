@@ -16,6 +16,7 @@ use crate::machine::AxisName;
 use crate::parameter::{backlash_axes, Effect};
 use crate::part::{SShape, Surface};
 use crate::sensitivity::reversal::{passes, Lag};
+use crate::sensitivity::take_up::{travels, TurnTravel};
 use crate::sensitivity::SensitivityOptions;
 use crate::toolpath::envelope::pose_table;
 use crate::toolpath::flank::ToolPose;
@@ -28,6 +29,9 @@ pub struct PathModel {
     pub lags: [Lag; 2],
     /// The same at each lag of the backlash family's grid ([`crate::parameter::Effect::shape`]).
     pub lag_family: Vec<[Lag; 2]>,
+    /// Each backlash axis's travel after each of its turns on the passes of A and B
+    /// ([`crate::sensitivity::take_up::travels`]): what the play's take-up is made of.
+    pub travel: [Vec<Vec<TurnTravel>>; 2],
     /// Where each axis reverses, by tool-tip path length from the start of A (mm).
     pub reversals: Vec<Reversal>,
     /// The envelope's pose tables of A and B ([`crate::toolpath::envelope::pose_table`]).
@@ -57,6 +61,10 @@ impl PathModel {
                     ]
                 })
                 .collect(),
+            travel: [
+                travels(part, &passes[0], &axes, opts)?,
+                travels(part, &passes[1], &axes, opts)?,
+            ],
             reversals: reversals(part, &passes, &axes),
             pose_tables: [pose_table(part, Surface::A), pose_table(part, Surface::B)],
         })
@@ -65,6 +73,20 @@ impl PathModel {
     /// Tool-tip path lengths of A and B (the lags' tables).
     pub fn lengths(&self) -> [&TipLength; 2] {
         [&self.lags[0].length, &self.lags[1].length]
+    }
+
+    /// Every lag of the family with the play's take-up of the lost motions `b` (per axis of
+    /// [`PathModel::lags`], in its unit; 0 where none), in the family's order.
+    pub fn taken_up(&self, b: &[f64]) -> Vec<[Lag; 2]> {
+        self.lag_family
+            .iter()
+            .map(|l| {
+                [
+                    l[0].taken_up(&self.travel[0], b),
+                    l[1].taken_up(&self.travel[1], b),
+                ]
+            })
+            .collect()
     }
 
     /// Tool-tip path length of A then B (mm).

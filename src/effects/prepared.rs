@@ -67,6 +67,11 @@ impl Prepared {
         })
     }
 
+    /// The settings-only path model (lags, travels, reversals, pose tables).
+    pub fn path(&self) -> &PathModel {
+        &self.path
+    }
+
     /// The part design.
     pub fn part(&self) -> &SShape {
         &self.part

@@ -13,7 +13,7 @@ use crate::gap::pairs::best_pair;
 use crate::gap::report::{summary, BaselineReport, DiagnosisReport};
 use crate::gap::verdict::{decide, pair_verdict, DecisionInput, Finding, ALPHA};
 use crate::gap::which::{
-    cross_validate, cv_score, estimates, fit_candidate, per_curve, BaselineFit, Context, SmoothFit,
+    cross_validate, cv_score, estimates, fit_searched, per_curve, BaselineFit, Context, SmoothFit,
 };
 use crate::identify::solve::{max_abs, rms, Factor};
 use crate::measurement::layout::curve_degree;
@@ -145,11 +145,12 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     };
     // (c) WHICH: each candidate on its own.
     // a family counts as its effectively independent shapes (the search's cost, effects.md)
-    let tries: f64 = input
+    let shapes: Vec<f64> = input
         .candidates
         .iter()
         .map(|c| crate::gap::shape::effective_shapes(&baseline.factor, c))
-        .sum();
+        .collect();
+    let tries: f64 = shapes.iter().sum();
     let ctx = Context {
         y: &y,
         a,
@@ -166,7 +167,8 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let mut fits: Vec<_> = input
         .candidates
         .iter()
-        .map(|c| fit_candidate(&ctx, c))
+        .zip(&shapes)
+        .map(|(c, &m)| fit_searched(&ctx, c, m))
         .collect();
     sort_by_key_f64(&mut fits, |f| f.cv_score);
     let spans: Vec<_> = fits

@@ -93,12 +93,9 @@ fn joint_shapes(
             let fixed = other.at_shape(idx[1 - which]);
             // the other member's part outside the baseline once for the whole grid
             let fixed = Unabsorbed::of(factor, &fixed.signature.matrix);
-            let best = family
-                .signatures
-                .iter()
-                .enumerate()
-                .map(|(k, m)| {
-                    let u = Unabsorbed::of(factor, m).beside(&fixed);
+            let best = (0..family.len())
+                .map(|k| {
+                    let u = Unabsorbed::of(factor, &family.member(k)).beside(&fixed);
                     (k, u.rss(&ctx.baseline.residual).0)
                 })
                 .min_by(|x, y| x.1.total_cmp(&y.1))

@@ -144,8 +144,21 @@ fn shape_sentence(e: Effect, sh: &crate::gap::shape::ShapeFit) -> String {
         "tau" => ("lag after a reversal", " mm of tool-tip path"),
         _ => ("warm-up constant, a fraction of the machining time", ""),
     };
+    // the profiled parameter at the member that fits best: the warm-up's pause between the
+    // passes, a backlash's take-up
+    let pause = sh.profiled.as_ref().map_or(String::new(), |p| match p.name {
+        "pause" => format!(
+            ", with a pause between the passes of {:.2} of the machining time (the grid's value that fits best)",
+            p.value
+        ),
+        _ if p.value > 0.0 => format!(
+            ", with the play taken up over a lost motion of {:.3e} (the interval holds the lags with and without it)",
+            p.value
+        ),
+        _ => ", switched at the reversal (the interval holds the lags with and without the play's take-up)".to_string(),
+    });
     format!(
-        "Shape: `{e}` {what} {} = {}{unit} (95 %: {low} to {high}{unit}; reference {}; {:.1} effectively independent shapes searched).\n",
+        "Shape: `{e}` {what} {} = {}{unit} (95 %: {low} to {high}{unit}; reference {}{pause}; {:.1} effectively independent shapes searched).\n",
         sh.name,
         v(sh.value),
         v(sh.reference),

@@ -4,10 +4,13 @@
 //! squares on top of the baseline (Frisch–Waugh–Lovell, [`super::which`]), leaving the residual
 //! sum of squares as a function of the shape alone, `RSS(τ)`, searched over the grid.
 //!
+//! - **A second parameter** (the warm-up's pause between the passes) is profiled out: at each
+//!   shape value the profile takes the least `RSS` over its grid; the member of the estimate is
+//!   the one that gives it.
 //! - **Estimate**: the grid value of least `RSS`, refined by the parabola through it and its two
 //!   neighbours in the grid's coordinate (`ln τ`; for the warm-up the index, whose last value is
 //!   the linear law `f = ∞`).
-//! - **Interval** (95 %): the profile `{τ : (RSS(τ) − RSS_min)/s² ≤ F₀.₉₅(1, n − p − q)}`, `s²`
+//! - **Interval** (95 %): the hull of the profile's set `{τ : (RSS(τ) − RSS_min)/s² ≤ F₀.₉₅(1, n − p − q)}`, `s²`
 //!   the larger of the decision's σ² (the part's σ when it is fixed) and `RSS_min/(n − p − q)`, its ends
 //!   interpolated linearly between the grid values where the profile crosses the bound; an end
 //!   that reaches the grid's is open (the part cannot bound the shape on that side).
@@ -24,9 +27,15 @@ use crate::effects::data::Candidate;
 use crate::identify::solve::{hstack, Factor};
 use crate::machine::Unit;
 use crate::numerics::stats;
+use crate::toolpath::envelope::brent_min;
 
 /// Confidence of the shape's interval.
 pub const SHAPE_CONFIDENCE: f64 = 0.95;
+/// The estimate of a family whose members can be computed between the grid's values: to this
+/// bracket in the grid's coordinate (1/1000 of a grid step).
+pub const EXACT_TOL: f64 = 1e-3;
+/// Bisection steps of an interval's end between two grid values (1/4096 of a step).
+pub const ROOT_STEPS: usize = 12;
 
 /// A fitted shape parameter.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -42,14 +51,28 @@ pub struct ShapeFit {
     pub high: f64,
     pub low_open: bool,
     pub high_open: bool,
-    /// The grid value of least RSS, and its index (the signature the fit uses).
+    /// The grid value of least RSS, and the index of its member (the signature the fit uses).
     pub grid_value: f64,
     #[serde(skip)]
     pub grid_index: usize,
+    /// The profiled parameter's value at that member (the warm-up's pause between the passes);
+    /// not in the interval: the profile is the least over it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profiled: Option<Profiled>,
     /// The shape's reference value (the table's signature).
     pub reference: f64,
     /// Effectively independent shapes of the grid on this part (`m_eff`, module doc).
     pub effective_shapes: f64,
+}
+
+/// A second shape parameter at the member the fit chose ([`crate::effects::Family::profiled`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Profiled {
+    /// `pause` (the warm-up's, between the passes).
+    pub name: &'static str,
+    pub unit: Unit,
+    /// Its grid value at the chosen member.
+    pub value: f64,
 }
 
 /// Columns' parts outside the baseline (`u = s − QQᵀs`, [`Factor::unabsorbed`]) with the norms of
@@ -100,10 +123,9 @@ pub fn effective_shapes(factor: &Factor, c: &Candidate) -> f64 {
     };
     // One direction per member: the unabsorbed part of its first column (the families here have
     // one parameter), normalised; members the baseline absorbs entirely add nothing.
-    let dirs: Vec<DVector<f64>> = family
-        .signatures
-        .iter()
-        .filter_map(|s| {
+    let dirs: Vec<DVector<f64>> = (0..family.len())
+        .filter_map(|k| {
+            let s = family.member(k);
             let u = factor.unabsorbed(&s.columns(0, 1).into_owned());
             let n = u.norm();
             (n > 1e-12 * s.norm().max(1e-300)).then(|| u.column(0) / n)
@@ -122,6 +144,18 @@ pub fn effective_shapes(factor: &Factor, c: &Candidate) -> f64 {
         })
         .sum::<f64>()
         .max(1.0)
+}
+
+/// The first and last indices of `z` within `bound` (`best` among them): the hull of the
+/// profile's confidence set on the grid.
+fn hull(z: &[f64], bound: f64, best: usize) -> (usize, usize) {
+    let lo = z.iter().position(|v| *v <= bound).unwrap_or(best).min(best);
+    let hi = z
+        .iter()
+        .rposition(|v| *v <= bound)
+        .unwrap_or(best)
+        .max(best);
+    (lo, hi)
 }
 
 /// The upper `1 − confidence` quantile of `F(1, dof)`, by bisection on its survival function.
@@ -184,14 +218,23 @@ pub fn fit_shape(
 ) -> Option<ShapeFit> {
     let family = c.family.as_ref()?;
     let grid = &family.shape.grid;
-    if family.signatures.len() != grid.len() || grid.len() < 2 {
+    if !family.is_complete() || grid.len() < 2 {
         return None;
     }
-    let prof: Vec<(f64, usize)> = family
-        .signatures
-        .iter()
-        .map(|s| fwl(factor, r0, s))
+    let every: Vec<(f64, usize)> = (0..family.len())
+        .map(|k| fwl(factor, r0, &family.member(k)))
         .collect();
+    // the profile over the shape: at each of its values the least RSS over the profiled
+    // parameter's (module doc), and the member that gives it
+    let m = family.profiled_len();
+    let chosen: Vec<usize> = (0..grid.len())
+        .map(|i| {
+            (i * m..(i + 1) * m)
+                .min_by(|&a, &b| every[a].0.total_cmp(&every[b].0))
+                .unwrap_or(i * m)
+        })
+        .collect();
+    let prof: Vec<(f64, usize)> = chosen.iter().map(|&k| every[k]).collect();
     let best = (0..prof.len())
         .min_by(|&a, &b| prof[a].0.total_cmp(&prof[b].0))
         .unwrap_or(0);
@@ -228,8 +271,9 @@ pub fn fit_shape(
             curvature = Some(a);
         }
     }
-    // the interval's ends: walk out from the least until the profile passes the bound; between
-    // the least and a neighbour already past it, the parabola's root
+    // the interval's ends: the first and last grid values within the bound (the hull of the
+    // confidence set: a profile with two minima, e.g. a lag with and without the play's take-up,
+    // keeps both); between the least and a neighbour already past it, the parabola's root
     let cross = |from: usize, to: usize| -> f64 {
         let (xa, xb, za, zb) = (coords[from], coords[to], z[from], z[to]);
         if zb > za {
@@ -238,31 +282,83 @@ pub fn fit_shape(
             xb
         }
     };
-    let mut lo_k = best;
-    while lo_k > 0 && z[lo_k - 1] <= bound {
-        lo_k -= 1;
-    }
-    let mut hi_k = best;
-    while hi_k + 1 < grid.len() && z[hi_k + 1] <= bound {
-        hi_k += 1;
-    }
+    let (lo_k, hi_k) = hull(&z, bound, best);
     let half = curvature.map(|a| (bound / a).sqrt());
     let low_open = lo_k == 0;
     let high_open = hi_k + 1 == grid.len();
-    let low = match (low_open, half) {
+    let mut low = match (low_open, half) {
         (true, _) => grid[0],
         (false, Some(h)) if lo_k == best => {
             value_at(grid, &coords, (refined - h).max(coords[best - 1]))
         }
         _ => value_at(grid, &coords, cross(lo_k, lo_k - 1)),
     };
-    let high = match (high_open, half) {
+    let mut high = match (high_open, half) {
         (true, _) => grid[grid.len() - 1],
         (false, Some(h)) if hi_k == best => {
             value_at(grid, &coords, (refined + h).min(coords[best + 1]))
         }
         _ => value_at(grid, &coords, cross(hi_k, hi_k + 1)),
     };
+    // A family whose members can be computed between the grid's values (the warm-up): the
+    // profile is evaluated there instead of interpolated. On a grid coarser than the part's
+    // resolution the parabola's vertex is biased and a convex profile interpolated linearly
+    // narrows the interval. At a coordinate between two grid values the profiled parameter takes
+    // the better of those the two chose.
+    let exact = |x: f64| -> Option<f64> {
+        let v = value_at(grid, &coords, x);
+        if !v.is_finite() {
+            return None;
+        }
+        let k0 = coords.partition_point(|c| *c <= x).clamp(1, grid.len() - 1) - 1;
+        [chosen[k0], chosen[k0 + 1]]
+            .iter()
+            .map(|&k| family.values(k).1.unwrap_or(0.0))
+            .filter_map(|pause| family.member_at(v, pause))
+            .map(|s| fwl(factor, r0, &s).0)
+            .min_by(f64::total_cmp)
+    };
+    if family.member_at(grid[best], 0.0).is_some() && grid[best].is_finite() {
+        let a = coords[best.saturating_sub(1)];
+        let b = coords[(best + 1).min(grid.len() - 1)];
+        let (x_star, rss_star) =
+            brent_min(&|x: f64| exact(x).unwrap_or(f64::INFINITY), a, b, EXACT_TOL);
+        let rss_c = rss_star.min(rss_min);
+        let zc = |x: f64| exact(x).map(|r| (r - rss_c) / s2);
+        let zg: Vec<f64> = prof.iter().map(|(r, _)| (r - rss_c) / s2).collect();
+        refined = x_star;
+        // an end: the root of zc − bound between the last grid value within the bound (or the
+        // estimate) and the first past it; a grid value whose member cannot be computed (the
+        // linear law) keeps the interpolated end
+        let root = |inner: f64, outer: f64| -> Option<f64> {
+            let (mut i, mut o) = (inner, outer);
+            if zc(o)? <= bound {
+                return None;
+            }
+            for _ in 0..ROOT_STEPS {
+                let mid = 0.5 * (i + o);
+                if zc(mid)? <= bound {
+                    i = mid;
+                } else {
+                    o = mid;
+                }
+            }
+            Some(0.5 * (i + o))
+        };
+        let (lo, hi) = hull(&zg, bound, best);
+        if lo > 0 {
+            let inner = if lo == best { x_star } else { coords[lo] };
+            if let Some(x) = root(inner, coords[lo - 1]) {
+                low = value_at(grid, &coords, x);
+            }
+        }
+        if hi + 1 < grid.len() {
+            let inner = if hi == best { x_star } else { coords[hi] };
+            if let Some(x) = root(inner, coords[hi + 1]) {
+                high = value_at(grid, &coords, x);
+            }
+        }
+    }
     Some(ShapeFit {
         name: family.shape.name,
         unit: family.shape.unit.clone(),
@@ -272,7 +368,12 @@ pub fn fit_shape(
         low_open,
         high_open,
         grid_value: grid[best],
-        grid_index: best,
+        grid_index: chosen[best],
+        profiled: family.profiled.as_ref().map(|p| Profiled {
+            name: p.name,
+            unit: p.unit.clone(),
+            value: family.values(chosen[best]).1.unwrap_or(p.reference),
+        }),
         reference: family.shape.reference,
         effective_shapes,
     })
@@ -303,15 +404,15 @@ mod tests {
             effect: Effect::ThermalDrift,
             signature: NamedColumns::try_new(Effect::ThermalDrift.parameter_ids(), col(2.0))
                 .unwrap(),
-            family: Some(Family {
-                shape: Shape {
+            family: Some(Family::stored(
+                Shape {
                     name: "tau",
                     unit: Unit::Mm,
                     reference: 2.0,
                     grid: grid.clone(),
                 },
-                signatures: grid.iter().map(|&t| col(t)).collect(),
-            }),
+                grid.iter().map(|&t| col(t)).collect(),
+            )),
         };
         let m = effective_shapes(&factor, &c);
         assert!(m > 1.0 && m < grid.len() as f64, "m_eff {m}");
@@ -322,5 +423,62 @@ mod tests {
         assert!(!fit.low_open && !fit.high_open);
         // the F quantile: F₀.₉₅(1, 100) = 3.936 (tables)
         assert!((f_quantile(0.95, 100.0) - 3.936).abs() < 1e-3);
+    }
+
+    /// A warm-up family with its pause profiled out: 240 points, the first half on A, data made
+    /// at f = 0.3 and a pause of 0.2 (grid values) with noise 1 % of the amplitude over a constant
+    /// baseline: the profile's interval holds f, the member chosen is at the pause 0.2, and the
+    /// same data fitted without the pause (its first member of each f) put f outside its interval
+    /// (the pause's step read as a slower warm-up).
+    #[test]
+    fn a_pause_between_the_passes_is_profiled_out() {
+        use crate::effects::family::{Members, WarmUpBasis};
+        use crate::parameter::effect::{PAUSE_GRID, WARM_UP_GRID};
+        let n = 240;
+        let basis = WarmUpBasis {
+            x: (0..n).map(|i| (i as f64 + 0.5) / n as f64).collect(),
+            second: (0..n).map(|i| i >= n / 2).collect(),
+            z: (0..n)
+                .map(|i| 0.5 + 0.5 * (i as f64 * 0.37).sin())
+                .collect(),
+        };
+        let family = Family {
+            shape: Effect::ThermalDrift.shape().unwrap(),
+            profiled: Effect::ThermalDrift.profiled(),
+            members: Members::WarmUp(basis.clone()),
+        };
+        assert_eq!(family.len(), WARM_UP_GRID.len() * PAUSE_GRID.len());
+        let a = DMatrix::from_element(n, 1, 1.0);
+        let factor = Factor::new(&a, None);
+        let mut rng = Sampler::new(11);
+        let truth = basis.column(0.3, 0.2);
+        let y = DVector::from_iterator(n, truth.iter().map(|v| 0.02 * v + 2e-4 * rng.normal()));
+        let r0 = factor.unabsorbed_vec(&y);
+        let c = Candidate {
+            effect: Effect::ThermalDrift,
+            signature: NamedColumns::try_new(
+                Effect::ThermalDrift.parameter_ids(),
+                DMatrix::from_vec(n, 1, basis.column(f64::INFINITY, 0.0)),
+            )
+            .unwrap(),
+            family: Some(family.clone()),
+        };
+        let fit = fit_shape(&factor, &r0, &c, 1, None, 1.0).unwrap();
+        assert!(fit.low <= 0.3 && 0.3 <= fit.high, "{fit:?}");
+        assert_eq!(fit.profiled.as_ref().map(|p| p.value), Some(0.2), "{fit:?}");
+        assert_eq!(family.values(fit.grid_index).1, Some(0.2));
+        // the family without its pause
+        let unpaused = Family::stored(
+            family.shape.clone(),
+            (0..WARM_UP_GRID.len())
+                .map(|i| family.member(i * PAUSE_GRID.len()).into_owned())
+                .collect(),
+        );
+        let c0 = Candidate {
+            family: Some(unpaused),
+            ..c
+        };
+        let fit0 = fit_shape(&factor, &r0, &c0, 1, None, 1.0).unwrap();
+        assert!(!(fit0.low <= 0.3 && 0.3 <= fit0.high), "{fit0:?}");
     }
 }

@@ -318,8 +318,14 @@ pub fn at_fitted_shapes(
 /// Fits one candidate on top of the baseline; a family at the shape that fits best
 /// ([`crate::gap::shape`]).
 pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
+    let m = effective_shapes(&ctx.baseline.factor, c);
+    fit_searched(ctx, c, m)
+}
+
+/// [`fit_candidate`] with the family's effectively independent shapes `m`
+/// ([`effective_shapes`], 1 for a candidate of one shape) already counted.
+pub fn fit_searched(ctx: &Context, c: &Candidate, m: f64) -> CandidateFit {
     let shape = c.family.as_ref().and_then(|_| {
-        let m = effective_shapes(&ctx.baseline.factor, c);
         fit_shape(
             &ctx.baseline.factor,
             &ctx.baseline.residual,

@@ -341,7 +341,27 @@ pub const WARM_UP_GRID: [f64; 12] = [
     f64::INFINITY,
 ];
 
+/// Pauses between the passes of the warm-up family's grid (a share of the cutting path's
+/// time): the machine retracts from A, moves and approaches B while the head keeps warming,
+/// seconds to a minute against the ~1 minute of cutting of the ISO part at 1000-2000 mm/min.
+/// The first is none (the table's shape).
+pub const PAUSE_GRID: [f64; 6] = [0.0, 0.1, 0.2, 0.35, 0.55, 0.8];
+
 impl Effect {
+    /// The second shape parameter of the family that the fit profiles out (the warm-up's pause
+    /// between the passes, [`PAUSE_GRID`]), `None` for the other effects.
+    pub fn profiled(self) -> Option<Shape> {
+        match self {
+            Effect::ThermalDrift => Some(Shape {
+                name: "pause",
+                unit: Unit::One,
+                reference: 0.0,
+                grid: PAUSE_GRID.to_vec(),
+            }),
+            _ => None,
+        }
+    }
+
     /// The shape parameter of the effect's family, `None` for an effect of one shape.
     pub fn shape(self) -> Option<Shape> {
         match self {

@@ -21,6 +21,7 @@ pub mod frenet;
 pub mod path;
 pub mod reversal;
 pub mod servo;
+pub mod take_up;
 
 pub use defect::{
     axis_values, defect, defect_xi, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix,

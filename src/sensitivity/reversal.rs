@@ -37,6 +37,7 @@ use crate::toolpath::tip_length::TipLength;
 use super::defect::axis_values;
 use super::defect::{Mode, SensitivityOptions};
 use super::path::machine_path;
+use super::take_up::{Ramp, TurnTravel};
 use super::SensitivityError;
 use crate::numerics::order::sort_by_index;
 
@@ -483,6 +484,9 @@ struct Segment {
     target: f64,
     from: f64,
     s0: f64,
+    /// The play's take-up after the turn ([`Lag::taken_up`]); `None`: the offset switches at
+    /// the turn.
+    ramp: Option<Ramp>,
 }
 
 /// The lagged offsets of a pass per unit lost motion for some axes, in closed form between the
@@ -518,6 +522,7 @@ impl Lag {
                     target: start,
                     from: start,
                     s0: 0.0,
+                    ramp: None,
                 }];
                 for &(k, d) in turns.map_or(&[][..], |t| &t.at[..]) {
                     let s0 = p.length.at(part, grid_u(k - 1));
@@ -527,6 +532,7 @@ impl Lag {
                         target: -0.5 * d,
                         from,
                         s0,
+                        ramp: None,
                     });
                 }
                 segs
@@ -537,6 +543,43 @@ impl Lag {
             tau,
             length: p.length.clone(),
             segments,
+        }
+    }
+
+    /// This lag with the play's take-up ([`super::take_up`]) of a lost motion `b[a]` on axis
+    /// `axes[a]` (its unit; 0: switched at the turn, as [`Lag::with_length`]), `travel` the
+    /// axes' travels after their turns on this lag's pass ([`super::take_up::travels`], same
+    /// axes).
+    pub fn taken_up(&self, travel: &[Vec<TurnTravel>], b: &[f64]) -> Self {
+        let tau = self.tau;
+        let segments = self
+            .segments
+            .iter()
+            .enumerate()
+            .map(|(a, old)| {
+                if b[a] <= 0.0 {
+                    return old.clone();
+                }
+                let mut segs: Vec<Segment> = vec![old[0].clone()];
+                for (g, tr) in old[1..].iter().zip(&travel[a]) {
+                    let from = offset_on(&segs, g.k - 1, g.s0, tau);
+                    let prev = &segs[segs.len() - 1];
+                    let p_r = prev.ramp.as_ref().map_or(prev.target, |r| r.play(g.s0));
+                    let d = -2.0 * g.target;
+                    segs.push(Segment {
+                        k: g.k,
+                        target: g.target,
+                        from,
+                        s0: g.s0,
+                        ramp: Some(Ramp::new(tr, d, b[a], p_r, from, tau)),
+                    });
+                }
+                segs
+            })
+            .collect();
+        Self {
+            segments,
+            ..self.clone()
         }
     }
 
@@ -559,6 +602,14 @@ impl Lag {
 /// lag, [`LAG_LENGTH`] at the reference); exactly `e*` on a settled first segment.
 fn offset_on(segs: &[Segment], k: usize, s: f64, tau: f64) -> f64 {
     let g = &segs[segs.partition_point(|g| g.k <= k).max(1) - 1];
+    if let Some(r) = &g.ramp {
+        // inside the take-up, or settling from its end
+        return if s < r.end() {
+            r.offset(s, tau)
+        } else {
+            g.target + (r.end_offset() - g.target) * (-(s - r.end()) / tau).exp()
+        };
+    }
     if g.from == g.target {
         g.target
     } else {
@@ -664,7 +715,7 @@ pub fn lagged_columns(
 /// Where a point falls on the reversal grid of its surface's pass: `k` the first sample at or
 /// after its `u`, `t` its fraction between samples `k − 1` and `k`, `s` their tool-tip path
 /// lengths (mm). The same for every lag of the passes (their lengths are the passes').
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GridSpot {
     /// The point's surface: 0 for A, 1 for B.
     surface: usize,

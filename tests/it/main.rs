@@ -30,6 +30,7 @@ mod edge_fuzz_regressions;
 mod edge_limits;
 mod edge_numeric;
 mod edge_parity;
+mod effects_families_physics;
 mod gap_correct;
 mod gap_dense;
 mod gap_effect_physics;
