@@ -171,8 +171,10 @@ fn nonlinear_warning(lin_err: f64, modelled: f64, outcome: &str) -> Option<Strin
     })
 }
 
-struct Problem<'a, F> {
-    model: &'a F,
+struct Problem<'a> {
+    /// Behind a trait object: one instance of the minimiser for every model (the page's wasm
+    /// held one per model type, 9 kB each).
+    model: &'a dyn ExactModel,
     x0: Vec<f64>,
     basis: DMatrix<f64>,
     used: &'a [usize],
@@ -183,7 +185,7 @@ struct Problem<'a, F> {
     error: std::cell::RefCell<Option<ModelError>>,
 }
 
-impl<F: ExactModel> Problem<'_, F> {
+impl Problem<'_> {
     fn x_of(&self, z: &DVector<f64>) -> Vec<f64> {
         let dx = &self.basis * z;
         self.x0.iter().zip(dx.iter()).map(|(a, b)| a + b).collect()
@@ -210,7 +212,7 @@ impl<F: ExactModel> Problem<'_, F> {
     }
 }
 
-impl<F: ExactModel> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, F> {
+impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     type ResidualStorage = Owned<f64, Dyn>;
     type JacobianStorage = Owned<f64, Dyn, Dyn>;
     type ParameterStorage = Owned<f64, Dyn>;
@@ -270,6 +272,18 @@ pub fn refine<F>(
 where
     F: ExactModel,
 {
+    refine_dyn(design, obs, linear, &model, opts, id_opts)
+}
+
+/// [`refine`] on a model behind a trait object (one instance for every model type).
+fn refine_dyn(
+    design: &Design,
+    obs: &Observations,
+    linear: &Identification,
+    model: &dyn ExactModel,
+    opts: &RefineOptions,
+    id_opts: &IdentifyOptions,
+) -> Result<RefineReport, IdentifyError> {
     let f = Factored::new(design, obs, id_opts)?;
     let names = design.names();
     let p = design.cols();
@@ -367,7 +381,7 @@ where
     };
     let basis = f.kept_basis();
     let mut problem = Problem {
-        model: &model,
+        model,
         x0: x0.clone(),
         basis: basis.clone(),
         used: &f.used,

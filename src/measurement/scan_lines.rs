@@ -16,6 +16,7 @@
 
 use serde::Serialize;
 
+use crate::numerics::order::{sort_by_key_f64, sort_f64};
 use crate::part::{MeasurementPoint, Surface};
 
 /// Heights further apart than this (mm) are on different scan lines (a scan's lines are 0.3 mm
@@ -50,7 +51,7 @@ pub struct Spread {
 impl Spread {
     /// Of `v` (not empty).
     fn of(mut v: Vec<f64>) -> Self {
-        v.sort_by(f64::total_cmp);
+        sort_f64(&mut v);
         Self {
             min: v.first().copied().unwrap_or(0.0),
             median: v.get(v.len() / 2).copied().unwrap_or(0.0),
@@ -109,7 +110,7 @@ pub fn read_scan(points: &[MeasurementPoint]) -> Option<ScanReading> {
         if idx.is_empty() {
             continue;
         }
-        idx.sort_by(|&a, &b| points[a].point.z.total_cmp(&points[b].point.z));
+        sort_by_key_f64(&mut idx, |&i| points[i].point.z);
         let runs = height_runs(points, &idx);
         let first_line = lines.len();
         for run in &runs {
@@ -177,7 +178,7 @@ fn height_runs(points: &[MeasurementPoint], idx: &[usize]) -> Vec<Vec<usize>> {
 /// Median distance (mm) between consecutive points of a line in increasing `u`.
 fn spacing_along(points: &[MeasurementPoint], run: &[usize]) -> f64 {
     let mut by_u = run.to_vec();
-    by_u.sort_by(|&a, &b| points[a].u.total_cmp(&points[b].u));
+    sort_by_key_f64(&mut by_u, |&i| points[i].u);
     let d: Vec<f64> = by_u
         .windows(2)
         .map(|w| (points[w[1]].point - points[w[0]].point).norm())

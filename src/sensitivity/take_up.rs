@@ -57,47 +57,42 @@ pub fn travels(
     axes: &[AxisName],
     opts: &SensitivityOptions,
 ) -> Result<Vec<Vec<TurnTravel>>, SensitivityError> {
-    axes.iter()
-        .map(|&a| {
-            let Some(turns) = p.turns_of(a) else {
-                return Ok(Vec::new());
-            };
-            turns
-                .at
-                .iter()
-                .enumerate()
-                .map(|(i, &(k, d))| {
-                    let start = k - 1;
-                    let s0 = p.length.at(part, grid_u(start));
-                    // to the next turn's sample k − 1 (its turning point), or the grid's end
-                    let stop = turns.at.get(i + 1).map_or(REVERSAL_GRID, |t| t.0 - 1);
-                    let mut ks: Vec<usize> = (start..=stop).step_by(TAKE_UP_STRIDE).collect();
-                    if ks.last() != Some(&stop) {
-                        ks.push(stop);
+    let mut out = Vec::with_capacity(axes.len());
+    for &a in axes {
+        let mut per_turn = Vec::new();
+        if let Some(turns) = p.turns_of(a) {
+            for (i, &(k, d)) in turns.at.iter().enumerate() {
+                let start = k - 1;
+                let s0 = p.length.at(part, grid_u(start));
+                // to the next turn's sample k − 1 (its turning point), or the grid's end
+                let stop = turns.at.get(i + 1).map_or(REVERSAL_GRID, |t| t.0 - 1);
+                let mut ks: Vec<usize> = (start..=stop).step_by(TAKE_UP_STRIDE).collect();
+                if ks.last() != Some(&stop) {
+                    ks.push(stop);
+                }
+                // the window: samples whose path from the turn is within it, and the first past
+                // it
+                let mut s = Vec::with_capacity(ks.len());
+                let mut us = Vec::with_capacity(ks.len());
+                for k in ks {
+                    let sk = p.length.at(part, grid_u(k));
+                    s.push(sk);
+                    us.push(grid_u(k));
+                    if sk - s0 > TAKE_UP_WINDOW {
+                        break;
                     }
-                    // the window: samples whose path from the turn is within it, and the first
-                    // past it
-                    let mut s = Vec::with_capacity(ks.len());
-                    let mut kept = Vec::with_capacity(ks.len());
-                    for k in ks {
-                        let sk = p.length.at(part, grid_u(k));
-                        s.push(sk);
-                        kept.push(k);
-                        if sk - s0 > TAKE_UP_WINDOW {
-                            break;
-                        }
-                    }
-                    let us: Vec<f64> = kept.iter().map(|&k| grid_u(k)).collect();
-                    let q = machine_path(part, &opts.chain, p.surface, opts.branch, &us)?;
-                    let q0 = q[0].values.get(a);
-                    Ok(TurnTravel {
-                        s,
-                        t: q.iter().map(|x| d * (x.values.get(a) - q0)).collect(),
-                    })
-                })
-                .collect()
-        })
-        .collect()
+                }
+                let q = machine_path(part, &opts.chain, p.surface, opts.branch, &us)?;
+                let q0 = q[0].values.get(a);
+                per_turn.push(TurnTravel {
+                    s,
+                    t: q.iter().map(|x| d * (x.values.get(a) - q0)).collect(),
+                });
+            }
+        }
+        out.push(per_turn);
+    }
+    Ok(out)
 }
 
 /// The play's offset and its settling over one take-up, per unit `b` (module doc).
