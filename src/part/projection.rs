@@ -26,7 +26,7 @@ use crate::geometry::GeometryError;
 use crate::part::frame::frame_derivs_from;
 #[cfg(all(test, not(target_arch = "wasm32")))]
 use crate::part::SShape;
-use crate::part::{RuledPart, Surface};
+use crate::part::{RuledPart, Section, Surface};
 
 /// Result of a closest-point projection.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -211,12 +211,20 @@ fn newton_from<P: RuledPart + ?Sized>(
     p: &Vector3<f64>,
 ) -> Result<Projection, GeometryError> {
     // 2. safeguarded Newton
-    let objective = |u: f64, v: f64| 0.5 * (part.point_at(s, u, v) - p).norm_squared();
+    // `f(u, v)` from the section at `u` (the arithmetic of `point_at`)
+    let objective = |sec: &Section, v: f64| {
+        0.5 * (sec.c0.point * (1.0 - v) + sec.c1.point * v - p).norm_squared()
+    };
     let mut converged = false;
+    // the section the step halving evaluated last, at the `u` the next step starts from
+    let mut last: Option<(f64, Section)> = None;
     for _ in 0..MAX_ITER {
         // one section a step: the frame's derivatives, `D'` and `f(u, v)` all come from it (the
         // arithmetic of `frame_derivs_at` and `point_at`)
-        let sec = part.section_at(s, u);
+        let sec = match last.take() {
+            Some((at, sec)) if at.to_bits() == u.to_bits() => sec,
+            _ => part.section_at(s, u),
+        };
         let f = frame_derivs_from(&sec, v, part.normal_sign(s));
         let r = f.frame.point - p;
         let d1 = sec.d.d1;
@@ -255,7 +263,13 @@ fn newton_from<P: RuledPart + ?Sized>(
                 (u + lambda * step[0]).clamp(0.0, 1.0)
             };
             vn = v + lambda * step[1];
-            if size < 1e-4 || objective(un, vn) <= f0 {
+            if size < 1e-4 {
+                break;
+            }
+            let next = part.section_at(s, un);
+            let f_next = objective(&next, vn);
+            last = Some((un, next));
+            if f_next <= f0 {
                 break;
             }
             lambda *= 0.5;
