@@ -153,8 +153,8 @@ pub const UPDATE_ROWS: usize = 2000;
 struct Base<'a> {
     factor: Factor,
     keep: &'a [usize],
-    /// `y` on the kept rows.
-    y: DVector<f64>,
+    /// The residual on the kept rows, `e₀ = (I − QQᵀ) y`.
+    e: DVector<f64>,
     /// The residual and leverage ([`fit`]).
     r: Vec<f64>,
     h: Vec<f64>,
@@ -170,7 +170,7 @@ impl<'a> Base<'a> {
         Self {
             factor,
             keep,
-            y: ys,
+            e,
             r,
             h,
         }
@@ -184,7 +184,7 @@ impl<'a> Base<'a> {
         let cs = c.select_rows(self.keep);
         let norms: Vec<f64> = (0..cs.ncols()).map(|j| cs.column(j).norm()).collect();
         let added = Factor::new(&self.factor.unabsorbed(&cs), Some(&norms));
-        let e = added.unabsorbed_vec(&self.factor.unabsorbed_vec(&self.y));
+        let e = added.unabsorbed_vec(&self.e);
         let (r, extra) = spread(self.r.len(), self.keep, &e, &added.basis);
         let h = self.h.iter().zip(extra).map(|(a, b)| a + b).collect();
         (r, h, self.factor.rank + added.rank)
