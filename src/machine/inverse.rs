@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 use super::chain::{AxisKind, AxisName, AxisValues, Chain};
-use super::direct::nominal;
+use super::direct::{nominal_with, RotaryMotions};
 use super::transform::rotation3;
 use super::MachineError;
 
@@ -205,12 +205,14 @@ pub fn solve_linear(
     for n in lin {
         base.set(n, 0.0);
     }
-    let p0 = nominal(chain, &base, 0.0).point;
+    // the rotary axes' motions once for the four evaluations (their angles are the same)
+    let rotary = RotaryMotions::of(chain, &base);
+    let p0 = nominal_with(chain, &base, 0.0, &rotary).point;
     let mut j = Matrix3::zeros();
     for (k, n) in lin.into_iter().enumerate() {
         let mut e = base;
         e.set(n, 1.0);
-        j.set_column(k, &(nominal(chain, &e, 0.0).point - p0));
+        j.set_column(k, &(nominal_with(chain, &e, 0.0, &rotary).point - p0));
     }
     let det = j.determinant();
     let x = j
@@ -293,12 +295,26 @@ where
     if let Some(u) = us.iter().find(|u| !(**u >= u0 && **u <= u1)) {
         return Err(MachineError::OutsideDomain { u: *u, u0, u1 });
     }
-    let mut g: Vec<f64> = (0..=grid)
-        .map(|k| u0 + (u1 - u0) * k as f64 / grid as f64)
-        .chain(us.iter().copied())
+    // The grid and the `us`, sorted and without repeats (`g`), each `us` tagged with its index:
+    // `order` lists the `us` in `g`'s order and `at` where each one's value sits in `g`, so that
+    // the samples are read in `g`'s order (not by a search each, and in memory order).
+    let mut tagged: Vec<(f64, usize)> = (0..=grid)
+        .map(|k| (u0 + (u1 - u0) * k as f64 / grid as f64, usize::MAX))
+        .chain(us.iter().copied().zip(0..))
         .collect();
-    g.sort_by(f64::total_cmp);
-    g.dedup();
+    tagged.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut g: Vec<f64> = Vec::with_capacity(tagged.len());
+    let mut order: Vec<usize> = Vec::with_capacity(us.len());
+    let mut at = vec![0; us.len()];
+    for (u, i) in tagged {
+        if g.last() != Some(&u) {
+            g.push(u);
+        }
+        if i != usize::MAX {
+            order.push(i);
+            at[i] = g.len() - 1;
+        }
+    }
     let sing = |u: f64| pair.solutions(&pose_at(u).1).1 == 0.0;
     let poses: Vec<(Vector3<f64>, Vector3<f64>)> = g.iter().map(|&u| pose_at(u)).collect();
     let solved: Vec<([(f64, f64); 2], bool)> = poses
@@ -366,33 +382,88 @@ where
         prev = end.map(|e| e.1).unwrap_or(outer[m - 1]);
         k = m;
     }
-    us.iter()
-        .map(|&u| {
-            let j = g
-                .binary_search_by(|x| x.total_cmp(&u))
-                .map_err(|_| MachineError::LostFromGrid { u })?;
-            let (tip, w) = poses[j];
-            let (o, i) = if solved[j].1 {
-                (outer[j], pair.inner_at(&w, outer[j]))
-            } else {
-                let sols = &solved[j].0;
-                // The solution whose outer angle matches the unwrapped one.
-                let best = sols
-                    .iter()
-                    .map(|&(o, i)| (unwrap_near(o, outer[j]), i))
-                    .min_by(|x, y| (x.0 - outer[j]).abs().total_cmp(&(y.0 - outer[j]).abs()))
-                    .unwrap_or((outer[j], 0.0));
-                best
-            };
-            let mut q = AxisValues::default();
-            q.set(pair.outer, o);
-            q.set(pair.inner, i);
-            let values = solve_linear(chain, &q, &tip)?;
-            Ok(PathSample {
-                u,
-                values,
-                singular: solved[j].1,
-            })
+    let sample = |k: usize| {
+        let (u, j) = (us[k], at[k]);
+        // a value kept once for an equal one of other bits (-0.0 beside 0.0) is not found, as
+        // by a search of `g`
+        if g[j].total_cmp(&u) != std::cmp::Ordering::Equal {
+            return Err(MachineError::LostFromGrid { u });
+        }
+        let (tip, w) = poses[j];
+        let (o, i) = if solved[j].1 {
+            (outer[j], pair.inner_at(&w, outer[j]))
+        } else {
+            let sols = &solved[j].0;
+            // The solution whose outer angle matches the unwrapped one.
+            let best = sols
+                .iter()
+                .map(|&(o, i)| (unwrap_near(o, outer[j]), i))
+                .min_by(|x, y| (x.0 - outer[j]).abs().total_cmp(&(y.0 - outer[j]).abs()))
+                .unwrap_or((outer[j], 0.0));
+            best
+        };
+        let mut q = AxisValues::default();
+        q.set(pair.outer, o);
+        q.set(pair.inner, i);
+        let values = solve_linear(chain, &q, &tip)?;
+        Ok(PathSample {
+            u,
+            values,
+            singular: solved[j].1,
         })
-        .collect()
+    };
+    let mut samples: Vec<Option<Result<PathSample, MachineError>>> = vec![None; us.len()];
+    for i in order {
+        samples[i] = Some(sample(i));
+    }
+    // in the `us`' order, the first error first
+    samples.into_iter().flatten().collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::machine::chain::PAPER000_L0;
+    use crate::part::{SShape, Surface};
+    use crate::toolpath::flank::tool_pose;
+
+    /// The samples read in the grid's order are put back in the `us`' order: a batch of
+    /// parameters in no order, with repeats, the ends and the vertical zone, gives at each one
+    /// the sample a call with that parameter alone gives (bit for bit, tolerance: none), on the
+    /// three chains.
+    #[test]
+    fn samples_come_back_in_the_order_asked() {
+        let part = SShape::iso();
+        let mut us: Vec<f64> = (0..400)
+            .map(|k| ((k * 7919) % 400) as f64 / 399.0)
+            .collect();
+        us.extend([
+            0.0,
+            1.0,
+            0.5,
+            0.5,
+            6.0 / 13.0,
+            8.0 / 13.0,
+            0.123_456_789,
+            0.0,
+        ]);
+        for chain in [
+            Chain::paper000(PAPER000_L0),
+            Chain::paper002(),
+            Chain::paper001(120.0, 80.0),
+        ] {
+            for s in Surface::BOTH {
+                let pose = |u: f64| {
+                    let p = tool_pose(&part, s, u);
+                    (p.tip, p.axis)
+                };
+                let batch = inverse_path(&chain, Branch::Signed, pose, (0.0, 1.0), 260, &us);
+                let batch = batch.unwrap();
+                for (k, &u) in us.iter().enumerate() {
+                    let one = inverse_path(&chain, Branch::Signed, pose, (0.0, 1.0), 260, &[u]);
+                    assert_eq!(batch[k], one.unwrap()[0], "{} {s:?} u = {u}", chain.code());
+                }
+            }
+        }
+    }
 }
