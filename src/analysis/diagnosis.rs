@@ -7,8 +7,8 @@ use crate::effects::builtin::PartModel;
 use crate::effects::prepared::Prepared;
 use crate::effects::{GapError, GapInput};
 use crate::gap::verdict::VerdictId;
-use crate::gap::{diagnose, DiagnosisReport};
-use crate::measurement::outliers::{find_outliers, without_rows, OutlierTest};
+use crate::gap::{diagnose, diagnose_with_smooth, DiagnoseOptions, DiagnosisReport};
+use crate::measurement::outliers::{find_outliers_with_fit, without_rows, OutlierTest};
 use crate::parameter::Effect;
 use crate::settings::MachineChoice;
 
@@ -104,14 +104,15 @@ pub(super) fn diagnose_modelled<'a>(
     // The outliers of the part (named, and left out unless kept), then the diagnosis.
     let mut run = |m: &PartModel| -> Result<DiagnosisReport, GapError> {
         let input = input_of(m, deviations, opts.noise_sigma);
-        let test = find_outliers(&input);
+        // the test's plain fit of [A | smooth basis] on every row is the diagnosis's
+        let (test, smooth) = find_outliers_with_fit(&input);
         let drop = if opts.keep_outliers {
             Vec::new()
         } else {
             test.indices()
         };
         outliers = Some(test);
-        let all = diagnose(&input)?;
+        let all = diagnose_with_smooth(&input, DiagnoseOptions::default(), smooth)?;
         let report = if drop.is_empty() {
             all
         } else {
