@@ -295,11 +295,14 @@ fn tool_vectors(chain: &Chain, h: f64) -> (Vector4<f64>, Vector4<f64>) {
 /// Nominal direct kinematics (no errors): tool point `h` above the tip and tool direction.
 /// Evaluated on rigid motions directly (the same chain as [`tool_point`] with all errors 0).
 pub fn nominal(chain: &Chain, q: &AxisValues, h: f64) -> ToolPoint {
-    nominal_with(chain, q, h, &RotaryMotions::of(chain, q))
+    let rotary = RotaryMotions::of(chain, q);
+    let w = side_motion(chain.workpiece_axes(), q, &rotary).inverse();
+    let t = side_motion(chain.tool_axes(), q, &rotary);
+    nominal_from_sides(chain, &w, &t, h)
 }
 
 /// The rigid motion of each rotary axis of a chain at given angles, `Rot(k, sign·q)`: computed
-/// once for several [`nominal_with`] at the same angles (the linear axes solved for them).
+/// once for several nominal chains at the same angles (the linear axes solved for them).
 pub(crate) struct RotaryMotions(Vec<(AxisName, Rigid)>);
 
 impl RotaryMotions {
@@ -318,32 +321,29 @@ impl RotaryMotions {
     }
 }
 
-/// [`nominal`] with the rotary axes' motions `rotary` (made at `q`'s angles: the same numbers).
-pub(crate) fn nominal_with(
-    chain: &Chain,
-    q: &AxisValues,
-    h: f64,
-    rotary: &RotaryMotions,
-) -> ToolPoint {
-    let side = |axes: &[ChainAxis]| {
-        axes.iter().fold(Rigid::IDENTITY, |acc, a| {
-            let m = match a.name.kind() {
-                AxisKind::Linear => {
-                    let mut d = Vector3::zeros();
-                    d[a.name.direction()] = a.sign * q.get(a.name);
-                    Rigid::translation(&d)
-                }
-                AxisKind::Rotary => rotary
-                    .0
-                    .iter()
-                    .find(|(n, _)| *n == a.name)
-                    .map_or(Rigid::IDENTITY, |(_, m)| *m),
-            };
-            acc.then(&Rigid::translation(&a.offset)).then(&m)
-        })
-    };
-    let w = side(chain.workpiece_axes()).inverse();
-    let t = side(chain.tool_axes());
+/// The rigid motion of one side of the chain (`axes`, frame → body) at the linear values of `q`
+/// and the rotary motions `rotary` (made at `q`'s angles): [`nominal`]'s, step for step.
+pub(crate) fn side_motion(axes: &[ChainAxis], q: &AxisValues, rotary: &RotaryMotions) -> Rigid {
+    axes.iter().fold(Rigid::IDENTITY, |acc, a| {
+        let m = match a.name.kind() {
+            AxisKind::Linear => {
+                let mut d = Vector3::zeros();
+                d[a.name.direction()] = a.sign * q.get(a.name);
+                Rigid::translation(&d)
+            }
+            AxisKind::Rotary => rotary
+                .0
+                .iter()
+                .find(|(n, _)| *n == a.name)
+                .map_or(Rigid::IDENTITY, |(_, m)| *m),
+        };
+        acc.then(&Rigid::translation(&a.offset)).then(&m)
+    })
+}
+
+/// The tool point `h` above the tip and the tool direction from the workpiece side's inverse
+/// motion `w` and the tool side's motion `t` ([`side_motion`]).
+pub(crate) fn nominal_from_sides(chain: &Chain, w: &Rigid, t: &Rigid, h: f64) -> ToolPoint {
     let o = chain.tool_offset();
     ToolPoint {
         point: w.point(&t.point(&Vector3::new(o.x, o.y, o.z + h))),
@@ -532,8 +532,8 @@ mod tests {
     use super::*;
     use crate::machine::chain::PAPER000_L0;
 
-    /// The rotary motions made once at given angles and reused for other linear values give
-    /// [`nominal`]'s tool point and direction bit for bit (tolerance: none), on the three
+    /// The sides' motions made from rotary motions made once and reused for other linear values
+    /// give [`nominal`]'s tool point and direction bit for bit (tolerance: none), on the three
     /// chains over a spread of angles and positions.
     #[test]
     fn rotary_motions_made_once_give_nominal() {
@@ -560,10 +560,10 @@ mod tests {
                 for lin in [AxisName::X, AxisName::Y, AxisName::Z] {
                     let mut e = q;
                     e.set(lin, 0.25 * t - 7.0);
-                    let (a, b) = (
-                        nominal_with(&chain, &e, 1.5, &rotary),
-                        nominal(&chain, &e, 1.5),
-                    );
+                    let w = side_motion(chain.workpiece_axes(), &e, &rotary).inverse();
+                    let tool = side_motion(chain.tool_axes(), &e, &rotary);
+                    let a = nominal_from_sides(&chain, &w, &tool, 1.5);
+                    let b = nominal(&chain, &e, 1.5);
                     assert_eq!(
                         (a.point, a.direction),
                         (b.point, b.direction),

@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 use super::chain::{AxisKind, AxisName, AxisValues, Chain};
-use super::direct::{nominal_with, RotaryMotions};
+use super::direct::{nominal_from_sides, side_motion, RotaryMotions};
 use super::transform::rotation3;
 use super::MachineError;
 
@@ -205,14 +205,26 @@ pub fn solve_linear(
     for n in lin {
         base.set(n, 0.0);
     }
-    // the rotary axes' motions once for the four evaluations (their angles are the same)
+    // The tip at the linear axes 0 and at each one set to 1 (the nominal chain, `nominal`'s
+    // arithmetic): the rotary axes' motions once, and the motion of a side that does not carry
+    // the axis set to 1 is the one at 0 (the same numbers).
     let rotary = RotaryMotions::of(chain, &base);
-    let p0 = nominal_with(chain, &base, 0.0, &rotary).point;
+    let (wp, tool) = (chain.workpiece_axes(), chain.tool_axes());
+    let w0 = side_motion(wp, &base, &rotary).inverse();
+    let t0 = side_motion(tool, &base, &rotary);
+    let p0 = nominal_from_sides(chain, &w0, &t0, 0.0).point;
     let mut j = Matrix3::zeros();
     for (k, n) in lin.into_iter().enumerate() {
         let mut e = base;
         e.set(n, 1.0);
-        j.set_column(k, &(nominal_with(chain, &e, 0.0, &rotary).point - p0));
+        let p = if wp.iter().any(|a| a.name == n) {
+            let w = side_motion(wp, &e, &rotary).inverse();
+            nominal_from_sides(chain, &w, &t0, 0.0)
+        } else {
+            let t = side_motion(tool, &e, &rotary);
+            nominal_from_sides(chain, &w0, &t, 0.0)
+        };
+        j.set_column(k, &(p.point - p0));
     }
     let det = j.determinant();
     let x = j
@@ -426,6 +438,51 @@ mod tests {
     use crate::machine::chain::PAPER000_L0;
     use crate::part::{SShape, Surface};
     use crate::toolpath::flank::tool_pose;
+
+    /// The linear axes solved with the sides' motions shared are those solved with a whole
+    /// nominal chain per evaluation (the direct method), bit for bit (tolerance: none).
+    #[test]
+    fn linear_axes_as_with_a_nominal_chain_each() {
+        use crate::machine::direct::nominal;
+        let direct = |chain: &Chain, q: &AxisValues, tip: &Vector3<f64>| {
+            let lin = [AxisName::X, AxisName::Y, AxisName::Z];
+            let mut base = *q;
+            for n in lin {
+                base.set(n, 0.0);
+            }
+            let p0 = nominal(chain, &base, 0.0).point;
+            let mut j = Matrix3::zeros();
+            for (k, n) in lin.into_iter().enumerate() {
+                let mut e = base;
+                e.set(n, 1.0);
+                j.set_column(k, &(nominal(chain, &e, 0.0).point - p0));
+            }
+            let x = j.lu().solve(&(tip - p0)).unwrap();
+            let mut out = *q;
+            for (k, n) in lin.into_iter().enumerate() {
+                out.set(n, x[k]);
+            }
+            out
+        };
+        for chain in [
+            Chain::paper000(PAPER000_L0),
+            Chain::paper002(),
+            Chain::paper001(120.0, 80.0),
+        ] {
+            for k in 0..300 {
+                let t = k as f64;
+                let mut q = AxisValues::default();
+                for (i, a) in chain.axes().enumerate() {
+                    if a.name.kind() == AxisKind::Rotary {
+                        q.set(a.name, 3.0 * (0.37 * t + 1.3 * i as f64).sin());
+                    }
+                }
+                let tip = Vector3::new(60.0 * (0.11 * t).cos(), 40.0 * (0.07 * t).sin(), 0.1 * t);
+                let got = solve_linear(&chain, &q, &tip).unwrap();
+                assert_eq!(got, direct(&chain, &q, &tip), "{} k = {k}", chain.code());
+            }
+        }
+    }
 
     /// The samples read in the grid's order are put back in the `us`' order: a batch of
     /// parameters in no order, with repeats, the ends and the vertical zone, gives at each one
