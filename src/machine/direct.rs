@@ -528,49 +528,55 @@ pub fn all_params(chain: &Chain) -> Vec<ErrorParam> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::machine::chain::PAPER000_L0;
 
-    /// The sides' motions made from rotary motions made once and reused for other linear values
-    /// give [`nominal`]'s tool point and direction bit for bit (tolerance: none), on the three
-    /// chains over a spread of angles and positions.
-    #[test]
-    fn rotary_motions_made_once_give_nominal() {
+    /// The three chains of the papers, each with 200 axis values spread over its axes: rotary
+    /// angles within ±3 rad, linear values within ±80 mm (or 0 when `linear` is false).
+    pub(crate) fn spread_poses(linear: bool) -> Vec<(Chain, AxisValues)> {
+        let mut out = Vec::new();
         for chain in [
             Chain::paper000(PAPER000_L0),
             Chain::paper002(),
             Chain::paper001(120.0, 80.0),
         ] {
             for k in 0..200 {
-                let t = k as f64;
                 let mut q = AxisValues::default();
                 for (j, a) in chain.axes().enumerate() {
-                    let x = (0.37 * t + 1.3 * j as f64).sin();
-                    q.set(
-                        a.name,
-                        if a.name.kind() == AxisKind::Rotary {
-                            3.0 * x
-                        } else {
-                            80.0 * x
-                        },
-                    );
+                    let x = (0.37 * k as f64 + 1.3 * j as f64).sin();
+                    match a.name.kind() {
+                        AxisKind::Rotary => q.set(a.name, 3.0 * x),
+                        AxisKind::Linear if linear => q.set(a.name, 80.0 * x),
+                        AxisKind::Linear => {}
+                    }
                 }
-                let rotary = RotaryMotions::of(&chain, &q);
-                for lin in [AxisName::X, AxisName::Y, AxisName::Z] {
-                    let mut e = q;
-                    e.set(lin, 0.25 * t - 7.0);
-                    let w = side_motion(chain.workpiece_axes(), &e, &rotary).inverse();
-                    let tool = side_motion(chain.tool_axes(), &e, &rotary);
-                    let a = nominal_from_sides(&chain, &w, &tool, 1.5);
-                    let b = nominal(&chain, &e, 1.5);
-                    assert_eq!(
-                        (a.point, a.direction),
-                        (b.point, b.direction),
-                        "{}",
-                        chain.code()
-                    );
-                }
+                out.push((chain.clone(), q));
+            }
+        }
+        out
+    }
+
+    /// The sides' motions made from rotary motions made once and reused for other linear values
+    /// give [`nominal`]'s tool point and direction bit for bit (tolerance: none), on the three
+    /// chains over a spread of angles and positions.
+    #[test]
+    fn rotary_motions_made_once_give_nominal() {
+        for (k, (chain, q)) in spread_poses(true).into_iter().enumerate() {
+            let rotary = RotaryMotions::of(&chain, &q);
+            for lin in [AxisName::X, AxisName::Y, AxisName::Z] {
+                let mut e = q;
+                e.set(lin, 0.25 * (k % 200) as f64 - 7.0);
+                let w = side_motion(chain.workpiece_axes(), &e, &rotary).inverse();
+                let tool = side_motion(chain.tool_axes(), &e, &rotary);
+                let a = nominal_from_sides(&chain, &w, &tool, 1.5);
+                let b = nominal(&chain, &e, 1.5);
+                assert_eq!(
+                    (a.point, a.direction),
+                    (b.point, b.direction),
+                    "{}",
+                    chain.code()
+                );
             }
         }
     }

@@ -436,6 +436,7 @@ where
 mod tests {
     use super::*;
     use crate::machine::chain::PAPER000_L0;
+    use crate::machine::direct::tests::spread_poses;
     use crate::part::{SShape, Surface};
     use crate::toolpath::flank::tool_pose;
 
@@ -464,23 +465,11 @@ mod tests {
             }
             out
         };
-        for chain in [
-            Chain::paper000(PAPER000_L0),
-            Chain::paper002(),
-            Chain::paper001(120.0, 80.0),
-        ] {
-            for k in 0..300 {
-                let t = k as f64;
-                let mut q = AxisValues::default();
-                for (i, a) in chain.axes().enumerate() {
-                    if a.name.kind() == AxisKind::Rotary {
-                        q.set(a.name, 3.0 * (0.37 * t + 1.3 * i as f64).sin());
-                    }
-                }
-                let tip = Vector3::new(60.0 * (0.11 * t).cos(), 40.0 * (0.07 * t).sin(), 0.1 * t);
-                let got = solve_linear(&chain, &q, &tip).unwrap();
-                assert_eq!(got, direct(&chain, &q, &tip), "{} k = {k}", chain.code());
-            }
+        for (k, (chain, q)) in spread_poses(false).into_iter().enumerate() {
+            let t = k as f64;
+            let tip = Vector3::new(60.0 * (0.11 * t).cos(), 40.0 * (0.07 * t).sin(), 0.1 * t);
+            let got = solve_linear(&chain, &q, &tip).unwrap();
+            assert_eq!(got, direct(&chain, &q, &tip), "{} k = {k}", chain.code());
         }
     }
 
