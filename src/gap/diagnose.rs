@@ -187,7 +187,7 @@ pub fn diagnose_with_smooth(
     let spans: Vec<_> = fits
         .iter()
         .filter(|f| f.evidence.added_rank > 0)
-        .map(|f| (f.effect, f.unabsorbed_basis.clone()))
+        .map(|f| (f.effect, &f.unabsorbed_basis))
         .collect();
     let equivalences = near_equivalent_pairs(&spans);
     let invisible = fits
