@@ -51,10 +51,9 @@ use serde::Serialize;
 
 use crate::effects::data::curve_sequences;
 use crate::effects::data::GapInput;
-use crate::gap::which::SmoothFit;
 use crate::identify::solve::{hstack, Factor};
 use crate::measurement::noise::total_sigma;
-use crate::measurement::smooth_noise::{smooth_basis, SMOOTH_DEGREE};
+use crate::measurement::smooth_noise::{smooth_basis, SmoothFit, SMOOTH_DEGREE};
 use crate::numerics::order::sort_by_key_f64_descending;
 use crate::numerics::stats;
 
