@@ -364,7 +364,7 @@ pub fn second_difference_sigma(seqs: &[Vec<f64>]) -> f64 {
     if d2.is_empty() {
         0.0
     } else {
-        1.482_6 * stats::median_unordered(&mut d2) / 6f64.sqrt()
+        1.482_6 * stats::median(&mut d2) / 6f64.sqrt()
     }
 }
 
@@ -932,7 +932,7 @@ pub fn estimate_noise(seqs: &[Vec<f64>], inputs: NoiseInputs) -> NoiseEstimate {
     let second_difference = if d2.is_empty() {
         0.0
     } else {
-        1.482_6 * stats::median_unordered(&mut d2) / 6f64.sqrt()
+        1.482_6 * stats::median(&mut d2) / 6f64.sqrt()
     };
     let variogram_nugget = variogram_nugget_sigma(seqs);
     let not_white = smooth.is_some_and(|s| s.whiteness_p < NOT_WHITE_P);

@@ -267,7 +267,7 @@ fn mad_sigma(u: &[f64]) -> f64 {
     if a.is_empty() {
         return 0.0;
     }
-    1.482_6 * stats::median_unordered(&mut a)
+    1.482_6 * stats::median(&mut a)
 }
 
 /// The neighbours of each row: along its curve (previous and next in `u`), and on every other

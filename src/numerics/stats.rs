@@ -23,25 +23,6 @@ pub fn median(x: &mut [f64]) -> f64 {
     }
 }
 
-/// [`median`] by selection instead of a sort (`O(n)`; a robust σ of a 200,000-point scan's
-/// residual, once per candidate effect, issue 31): the same value bit for bit, `x` left in no
-/// particular order; NaN when empty.
-pub fn median_unordered(x: &mut [f64]) -> f64 {
-    let m = x.len();
-    if m == 0 {
-        return f64::NAN;
-    }
-    // the element of rank m/2 in `total_cmp` order, the ones before it no greater
-    let (below, mid, _) = x.select_nth_unstable_by(m / 2, f64::total_cmp);
-    let mid = *mid;
-    if m % 2 == 1 {
-        mid
-    } else {
-        let lower = below.iter().copied().max_by(f64::total_cmp).unwrap_or(mid);
-        0.5 * (lower + mid)
-    }
-}
-
 /// `ln Γ(x)`, `x > 0`.
 pub fn ln_gamma(x: f64) -> f64 {
     const G: [f64; 9] = [
@@ -237,41 +218,6 @@ pub fn normal_two_sided(z: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The median by selection is the median by sorting, bit for bit (tolerance: none): odd and
-    /// even counts, repeats, signed zeros, tiny and huge values, 1 and 2 elements.
-    #[test]
-    fn median_by_selection_is_median_by_sorting() {
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
-        for n in (1..200).chain([1_000, 1_001, 20_000]) {
-            for kind in 0..4 {
-                let x: Vec<f64> = (0..n)
-                    .map(|_| {
-                        let r = next();
-                        match kind {
-                            0 => (r % 1_000_000) as f64 * 1e-6 - 0.5,
-                            1 => (r % 5) as f64,
-                            2 => [0.0, -0.0, 1e-300, -1e300][(r % 4) as usize],
-                            _ => f64::from_bits(r >> 2) * if r & 1 == 0 { 1.0 } else { -1.0 },
-                        }
-                    })
-                    .collect();
-                let (mut a, mut b) = (x.clone(), x);
-                assert_eq!(
-                    median_unordered(&mut a).to_bits(),
-                    median(&mut b).to_bits(),
-                    "n {n} kind {kind}"
-                );
-            }
-        }
-        assert!(median_unordered(&mut []).is_nan());
-    }
     use crate::assert_near;
 
     #[test]
