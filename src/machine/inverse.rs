@@ -26,6 +26,7 @@ use super::chain::{AxisKind, AxisName, AxisValues, Chain};
 use super::direct::{nominal_from_sides, side_motion, RotaryMotions};
 use super::transform::rotation3;
 use super::MachineError;
+use crate::numerics::order::argsort;
 
 /// Which of the two inverse solutions to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -307,22 +308,23 @@ where
     if let Some(u) = us.iter().find(|u| !(**u >= u0 && **u <= u1)) {
         return Err(MachineError::OutsideDomain { u: *u, u0, u1 });
     }
-    // The grid and the `us`, sorted and without repeats (`g`), each `us` tagged with its index:
-    // `order` lists the `us` in `g`'s order and `at` where each one's value sits in `g`, so that
-    // the samples are read in `g`'s order (not by a search each, and in memory order).
-    let mut tagged: Vec<(f64, usize)> = (0..=grid)
-        .map(|k| (u0 + (u1 - u0) * k as f64 / grid as f64, usize::MAX))
-        .chain(us.iter().copied().zip(0..))
+    // The grid and the `us`, sorted and without repeats (`g`): `order` lists the `us` in `g`'s
+    // order and `at` where each one's value sits in `g`, so that the samples are read in `g`'s
+    // order (not by a search each, and in memory order). `argsort` is stable: the order of a
+    // sort of the values, the grid's before the `us`' among equal ones.
+    let values: Vec<f64> = (0..=grid)
+        .map(|k| u0 + (u1 - u0) * k as f64 / grid as f64)
+        .chain(us.iter().copied())
         .collect();
-    tagged.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut g: Vec<f64> = Vec::with_capacity(tagged.len());
+    let mut g: Vec<f64> = Vec::with_capacity(values.len());
     let mut order: Vec<usize> = Vec::with_capacity(us.len());
     let mut at = vec![0; us.len()];
-    for (u, i) in tagged {
+    for k in argsort(&values) {
+        let u = values[k];
         if g.last() != Some(&u) {
             g.push(u);
         }
-        if i != usize::MAX {
+        if let Some(i) = k.checked_sub(grid + 1) {
             order.push(i);
             at[i] = g.len() - 1;
         }
@@ -424,12 +426,28 @@ where
             singular: solved[j].1,
         })
     };
-    let mut samples: Vec<Option<Result<PathSample, MachineError>>> = vec![None; us.len()];
+    let blank = PathSample {
+        u: 0.0,
+        values: AxisValues::default(),
+        singular: false,
+    };
+    let mut samples = vec![blank; us.len()];
+    // the error of the first of the `us` that has one, as a pass in their order would give
+    let mut failed: Option<(usize, MachineError)> = None;
     for i in order {
-        samples[i] = Some(sample(i));
+        match sample(i) {
+            Ok(p) => samples[i] = p,
+            Err(e) => {
+                if failed.as_ref().is_none_or(|(j, _)| i < *j) {
+                    failed = Some((i, e));
+                }
+            }
+        }
     }
-    // in the `us`' order, the first error first
-    samples.into_iter().flatten().collect()
+    match failed {
+        Some((_, e)) => Err(e),
+        None => Ok(samples),
+    }
 }
 
 #[cfg(test)]
