@@ -9,9 +9,9 @@ use crate::effects::builtin::PartModel;
 use crate::effects::prepared::Prepared;
 use crate::effects::{GapError, GapInput};
 use crate::gap::verdict::VerdictId;
-use crate::gap::{diagnose, DiagnosisReport};
+use crate::gap::{diagnose, diagnose_with_smooth, DiagnoseOptions, DiagnosisReport};
 use crate::machine::AxisName;
-use crate::measurement::outliers::{find_outliers, without_rows, OutlierTest};
+use crate::measurement::outliers::{find_outliers_with_fit, without_rows, OutlierTest};
 use crate::parameter::Effect;
 use crate::settings::MachineChoice;
 
@@ -117,13 +117,14 @@ struct Run {
 
 fn run(m: &PartModel, deviations: &[f64], opts: &AnalysisOptions) -> Result<Run, GapError> {
     let input = input_of(m, deviations, opts.noise_sigma);
-    let test = find_outliers(&input);
+    // the test's plain fit of [A | smooth basis] on every row is the diagnosis's
+    let (test, smooth) = find_outliers_with_fit(&input);
     let drop = if opts.keep_outliers {
         Vec::new()
     } else {
         test.indices()
     };
-    let all = diagnose(&input)?;
+    let all = diagnose_with_smooth(&input, DiagnoseOptions::default(), smooth)?;
     let rss_all = all.verdict.rms_after.powi(2) * deviations.len() as f64;
     let sigma_all = all.structure.noise.used;
     let (report, verdict_all_points) = if drop.is_empty() {

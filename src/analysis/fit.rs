@@ -11,7 +11,7 @@ use super::error::AnalysisError;
 use super::final_answer::{final_answer, refine_with, FinalInput};
 use super::options::AnalysisOptions;
 use super::outliers::outliers_of;
-use super::points::design_at;
+use super::points::design_of_points;
 use super::progress::{silent, Progress, Sink, Stage};
 use super::report::{BaselineFit, Outliers};
 use super::session::PointsModel;
@@ -35,7 +35,7 @@ pub struct PointsFit {
 
 /// One part through the stages after its points are known, as the CLI, the page and the
 /// benchmark of the diagnosis (`validate`) all run it: the design of the location errors at the
-/// points ([`design_at`]), the outlier test and the diagnosis ([`diagnose_on_machine`]), the
+/// points ([`design_of_points`]), the outlier test and the diagnosis ([`diagnose_on_machine`]), the
 /// baseline identification and its exact-model refinement, and the final answer fitted with
 /// what the diagnosis found. `prepared` are the settings of `opts` (machine, L0, branch, mode),
 /// `at` the model of the points on them ([`PointsModel`]); `deviations` (mm) and `ids` follow
@@ -62,9 +62,8 @@ pub fn fit_points_with(
     opts: &AnalysisOptions,
     progress: Sink,
 ) -> Result<PointsFit, AnalysisError> {
-    let points = at.points();
     progress(Progress::of(Stage::Design));
-    let (design, columns) = design_at(prepared, points, at.axis_values()?, opts)?;
+    let (design, columns) = design_of_points(prepared, at, opts)?;
     progress(Progress::of(Stage::Diagnose));
     let modelled = diagnose_modelled(prepared, at, deviations, opts);
     let obs = Observations::new(ids.to_vec(), at.labels(), deviations.to_vec())

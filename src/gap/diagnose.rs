@@ -59,6 +59,18 @@ pub fn diagnose(input: &GapInput) -> Result<DiagnosisReport, GapError> {
 
 /// Diagnoses the sim-to-real gap of one measured part.
 pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<DiagnosisReport, GapError> {
+    diagnose_with_smooth(input, opts, None)
+}
+
+/// [`diagnose_with`], with the fit of the deviations by `[A | smooth basis]` (the baseline and
+/// [`smooth_basis`] of degree [`SMOOTH_DEGREE`] of `input`'s points, on every row) when the
+/// caller has it ([`crate::measurement::outliers::find_outliers_with_fit`]): the same numbers,
+/// not factorised again.
+pub fn diagnose_with_smooth(
+    input: &GapInput,
+    opts: DiagnoseOptions,
+    smooth: Option<SmoothFit>,
+) -> Result<DiagnosisReport, GapError> {
     input.validate()?;
     let n = input.deviations.len();
     let nf = n as f64;
@@ -86,7 +98,10 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
 
     // (b) WHERE, noise versus structure.
     // the smooth basis only for its factor (dropped at once: 77 MB at 200,000 points)
-    let (sfactor, sresid) = smooth_factor(smooth_basis(&input.points, SMOOTH_DEGREE), a, &y);
+    let (sfactor, sresid) = match smooth {
+        Some(s) => (s.factor, s.residual),
+        None => smooth_factor(smooth_basis(&input.points, SMOOTH_DEGREE), a, &y),
+    };
     let (sm, sm_robust, sdof) = smooth_sigmas(&sfactor, &sresid);
     let curves: Vec<Vec<usize>> = curve_sequences(&input.points)
         .into_iter()
@@ -174,7 +189,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
     let spans: Vec<_> = fits
         .iter()
         .filter(|f| f.evidence.added_rank > 0)
-        .map(|f| (f.effect, f.unabsorbed_basis.clone()))
+        .map(|f| (f.effect, &f.unabsorbed_basis))
         .collect();
     let equivalences = near_equivalent_pairs(&spans);
     let invisible = fits

@@ -14,6 +14,8 @@
 //! the other candidate, which stays below the 2.5 σ detection limit unless the effect's visible
 //! part exceeds 12.5 σ: at ordinary magnitudes the two cannot be told apart.
 
+use std::borrow::Borrow;
+
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
@@ -105,12 +107,13 @@ pub fn unabsorbed_spans(
         .collect()
 }
 
-/// All pairs whose unabsorbed spans are within [`EQUIVALENT_COS`].
-pub fn near_equivalent_pairs(spans: &[(Effect, DMatrix<f64>)]) -> Vec<Equivalence> {
+/// All pairs whose unabsorbed spans (orthonormal bases, owned or borrowed: the diagnosis lends its
+/// fits' without a copy) are within [`EQUIVALENT_COS`].
+pub fn near_equivalent_pairs<M: Borrow<DMatrix<f64>>>(spans: &[(Effect, M)]) -> Vec<Equivalence> {
     let mut out = Vec::new();
     for (i, (na, qa)) in spans.iter().enumerate() {
         for (nb, qb) in &spans[i + 1..] {
-            let Some(p) = compare_spans((*na, qa), (*nb, qb)) else {
+            let Some(p) = compare_spans((*na, qa.borrow()), (*nb, qb.borrow())) else {
                 continue;
             };
             if p.cosine >= EQUIVALENT_COS {

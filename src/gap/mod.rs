@@ -49,5 +49,5 @@ pub mod shape;
 pub mod verdict;
 pub mod which;
 
-pub use diagnose::{diagnose, diagnose_with, DiagnoseOptions};
+pub use diagnose::{diagnose, diagnose_with, diagnose_with_smooth, DiagnoseOptions};
 pub use report::DiagnosisReport;

@@ -211,12 +211,7 @@ pub struct BaselineFit {
     pub rss: f64,
 }
 
-/// The factor of `[A | smooth basis]` and the deviations' residual on it.
-#[derive(Debug, Clone)]
-pub struct SmoothFit {
-    pub factor: Factor,
-    pub residual: DVector<f64>,
-}
+pub use crate::measurement::smooth_noise::SmoothFit;
 
 /// Context shared by the candidate fits.
 pub struct Context<'a> {

@@ -295,22 +295,55 @@ fn tool_vectors(chain: &Chain, h: f64) -> (Vector4<f64>, Vector4<f64>) {
 /// Nominal direct kinematics (no errors): tool point `h` above the tip and tool direction.
 /// Evaluated on rigid motions directly (the same chain as [`tool_point`] with all errors 0).
 pub fn nominal(chain: &Chain, q: &AxisValues, h: f64) -> ToolPoint {
-    let side = |axes: &[ChainAxis]| {
-        axes.iter().fold(Rigid::IDENTITY, |acc, a| {
-            let v = q.get(a.name);
-            let m = match a.name.kind() {
-                AxisKind::Linear => {
-                    let mut d = Vector3::zeros();
-                    d[a.name.direction()] = a.sign * v;
-                    Rigid::translation(&d)
-                }
-                AxisKind::Rotary => Rigid::rotation(a.name.direction(), a.sign * v),
-            };
-            acc.then(&Rigid::translation(&a.offset)).then(&m)
-        })
-    };
-    let w = side(chain.workpiece_axes()).inverse();
-    let t = side(chain.tool_axes());
+    let rotary = RotaryMotions::of(chain, q);
+    let w = side_motion(chain.workpiece_axes(), q, &rotary).inverse();
+    let t = side_motion(chain.tool_axes(), q, &rotary);
+    nominal_from_sides(chain, &w, &t, h)
+}
+
+/// The rigid motion of each rotary axis of a chain at given angles, `Rot(k, sign·q)`: computed
+/// once for several nominal chains at the same angles (the linear axes solved for them).
+pub(crate) struct RotaryMotions(Vec<(AxisName, Rigid)>);
+
+impl RotaryMotions {
+    /// The motions of the rotary axes of `chain` at the angles of `q` (rad).
+    pub(crate) fn of(chain: &Chain, q: &AxisValues) -> Self {
+        Self(
+            chain
+                .axes()
+                .filter(|a| a.name.kind() == AxisKind::Rotary)
+                .map(|a| {
+                    let m = Rigid::rotation(a.name.direction(), a.sign * q.get(a.name));
+                    (a.name, m)
+                })
+                .collect(),
+        )
+    }
+}
+
+/// The rigid motion of one side of the chain (`axes`, frame → body) at the linear values of `q`
+/// and the rotary motions `rotary` (made at `q`'s angles): [`nominal`]'s, step for step.
+pub(crate) fn side_motion(axes: &[ChainAxis], q: &AxisValues, rotary: &RotaryMotions) -> Rigid {
+    axes.iter().fold(Rigid::IDENTITY, |acc, a| {
+        let m = match a.name.kind() {
+            AxisKind::Linear => {
+                let mut d = Vector3::zeros();
+                d[a.name.direction()] = a.sign * q.get(a.name);
+                Rigid::translation(&d)
+            }
+            AxisKind::Rotary => rotary
+                .0
+                .iter()
+                .find(|(n, _)| *n == a.name)
+                .map_or(Rigid::IDENTITY, |(_, m)| *m),
+        };
+        acc.then(&Rigid::translation(&a.offset)).then(&m)
+    })
+}
+
+/// The tool point `h` above the tip and the tool direction from the workpiece side's inverse
+/// motion `w` and the tool side's motion `t` ([`side_motion`]).
+pub(crate) fn nominal_from_sides(chain: &Chain, w: &Rigid, t: &Rigid, h: f64) -> ToolPoint {
     let o = chain.tool_offset();
     ToolPoint {
         point: w.point(&t.point(&Vector3::new(o.x, o.y, o.z + h))),
@@ -492,4 +525,59 @@ pub fn all_params(chain: &Chain) -> Vec<ErrorParam> {
         }
     }
     v
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::machine::chain::PAPER000_L0;
+
+    /// The three chains of the papers, each with 200 axis values spread over its axes: rotary
+    /// angles within ±3 rad, linear values within ±80 mm (or 0 when `linear` is false).
+    pub(crate) fn spread_poses(linear: bool) -> Vec<(Chain, AxisValues)> {
+        let mut out = Vec::new();
+        for chain in [
+            Chain::paper000(PAPER000_L0),
+            Chain::paper002(),
+            Chain::paper001(120.0, 80.0),
+        ] {
+            for k in 0..200 {
+                let mut q = AxisValues::default();
+                for (j, a) in chain.axes().enumerate() {
+                    let x = (0.37 * k as f64 + 1.3 * j as f64).sin();
+                    match a.name.kind() {
+                        AxisKind::Rotary => q.set(a.name, 3.0 * x),
+                        AxisKind::Linear if linear => q.set(a.name, 80.0 * x),
+                        AxisKind::Linear => {}
+                    }
+                }
+                out.push((chain.clone(), q));
+            }
+        }
+        out
+    }
+
+    /// The sides' motions made from rotary motions made once and reused for other linear values
+    /// give [`nominal`]'s tool point and direction bit for bit (tolerance: none), on the three
+    /// chains over a spread of angles and positions.
+    #[test]
+    fn rotary_motions_made_once_give_nominal() {
+        for (k, (chain, q)) in spread_poses(true).into_iter().enumerate() {
+            let rotary = RotaryMotions::of(&chain, &q);
+            for lin in [AxisName::X, AxisName::Y, AxisName::Z] {
+                let mut e = q;
+                e.set(lin, 0.25 * (k % 200) as f64 - 7.0);
+                let w = side_motion(chain.workpiece_axes(), &e, &rotary).inverse();
+                let tool = side_motion(chain.tool_axes(), &e, &rotary);
+                let a = nominal_from_sides(&chain, &w, &tool, 1.5);
+                let b = nominal(&chain, &e, 1.5);
+                assert_eq!(
+                    (a.point, a.direction),
+                    (b.point, b.direction),
+                    "{}",
+                    chain.code()
+                );
+            }
+        }
+    }
 }

@@ -23,9 +23,10 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 use super::chain::{AxisKind, AxisName, AxisValues, Chain};
-use super::direct::nominal;
+use super::direct::{nominal_from_sides, side_motion, RotaryMotions};
 use super::transform::rotation3;
 use super::MachineError;
+use crate::numerics::order::argsort;
 
 /// Which of the two inverse solutions to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -205,12 +206,26 @@ pub fn solve_linear(
     for n in lin {
         base.set(n, 0.0);
     }
-    let p0 = nominal(chain, &base, 0.0).point;
+    // The tip at the linear axes 0 and at each one set to 1 (the nominal chain, `nominal`'s
+    // arithmetic): the rotary axes' motions once, and the motion of a side that does not carry
+    // the axis set to 1 is the one at 0 (the same numbers).
+    let rotary = RotaryMotions::of(chain, &base);
+    let (wp, tool) = (chain.workpiece_axes(), chain.tool_axes());
+    let w0 = side_motion(wp, &base, &rotary).inverse();
+    let t0 = side_motion(tool, &base, &rotary);
+    let p0 = nominal_from_sides(chain, &w0, &t0, 0.0).point;
     let mut j = Matrix3::zeros();
     for (k, n) in lin.into_iter().enumerate() {
         let mut e = base;
         e.set(n, 1.0);
-        j.set_column(k, &(nominal(chain, &e, 0.0).point - p0));
+        let p = if wp.iter().any(|a| a.name == n) {
+            let w = side_motion(wp, &e, &rotary).inverse();
+            nominal_from_sides(chain, &w, &t0, 0.0)
+        } else {
+            let t = side_motion(tool, &e, &rotary);
+            nominal_from_sides(chain, &w0, &t, 0.0)
+        };
+        j.set_column(k, &(p.point - p0));
     }
     let det = j.determinant();
     let x = j
@@ -293,12 +308,27 @@ where
     if let Some(u) = us.iter().find(|u| !(**u >= u0 && **u <= u1)) {
         return Err(MachineError::OutsideDomain { u: *u, u0, u1 });
     }
-    let mut g: Vec<f64> = (0..=grid)
+    // The grid and the `us`, sorted and without repeats (`g`): `order` lists the `us` in `g`'s
+    // order and `at` where each one's value sits in `g`, so that the samples are read in `g`'s
+    // order (not by a search each, and in memory order). `argsort` is stable: the order of a
+    // sort of the values, the grid's before the `us`' among equal ones.
+    let values: Vec<f64> = (0..=grid)
         .map(|k| u0 + (u1 - u0) * k as f64 / grid as f64)
         .chain(us.iter().copied())
         .collect();
-    g.sort_by(f64::total_cmp);
-    g.dedup();
+    let mut g: Vec<f64> = Vec::with_capacity(values.len());
+    let mut order: Vec<usize> = Vec::with_capacity(us.len());
+    let mut at = vec![0; us.len()];
+    for k in argsort(&values) {
+        let u = values[k];
+        if g.last() != Some(&u) {
+            g.push(u);
+        }
+        if let Some(i) = k.checked_sub(grid + 1) {
+            order.push(i);
+            at[i] = g.len() - 1;
+        }
+    }
     let sing = |u: f64| pair.solutions(&pose_at(u).1).1 == 0.0;
     let poses: Vec<(Vector3<f64>, Vector3<f64>)> = g.iter().map(|&u| pose_at(u)).collect();
     let solved: Vec<([(f64, f64); 2], bool)> = poses
@@ -366,33 +396,138 @@ where
         prev = end.map(|e| e.1).unwrap_or(outer[m - 1]);
         k = m;
     }
-    us.iter()
-        .map(|&u| {
-            let j = g
-                .binary_search_by(|x| x.total_cmp(&u))
-                .map_err(|_| MachineError::LostFromGrid { u })?;
-            let (tip, w) = poses[j];
-            let (o, i) = if solved[j].1 {
-                (outer[j], pair.inner_at(&w, outer[j]))
-            } else {
-                let sols = &solved[j].0;
-                // The solution whose outer angle matches the unwrapped one.
-                let best = sols
-                    .iter()
-                    .map(|&(o, i)| (unwrap_near(o, outer[j]), i))
-                    .min_by(|x, y| (x.0 - outer[j]).abs().total_cmp(&(y.0 - outer[j]).abs()))
-                    .unwrap_or((outer[j], 0.0));
-                best
-            };
-            let mut q = AxisValues::default();
-            q.set(pair.outer, o);
-            q.set(pair.inner, i);
-            let values = solve_linear(chain, &q, &tip)?;
-            Ok(PathSample {
-                u,
-                values,
-                singular: solved[j].1,
-            })
+    let sample = |k: usize| {
+        let (u, j) = (us[k], at[k]);
+        // a value kept once for an equal one of other bits (-0.0 beside 0.0) is not found, as
+        // by a search of `g`
+        if g[j].total_cmp(&u) != std::cmp::Ordering::Equal {
+            return Err(MachineError::LostFromGrid { u });
+        }
+        let (tip, w) = poses[j];
+        let (o, i) = if solved[j].1 {
+            (outer[j], pair.inner_at(&w, outer[j]))
+        } else {
+            let sols = &solved[j].0;
+            // The solution whose outer angle matches the unwrapped one.
+            let best = sols
+                .iter()
+                .map(|&(o, i)| (unwrap_near(o, outer[j]), i))
+                .min_by(|x, y| (x.0 - outer[j]).abs().total_cmp(&(y.0 - outer[j]).abs()))
+                .unwrap_or((outer[j], 0.0));
+            best
+        };
+        let mut q = AxisValues::default();
+        q.set(pair.outer, o);
+        q.set(pair.inner, i);
+        let values = solve_linear(chain, &q, &tip)?;
+        Ok(PathSample {
+            u,
+            values,
+            singular: solved[j].1,
         })
-        .collect()
+    };
+    let blank = PathSample {
+        u: 0.0,
+        values: AxisValues::default(),
+        singular: false,
+    };
+    let mut samples = vec![blank; us.len()];
+    // the error of the first of the `us` that has one, as a pass in their order would give
+    let mut failed: Option<(usize, MachineError)> = None;
+    for i in order {
+        match sample(i) {
+            Ok(p) => samples[i] = p,
+            Err(e) => {
+                if failed.as_ref().is_none_or(|(j, _)| i < *j) {
+                    failed = Some((i, e));
+                }
+            }
+        }
+    }
+    match failed {
+        Some((_, e)) => Err(e),
+        None => Ok(samples),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::machine::chain::PAPER000_L0;
+    use crate::machine::direct::tests::spread_poses;
+    use crate::part::{SShape, Surface};
+    use crate::toolpath::flank::tool_pose;
+
+    /// The linear axes solved with the sides' motions shared are those solved with a whole
+    /// nominal chain per evaluation (the direct method), bit for bit (tolerance: none).
+    #[test]
+    fn linear_axes_as_with_a_nominal_chain_each() {
+        use crate::machine::direct::nominal;
+        let direct = |chain: &Chain, q: &AxisValues, tip: &Vector3<f64>| {
+            let lin = [AxisName::X, AxisName::Y, AxisName::Z];
+            let mut base = *q;
+            for n in lin {
+                base.set(n, 0.0);
+            }
+            let p0 = nominal(chain, &base, 0.0).point;
+            let mut j = Matrix3::zeros();
+            for (k, n) in lin.into_iter().enumerate() {
+                let mut e = base;
+                e.set(n, 1.0);
+                j.set_column(k, &(nominal(chain, &e, 0.0).point - p0));
+            }
+            let x = j.lu().solve(&(tip - p0)).unwrap();
+            let mut out = *q;
+            for (k, n) in lin.into_iter().enumerate() {
+                out.set(n, x[k]);
+            }
+            out
+        };
+        for (k, (chain, q)) in spread_poses(false).into_iter().enumerate() {
+            let t = k as f64;
+            let tip = Vector3::new(60.0 * (0.11 * t).cos(), 40.0 * (0.07 * t).sin(), 0.1 * t);
+            let got = solve_linear(&chain, &q, &tip).unwrap();
+            assert_eq!(got, direct(&chain, &q, &tip), "{} k = {k}", chain.code());
+        }
+    }
+
+    /// The samples read in the grid's order are put back in the `us`' order: a batch of
+    /// parameters in no order, with repeats, the ends and the vertical zone, gives at each one
+    /// the sample a call with that parameter alone gives (bit for bit, tolerance: none), on the
+    /// three chains.
+    #[test]
+    fn samples_come_back_in_the_order_asked() {
+        let part = SShape::iso();
+        let mut us: Vec<f64> = (0..400)
+            .map(|k| ((k * 7919) % 400) as f64 / 399.0)
+            .collect();
+        us.extend([
+            0.0,
+            1.0,
+            0.5,
+            0.5,
+            6.0 / 13.0,
+            8.0 / 13.0,
+            0.123_456_789,
+            0.0,
+        ]);
+        for chain in [
+            Chain::paper000(PAPER000_L0),
+            Chain::paper002(),
+            Chain::paper001(120.0, 80.0),
+        ] {
+            for s in Surface::BOTH {
+                let pose = |u: f64| {
+                    let p = tool_pose(&part, s, u);
+                    (p.tip, p.axis)
+                };
+                let batch = inverse_path(&chain, Branch::Signed, pose, (0.0, 1.0), 260, &us);
+                let batch = batch.unwrap();
+                for (k, &u) in us.iter().enumerate() {
+                    let one = inverse_path(&chain, Branch::Signed, pose, (0.0, 1.0), 260, &[u]);
+                    assert_eq!(batch[k], one.unwrap()[0], "{} {s:?} u = {u}", chain.code());
+                }
+            }
+        }
+    }
 }

@@ -44,6 +44,8 @@
 //!
 //! Units: deviations, sizes and σ in mm; the statistic is dimensionless.
 
+use std::borrow::Cow;
+
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
@@ -51,7 +53,7 @@ use crate::effects::data::curve_sequences;
 use crate::effects::data::GapInput;
 use crate::identify::solve::{hstack, Factor};
 use crate::measurement::noise::total_sigma;
-use crate::measurement::smooth_noise::{smooth_basis, SMOOTH_DEGREE};
+use crate::measurement::smooth_noise::{smooth_basis, SmoothFit, SMOOTH_DEGREE};
 use crate::numerics::order::sort_by_key_f64_descending;
 use crate::numerics::stats;
 
@@ -136,9 +138,8 @@ pub fn t_two_sided_quantile(p: f64, nu: f64) -> f64 {
 /// Residual, leverage and rank of the fit of `y` by `x` restricted to the rows `keep`
 /// (the other rows get residual and leverage 0).
 fn fit(x: &DMatrix<f64>, y: &DVector<f64>, keep: &[usize]) -> (Vec<f64>, Vec<f64>, usize) {
-    let xs = x.select_rows(keep);
     let ys = DVector::from_iterator(keep.len(), keep.iter().map(|&i| y[i]));
-    let f = Factor::new(&xs, None);
+    let f = Factor::of(x.select_rows(keep), None);
     let e = f.unabsorbed_vec(&ys);
     let (r, h) = spread(x.nrows(), keep, &e, &f.basis);
     (r, h, f.rank)
@@ -153,8 +154,8 @@ pub const UPDATE_ROWS: usize = 2000;
 struct Base<'a> {
     factor: Factor,
     keep: &'a [usize],
-    /// `y` on the kept rows.
-    y: DVector<f64>,
+    /// The residual on the kept rows, `e₀ = (I − QQᵀ) y`.
+    e: DVector<f64>,
     /// The residual and leverage ([`fit`]).
     r: Vec<f64>,
     h: Vec<f64>,
@@ -162,15 +163,14 @@ struct Base<'a> {
 
 impl<'a> Base<'a> {
     fn new(x: &DMatrix<f64>, y: &DVector<f64>, keep: &'a [usize]) -> Self {
-        let xs = x.select_rows(keep);
         let ys = DVector::from_iterator(keep.len(), keep.iter().map(|&i| y[i]));
-        let factor = Factor::new(&xs, None);
+        let factor = Factor::of(x.select_rows(keep), None);
         let e = factor.unabsorbed_vec(&ys);
         let (r, h) = spread(x.nrows(), keep, &e, &factor.basis);
         Self {
             factor,
             keep,
-            y: ys,
+            e,
             r,
             h,
         }
@@ -184,7 +184,7 @@ impl<'a> Base<'a> {
         let cs = c.select_rows(self.keep);
         let norms: Vec<f64> = (0..cs.ncols()).map(|j| cs.column(j).norm()).collect();
         let added = Factor::new(&self.factor.unabsorbed(&cs), Some(&norms));
-        let e = added.unabsorbed_vec(&self.factor.unabsorbed_vec(&self.y));
+        let e = added.unabsorbed_vec(&self.e);
         let (r, extra) = spread(self.r.len(), self.keep, &e, &added.basis);
         let h = self.h.iter().zip(extra).map(|(a, b)| a + b).collect();
         (r, h, self.factor.rank + added.rank)
@@ -384,6 +384,14 @@ fn nearest_in_s(by_s: &[(f64, usize, usize)], s: f64) -> Option<usize> {
 /// Finds the single-point outliers of a measured part by the rule of the module doc (α =
 /// [`OUTLIER_ALPHA`]); σ̂ is `input.noise_sigma` when given, else robust.
 pub fn find_outliers(input: &GapInput) -> OutlierTest {
+    find_outliers_with_fit(input).0
+}
+
+/// [`find_outliers`], and the fit of the deviations by `[A | smooth basis]` on every row when
+/// the first round made it plain (no candidate's signature joined it): the diagnosis's smooth
+/// fit of the same input, bit for bit ([`crate::gap::diagnose_with_smooth`]; the factorisation
+/// of a 20,000-point scan's design is 4 % of `diagnose`, issue 31).
+pub fn find_outliers_with_fit(input: &GapInput) -> (OutlierTest, Option<SmoothFit>) {
     let n = input.deviations.len();
     let y = DVector::from_column_slice(&input.deviations);
     let x0 = hstack(
@@ -405,55 +413,37 @@ pub fn find_outliers(input: &GapInput) -> OutlierTest {
     let mut named: Vec<Outlier> = Vec::new();
     let mut structured: Vec<String> = Vec::new();
     let mut first: Option<(f64, f64)> = None;
-    for _round in 0..MAX_OUTLIERS {
+    let mut plain_fit: Option<SmoothFit> = None;
+    for round in 0..MAX_OUTLIERS {
         let keep: Vec<usize> = (0..n)
             .filter(|i| !named.iter().any(|o| o.index == *i))
             .collect();
         // the round's fit, kept for the candidates' test of each row over the bound
-        let (x, base) = with_best_candidate(input, &x0, &y, &keep);
-        let (r, h, rank) = (&base.r, &base.h, base.factor.rank);
-        let dof = keep.len().saturating_sub(rank);
-        if dof < 2 {
-            break;
+        let (x, base, plain) = with_best_candidate(input, &x0, &y, &keep);
+        let found = round_outlier(
+            input,
+            &x,
+            &y,
+            &keep,
+            &base,
+            &testable,
+            &nb,
+            &mut first,
+            &mut structured,
+        );
+        if round == 0 && plain {
+            plain_fit = Some(SmoothFit {
+                factor: base.factor,
+                residual: base.e,
+            });
         }
-        // the total σ: the CMM's share (given, or the repeats') is a floor, the part's own
-        // scatter adds to it when the robust estimate is significantly above it
-        let sigma = total_sigma(input.noise_sigma, robust_sigma(r, h, &keep), dof as f64);
-        let tested = keep.iter().filter(|&&i| testable[i]).count().max(1);
-        let crit = t_two_sided_quantile(OUTLIER_ALPHA / tested as f64, dof as f64);
-        first.get_or_insert((crit, sigma));
-        if sigma <= 0.0 {
-            break;
+        match found {
+            Some(o) => named.push(o),
+            None => break,
         }
-        let t = statistics(r, h, &keep, sigma);
-        let mut over: Vec<usize> = keep
-            .iter()
-            .copied()
-            .filter(|&i| testable[i] && t[i].abs() > crit)
-            .collect();
-        sort_by_key_f64_descending(&mut over, |&i| t[i].abs());
-        let found = over.into_iter().find(|&i| {
-            let ok = isolated(&x, &y, &keep, i, &nb.of(i), r[i] / (1.0 - h[i]).max(1e-12))
-                && !explained(input, &base, &x, &y, i, sigma, crit);
-            if !ok {
-                let id = input.points[i].id.to_string();
-                if !structured.contains(&id) {
-                    structured.push(id);
-                }
-            }
-            ok
-        });
-        let Some(i) = found else { break };
-        named.push(Outlier {
-            index: i,
-            id: input.points[i].id.to_string(),
-            curve: input.points[i].curve.clone(),
-            size: r[i] / (1.0 - h[i]).max(1e-12),
-            statistic: t[i],
-        });
     }
     let (threshold, sigma) = first.unwrap_or((f64::NAN, 0.0));
-    OutlierTest {
+    let test = OutlierTest {
         points: named,
         rule: format!(
             "externally studentised residual of the fit of the baseline plus a degree-{SMOOTH_DEGREE} \
@@ -477,18 +467,75 @@ pub fn find_outliers(input: &GapInput) -> OutlierTest {
             "robust".into()
         },
         structured,
-    }
+    };
+    (test, plain_fit)
 }
 
-/// `x` with the signature of the candidate that leaves the smallest robust σ on the rows `keep`
-/// (or `x` alone when none does better), and its fit: the structure of an effect (a backlash
-/// step) would otherwise inflate σ̂ and hide a spike.
-fn with_best_candidate<'a>(
+/// One round of the test on the rows `keep` with the round's design `x` and its fit `base`: the
+/// point it names, or `None` when none passes (the round's bound and σ go to `first` on the
+/// first round, the ids of points over the bound that a structure explains to `structured`).
+#[allow(clippy::too_many_arguments)]
+fn round_outlier(
     input: &GapInput,
     x: &DMatrix<f64>,
     y: &DVector<f64>,
+    keep: &[usize],
+    base: &Base,
+    testable: &[bool],
+    nb: &Neighbours,
+    first: &mut Option<(f64, f64)>,
+    structured: &mut Vec<String>,
+) -> Option<Outlier> {
+    let (r, h, rank) = (&base.r, &base.h, base.factor.rank);
+    let dof = keep.len().saturating_sub(rank);
+    if dof < 2 {
+        return None;
+    }
+    // the total σ: the CMM's share (given, or the repeats') is a floor, the part's own
+    // scatter adds to it when the robust estimate is significantly above it
+    let sigma = total_sigma(input.noise_sigma, robust_sigma(r, h, keep), dof as f64);
+    let tested = keep.iter().filter(|&&i| testable[i]).count().max(1);
+    let crit = t_two_sided_quantile(OUTLIER_ALPHA / tested as f64, dof as f64);
+    first.get_or_insert((crit, sigma));
+    if sigma <= 0.0 {
+        return None;
+    }
+    let t = statistics(r, h, keep, sigma);
+    let mut over: Vec<usize> = keep
+        .iter()
+        .copied()
+        .filter(|&i| testable[i] && t[i].abs() > crit)
+        .collect();
+    sort_by_key_f64_descending(&mut over, |&i| t[i].abs());
+    let i = over.into_iter().find(|&i| {
+        let ok = isolated(x, y, keep, i, &nb.of(i), r[i] / (1.0 - h[i]).max(1e-12))
+            && !explained(input, base, x, y, i, sigma, crit);
+        if !ok {
+            let id = input.points[i].id.to_string();
+            if !structured.contains(&id) {
+                structured.push(id);
+            }
+        }
+        ok
+    })?;
+    Some(Outlier {
+        index: i,
+        id: input.points[i].id.to_string(),
+        curve: input.points[i].curve.clone(),
+        size: r[i] / (1.0 - h[i]).max(1e-12),
+        statistic: t[i],
+    })
+}
+
+/// `x` with the signature of the candidate that leaves the smallest robust σ on the rows `keep`
+/// (or `x` alone when none does better), its fit, and whether that is `x` alone: the structure
+/// of an effect (a backlash step) would otherwise inflate σ̂ and hide a spike.
+fn with_best_candidate<'a, 'x>(
+    input: &GapInput,
+    x: &'x DMatrix<f64>,
+    y: &DVector<f64>,
     keep: &'a [usize],
-) -> (DMatrix<f64>, Base<'a>) {
+) -> (Cow<'x, DMatrix<f64>>, Base<'a>, bool) {
     let base = Base::new(x, y, keep);
     let plain = robust_sigma(&base.r, &base.h, keep);
     let mut best = (CANDIDATE_GAIN * plain, None);
@@ -503,9 +550,9 @@ fn with_best_candidate<'a>(
         Some(c) => {
             let x = hstack(x, &c.signature.matrix);
             let base = Base::new(&x, y, keep);
-            (x, base)
+            (Cow::Owned(x), base, false)
         }
-        None => (x.clone(), base),
+        None => (Cow::Borrowed(x), base, true),
     }
 }
 

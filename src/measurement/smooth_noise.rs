@@ -126,6 +126,13 @@ pub fn smooth_noise(points: &[PointMeta], a: &DMatrix<f64>, y: &DVector<f64>) ->
     smooth_sigmas(&f, &r)
 }
 
+/// The factor of `[A | smooth basis]` and the deviations' residual on it.
+#[derive(Debug, Clone)]
+pub struct SmoothFit {
+    pub factor: Factor,
+    pub residual: DVector<f64>,
+}
+
 /// The factor of `[A | b]` and the residual of `y` on it.
 pub fn smooth_factor(
     b: DMatrix<f64>,

@@ -10,6 +10,7 @@ pub mod projection;
 pub mod ruled;
 pub mod s_shape;
 pub mod scan;
+pub mod start_rulings;
 
 pub use cone::{ConeFrustum, ConePoint};
 pub use flat::{Flat, FLAT_COLUMNS};

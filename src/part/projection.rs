@@ -6,7 +6,8 @@
 //! free (the ruled surface extends linearly past Z 0..30, so a point measured slightly above or
 //! below the part still projects orthogonally):
 //!
-//! 1. start: the best of 401 rulings, each with its own closest `v = (p - C0)·D/|D|²`;
+//! 1. start: the best of 401 rulings, each with its own closest `v = (p - C0)·D/|D|²`
+//!    (searched coarse to fine, [`super::start_rulings`]);
 //! 2. Newton on `∇f = [(S-p)·S_u, (S-p)·S_v]` with the Hessian
 //!    `[[S_u·S_u + (S-p)·S_uu, S_u·S_v + (S-p)·D'], [·, S_v·S_v]]` (`S_vv = 0`, `S_uv = D'`),
 //!    falling back to the Gauss–Newton matrix when that is not positive definite, with step
@@ -20,10 +21,12 @@
 use nalgebra::{Matrix2, Vector2, Vector3};
 use serde::Serialize;
 
+use super::start_rulings::{Ruling, StartRulings};
 use crate::geometry::GeometryError;
+use crate::part::frame::frame_derivs_from;
 #[cfg(all(test, not(target_arch = "wasm32")))]
 use crate::part::SShape;
-use crate::part::{RuledPart, Surface};
+use crate::part::{RuledPart, Section, Surface};
 
 /// Result of a closest-point projection.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,16 +65,16 @@ impl Serialize for Projection {
     }
 }
 
-const START_SAMPLES: usize = 400;
 const MAX_ITER: usize = 100;
 
-/// The start rulings of every surface of a part (`C0` and `D = C1 - C0` at `u = i/400`,
-/// `i = 0..=400`), computed once: a file's points all start from the same 401 rulings, which
-/// are most of the cost of a projection. [`project`] and [`project_on`] build one per call.
+/// The start rulings of every surface of a part ([`StartRulings`]: `C0` and `D = C1 - C0` at
+/// `u = i/400`, `i = 0..=400`), computed once: a file's points all start from the same 401
+/// rulings, which are most of the cost of a projection. [`project`] and [`project_on`] build one
+/// per call.
 #[derive(Debug)]
 pub struct Projector<'a, P: RuledPart + ?Sized> {
     part: &'a P,
-    rulings: Vec<(Surface, Vec<Ruling>)>,
+    rulings: Vec<(Surface, StartRulings)>,
     /// Per surface, how much nearer than its nearest start ruling's line a foot can be (mm,
     /// [`ruling_margin`]).
     margins: Vec<f64>,
@@ -93,27 +96,18 @@ fn ruling_margin(rulings: &[Ruling]) -> f64 {
 /// The `|v|` up to which [`ruling_margin`] holds (three times the part's height).
 pub const MARGIN_V: f64 = 3.0;
 
-/// A ruling `C0 + v·D` of the start search (mm).
-type Ruling = (Vector3<f64>, Vector3<f64>);
-
-fn start_rulings<P: RuledPart + ?Sized>(part: &P, s: Surface) -> Vec<Ruling> {
-    (0..=START_SAMPLES)
-        .map(|i| {
-            let sec = part.section_at(s, i as f64 / START_SAMPLES as f64);
-            (sec.c0.point, sec.d.point)
-        })
-        .collect()
-}
-
 impl<'a, P: RuledPart + ?Sized> Projector<'a, P> {
     /// Samples the start rulings of every surface of `part`.
     pub fn new(part: &'a P) -> Self {
-        let rulings: Vec<(Surface, Vec<Ruling>)> = part
+        let rulings: Vec<(Surface, StartRulings)> = part
             .surfaces()
             .iter()
-            .map(|&s| (s, start_rulings(part, s)))
+            .map(|&s| (s, StartRulings::new(part, s)))
             .collect();
-        let margins = rulings.iter().map(|(_, r)| ruling_margin(r)).collect();
+        let margins = rulings
+            .iter()
+            .map(|(_, r)| ruling_margin(r.rulings()))
+            .collect();
         Self {
             part,
             rulings,
@@ -128,11 +122,7 @@ impl<'a, P: RuledPart + ?Sized> Projector<'a, P> {
     /// projected onto B (half the projections of a file, issue 31).
     pub fn project(&self, p: &Vector3<f64>) -> Result<Projection, GeometryError> {
         check_finite(p)?;
-        let starts: Vec<(f64, f64, f64)> = self
-            .rulings
-            .iter()
-            .map(|(_, r)| best_ruling(r, p))
-            .collect();
+        let starts: Vec<(f64, f64, f64)> = self.rulings.iter().map(|(_, r)| r.nearest(p)).collect();
         let mut order: Vec<usize> = (0..starts.len()).collect();
         order.sort_by(|&a, &b| starts[a].2.total_cmp(&starts[b].2));
         let mut found: Vec<(usize, Projection)> = Vec::new();
@@ -166,7 +156,7 @@ impl<'a, P: RuledPart + ?Sized> Projector<'a, P> {
     pub fn project_on(&self, s: Surface, p: &Vector3<f64>) -> Result<Projection, GeometryError> {
         match self.rulings.iter().find(|(t, _)| *t == s) {
             Some((_, rulings)) => project_from(self.part, s, rulings, p),
-            None => project_from(self.part, s, &start_rulings(self.part, s), p),
+            None => project_from(self.part, s, &StartRulings::new(self.part, s), p),
         }
     }
 }
@@ -185,18 +175,18 @@ pub fn project_on<P: RuledPart + ?Sized>(
     s: Surface,
     p: &Vector3<f64>,
 ) -> Result<Projection, GeometryError> {
-    project_from(part, s, &start_rulings(part, s), p)
+    project_from(part, s, &StartRulings::new(part, s), p)
 }
 
-/// Projects `p` onto surface `s`, starting from the best of `rulings` ([`start_rulings`]).
+/// Projects `p` onto surface `s`, starting from the nearest of `rulings` (surface `s`'s).
 fn project_from<P: RuledPart + ?Sized>(
     part: &P,
     s: Surface,
-    rulings: &[Ruling],
+    rulings: &StartRulings,
     p: &Vector3<f64>,
 ) -> Result<Projection, GeometryError> {
     check_finite(p)?;
-    let (u, v, _) = best_ruling(rulings, p);
+    let (u, v, _) = rulings.nearest(p);
     newton_from(part, s, u, v, p)
 }
 
@@ -212,21 +202,6 @@ fn check_finite(p: &Vector3<f64>) -> Result<(), GeometryError> {
     }
 }
 
-/// The start of a projection: `(u, v)` on the ruling of `rulings` nearest to `p`, and the
-/// squared distance from `p` to that ruling's line (mm²).
-fn best_ruling(rulings: &[Ruling], p: &Vector3<f64>) -> (f64, f64, f64) {
-    let (mut u, mut v, mut best) = (0.0, 0.0, f64::INFINITY);
-    for (i, (c0, d)) in rulings.iter().enumerate() {
-        let ui = i as f64 / START_SAMPLES as f64;
-        let vi = (p - c0).dot(d) / d.norm_squared();
-        let f = (c0 + d * vi - p).norm_squared();
-        if f < best {
-            (u, v, best) = (ui, vi, f);
-        }
-    }
-    (u, v, best)
-}
-
 /// The safeguarded Newton iteration of a projection of `p` onto `s` from `(u, v)`.
 fn newton_from<P: RuledPart + ?Sized>(
     part: &P,
@@ -236,12 +211,23 @@ fn newton_from<P: RuledPart + ?Sized>(
     p: &Vector3<f64>,
 ) -> Result<Projection, GeometryError> {
     // 2. safeguarded Newton
-    let objective = |u: f64, v: f64| 0.5 * (part.point_at(s, u, v) - p).norm_squared();
+    // `f(u, v)` from the section at `u` (the arithmetic of `point_at`)
+    let objective = |sec: &Section, v: f64| {
+        0.5 * (sec.c0.point * (1.0 - v) + sec.c1.point * v - p).norm_squared()
+    };
     let mut converged = false;
+    // the section the step halving evaluated last, at the `u` the next step starts from
+    let mut last: Option<(f64, Section)> = None;
     for _ in 0..MAX_ITER {
-        let f = part.frame_derivs_at(s, u, v);
+        // one section a step: the frame's derivatives, `D'` and `f(u, v)` all come from it (the
+        // arithmetic of `frame_derivs_at` and `point_at`)
+        let sec = match last.take() {
+            Some((at, sec)) if at.to_bits() == u.to_bits() => sec,
+            _ => part.section_at(s, u),
+        };
+        let f = frame_derivs_from(&sec, v, part.normal_sign(s));
         let r = f.frame.point - p;
-        let d1 = part.section_at(s, u).d.d1;
+        let d1 = sec.d.d1;
         let g = Vector2::new(r.dot(&f.s_u), r.dot(&f.s_v));
         let closed = part.closed();
         let at_lo = !closed && u <= 0.0 && g[0] > 0.0;
@@ -267,7 +253,7 @@ fn newton_from<P: RuledPart + ?Sized>(
         // Step halving on f for large steps only: near the foot f changes by less than its
         // rounding, and the full Newton step is what converges there.
         let size = (step[0] * f.s_u.norm()).abs() + (step[1] * f.s_v.norm()).abs();
-        let f0 = objective(u, v);
+        let f0 = 0.5 * r.norm_squared();
         let mut lambda = 1.0;
         let (mut un, mut vn) = (u, v);
         for _ in 0..40 {
@@ -277,7 +263,13 @@ fn newton_from<P: RuledPart + ?Sized>(
                 (u + lambda * step[0]).clamp(0.0, 1.0)
             };
             vn = v + lambda * step[1];
-            if size < 1e-4 || objective(un, vn) <= f0 {
+            if size < 1e-4 {
+                break;
+            }
+            let next = part.section_at(s, un);
+            let f_next = objective(&next, vn);
+            last = Some((un, next));
+            if f_next <= f0 {
                 break;
             }
             lambda *= 0.5;
@@ -371,6 +363,31 @@ mod tests {
             prop_assert!((pr.distance - d).abs() < 1e-9);
             prop_assert!((p - pr.foot).cross(&pr.normal).norm() < 1e-9, "cross {} foot {} dist {} {}", (p - pr.foot).cross(&pr.normal).norm(), (pr.foot - f.point).norm(), pr.distance, d);
             prop_assert!((pr.foot - part.point_at(s, pr.u, pr.v)).norm() < 1e-12);
+        }
+    }
+
+    /// The Newton step takes `f(u, v)` and `D'` from the section its frame is made of: the same
+    /// numbers, bit for bit, as `point_at` and a second `section_at` (tolerance: none), on the
+    /// S-shape's surfaces and a cone frustum.
+    #[test]
+    fn one_section_a_step_gives_the_point_of_point_at() {
+        let part = SShape::iso();
+        let cone = crate::part::ConeFrustum::m3_45(true);
+        let parts: [(&dyn RuledPart, Surface); 3] = [
+            (&part, Surface::A),
+            (&part, Surface::B),
+            (&cone, Surface::A),
+        ];
+        for (part, s) in parts {
+            for k in 0..=500 {
+                let u = k as f64 / 500.0;
+                for v in [-0.2, 0.0, 0.37, 1.0, 1.4] {
+                    let sec = part.section_at(s, u);
+                    let f = frame_derivs_from(&sec, v, part.normal_sign(s));
+                    assert_eq!(f, part.frame_derivs_at(s, u, v), "u = {u}, v = {v}");
+                    assert_eq!(f.frame.point, part.point_at(s, u, v), "u = {u}, v = {v}");
+                }
+            }
         }
     }
 

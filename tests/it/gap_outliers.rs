@@ -8,9 +8,10 @@ use testpiece::analysis::{analyse_once, Analysis, AnalysisOptions};
 use testpiece::effects::builtin::PartModel;
 use testpiece::effects::prepared::Prepared;
 use testpiece::effects::GapInput;
+use testpiece::gap::{diagnose_with, diagnose_with_smooth, DiagnoseOptions};
 use testpiece::identify::monte_carlo::CmmMpe;
 use testpiece::machine::{AxisName, Unit};
-use testpiece::measurement::outliers::find_outliers;
+use testpiece::measurement::outliers::{find_outliers, find_outliers_with_fit};
 use testpiece::numerics::random::Sampler;
 use testpiece::parameter::Effect;
 use testpiece::part::SShape;
@@ -179,6 +180,42 @@ fn clean_simulated_parts_have_no_outlier() {
         }
     }
     assert!(alarms.len() <= 8, "{alarms:?}");
+}
+
+/// The outlier test's plain first fit of `[A | smooth basis]` is the diagnosis's: the report
+/// with it is the report without it, bit for bit (serialised, tolerance: none), on clean parts,
+/// with a spike and with a backlash step (where a candidate joins the test's fit and the
+/// diagnosis factorises afresh).
+#[test]
+fn the_outlier_tests_plain_fit_is_the_diagnosis_smooth_fit() {
+    let m = builtin_model();
+    let step = m
+        .candidates
+        .iter()
+        .find(|c| c.effect == Effect::Backlash(AxisName::C))
+        .map(|c| c.signature.matrix.column(0).amax())
+        .unwrap();
+    let mut given = 0;
+    for (seed, effect) in [
+        (1u64, None),
+        (2, None),
+        (3, Some((Effect::Backlash(AxisName::C), 0.040 / step))),
+    ] {
+        let mut input = simulated(seed, effect, 0.0015);
+        if seed == 2 {
+            input.deviations[37] += 0.030;
+        }
+        let (_, fit) = find_outliers_with_fit(&input);
+        given += usize::from(fit.is_some());
+        let a = diagnose_with_smooth(&input, DiagnoseOptions::default(), fit).unwrap();
+        let b = diagnose_with(&input, DiagnoseOptions::default()).unwrap();
+        assert_eq!(
+            serde_json::to_string(&a).unwrap(),
+            serde_json::to_string(&b).unwrap(),
+            "seed {seed}"
+        );
+    }
+    assert!(given >= 2, "the clean parts' fits are plain");
 }
 
 #[test]
