@@ -26,10 +26,15 @@ fn gap(physics: &[f64], ours: &[f64]) -> f64 {
     rms(&d) / rms(physics)
 }
 
-/// The generator's workshop on the built-in points (0.05 mm of path a sample, as the benchmark).
-fn workshop() -> Workshop {
+/// The product's prepared settings (paper 000's machine, signed B) and the generator's workshop
+/// on the built-in points (0.05 mm of path a sample, as the benchmark).
+fn settings_and_workshop() -> (Prepared, Workshop) {
     let part = SShape::iso();
-    Workshop::new(&part, &builtin_points(&part), PAPER000_L0, 0.05).unwrap()
+    let w = Workshop::new(&part, &builtin_points(&part), PAPER000_L0, 0.05).unwrap();
+    (
+        Prepared::new(part, SensitivityOptions::default()).unwrap(),
+        w,
+    )
 }
 
 /// Column 0 of member `k` of the family of `effect` in `model`.
@@ -57,10 +62,8 @@ fn member(model: &testpiece::effects::builtin::PartModel, effect: Effect, k: usi
 /// tools next to a reversal, as in `validate_physics`'s quick-play test).
 #[test]
 fn the_play_taken_up_after_a_reversal_is_the_physics_of_a_dead_band() {
-    let part = SShape::iso();
-    let prepared = Prepared::new(part, SensitivityOptions::default()).unwrap();
+    let (prepared, w) = settings_and_workshop();
     let base = prepared.builtin_model();
-    let w = workshop();
     let k = 7; // 2·1.3^(7−9) mm
     let tau = 2.0 * 1.3f64.powi(k as i32 - 9);
     for (axis, b) in [
@@ -102,10 +105,8 @@ fn the_play_taken_up_after_a_reversal_is_the_physics_of_a_dead_band() {
 /// amplitude, misses it by more than ten times that (measured: 0.10 % against 4.3 %).
 #[test]
 fn the_warm_up_with_a_pause_is_the_physics_of_a_head_warming_in_time() {
-    let part = SShape::iso();
-    let prepared = Prepared::new(part, SensitivityOptions::default()).unwrap();
+    let (prepared, w) = settings_and_workshop();
     let model = prepared.builtin_model();
-    let w = workshop();
     let (feed, f, pause, growth) = (1500.0, 0.3, 0.35, 0.02);
     let cut_minutes = w.total_length() / feed;
     let physics = w
