@@ -8,6 +8,7 @@ use serde::Serialize;
 use crate::effects::builtin::PartModel;
 use crate::effects::prepared::Prepared;
 use crate::effects::{GapError, GapInput};
+use crate::gap::shape::{f_quantile, SHAPE_CONFIDENCE};
 use crate::gap::verdict::VerdictId;
 use crate::gap::{diagnose, diagnose_with_smooth, DiagnoseOptions, DiagnosisReport};
 use crate::machine::AxisName;
@@ -178,8 +179,8 @@ fn named_backlash(report: &DiagnosisReport) -> Vec<(AxisName, f64)> {
 /// with (none at first), the part model is rebuilt with the take-up of the fitted `b` and the
 /// part diagnosed again, at most [`TAKE_UP_ROUNDS`] times (a fixed point of `b`). A round is kept
 /// only when its verdict names the same effects as the round before, with a residual on every
-/// point not significantly larger; otherwise the rounds stop at the round before. A part whose verdict names no
-/// backlash is diagnosed once, on the points' model as it is.
+/// point not significantly larger; otherwise the rounds stop at the round before. A part whose
+/// verdict names no backlash is diagnosed once, on the points' model as it is.
 fn take_up_rounds<'a>(
     prepared: &Prepared,
     base: &'a PartModel,
@@ -218,7 +219,7 @@ fn take_up_rounds<'a>(
         // after each reversal far from a take-up ramp
         let n = deviations.len() as f64;
         let s2 = result.sigma_all.max(f64::MIN_POSITIVE).powi(2);
-        if (again.rss_all - result.rss_all) / s2 > take_up_bound(n) {
+        if (again.rss_all - result.rss_all) / s2 > f_quantile(SHAPE_CONFIDENCE, n.max(1.0)) {
             break;
         }
         result = again;
@@ -226,15 +227,6 @@ fn take_up_rounds<'a>(
         used = found;
     }
     Ok((result, model))
-}
-
-/// `F₀.₉₅(1, n)`: a residual sum of squares larger by this many σ² is significantly larger.
-fn take_up_bound(n: f64) -> f64 {
-    crate::numerics::stats::sf_inverse(
-        |f| crate::numerics::stats::f_sf(f, 1.0, n.max(1.0)),
-        1.0 - crate::gap::shape::SHAPE_CONFIDENCE,
-        1e4,
-    )
 }
 
 pub(super) fn diagnose_modelled<'a>(

@@ -134,25 +134,29 @@ impl PartModel {
             })
             .collect();
         let mut out = self.clone();
-        if b.iter().all(|v| *v == 0.0) {
+        // the axes with a lost motion, in the order of the taken-up lags' columns
+        let kept: Vec<usize> = (0..axes.len()).filter(|&a| b[a] > 0.0).collect();
+        if kept.is_empty() {
             return Ok(out);
         }
+        let gains: Vec<Vec<f64>> = kept
+            .iter()
+            .map(|&a| self.backlash.gains[a].clone())
+            .collect();
         // each lag's columns with the take-up (PathModel::taken_up's order)
         let columns: Vec<Vec<Vec<f64>>> = path
             .taken_up(&b)
             .iter()
-            .map(|lags| lagged_columns_at(lags, &self.backlash.spots, &self.backlash.gains))
+            .map(|lags| lagged_columns_at(lags, &self.backlash.spots, &gains))
             .collect();
         for c in out.candidates.iter_mut() {
             let Effect::Backlash(axis) = c.effect else {
                 continue;
             };
-            let Some(i) = axes.iter().position(|a| *a == axis) else {
+            let Some(i) = kept.iter().position(|&a| axes[a] == axis) else {
                 continue;
             };
-            if b[i] == 0.0 {
-                continue;
-            }
+            let b = b[kept[i]];
             let ids = c.effect.parameter_ids();
             // each lag's member switched at the reversal (as it was) and with the take-up: the
             // take-up is profiled out, so the lag's interval holds every lag either explains
@@ -167,7 +171,7 @@ impl PartModel {
                     }
                     Some(Family {
                         shape,
-                        profiled: Some(take_up_shape(axis, b[i])),
+                        profiled: Some(take_up_shape(axis, b)),
                         members: Members::Stored(members),
                     })
                 }

@@ -1,5 +1,6 @@
 //! A candidate's family of shapes (effects.md, "Shapes are families"): its signatures at every
-//! value of its shape grid, and, for the warm-up, at every pause between the passes too (a
+//! value of its shape grid, and, for the warm-up, at every pause between the passes too, for a
+//! backlash once the diagnosis has found its lost motion, with and without the play's take-up (a
 //! second shape parameter the fit profiles out, [`crate::gap::shape`]).
 //!
 //! Members are numbered shape-major: member `k` is the shape value `k / m` and the profiled
@@ -19,8 +20,9 @@ use crate::parameter::Shape;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Family {
     pub shape: Shape,
-    /// A second shape parameter profiled out by the fit ([`crate::parameter::Effect::profiled`]:
-    /// the warm-up's pause between the passes); `None` for a family of one parameter.
+    /// A second shape parameter profiled out by the fit (the warm-up's pause between the passes,
+    /// [`crate::parameter::Effect::profiled`]; a backlash's take-up,
+    /// [`crate::effects::builtin::take_up_shape`]); `None` for a family of one parameter.
     pub profiled: Option<Shape>,
     pub members: Members,
 }
@@ -119,6 +121,11 @@ impl Family {
                 Cow::Owned(DMatrix::from_vec(col.len(), 1, col))
             }
         }
+    }
+
+    /// Whether its members can be computed between the grid's values ([`Family::member_at`]).
+    pub fn is_computed(&self) -> bool {
+        matches!(self.members, Members::WarmUp(_))
     }
 
     /// The signature at any shape value `shape` and profiled value `profiled` (0 without one),

@@ -75,8 +75,9 @@ impl PathModel {
         [&self.lags[0].length, &self.lags[1].length]
     }
 
-    /// Every lag of the family with the play's take-up of the lost motions `b` (per axis of
-    /// [`PathModel::lags`], in its unit; 0 where none), in the family's order.
+    /// Every lag of the family on the axes with a lost motion `b > 0` (per axis of
+    /// [`PathModel::lags`], in its unit) only, with its take-up ([`Lag::taken_up`]), in the
+    /// family's order.
     pub fn taken_up(&self, b: &[f64]) -> Vec<[Lag; 2]> {
         self.lag_family
             .iter()

@@ -4,7 +4,8 @@
 //! squares on top of the baseline (Frisch–Waugh–Lovell, [`super::which`]), leaving the residual
 //! sum of squares as a function of the shape alone, `RSS(τ)`, searched over the grid.
 //!
-//! - **A second parameter** (the warm-up's pause between the passes) is profiled out: at each
+//! - **A second parameter** (the warm-up's pause between the passes, a backlash's take-up) is
+//!   profiled out: at each
 //!   shape value the profile takes the least `RSS` over its grid; the member of the estimate is
 //!   the one that gives it.
 //! - **Estimate**: the grid value of least `RSS`, refined by the parabola through it and its two
@@ -55,8 +56,8 @@ pub struct ShapeFit {
     pub grid_value: f64,
     #[serde(skip)]
     pub grid_index: usize,
-    /// The profiled parameter's value at that member (the warm-up's pause between the passes);
-    /// not in the interval: the profile is the least over it.
+    /// The profiled parameter's value at that member (the warm-up's pause between the passes, a
+    /// backlash's take-up); not in the interval: the profile is the least over it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub profiled: Option<Profiled>,
     /// The shape's reference value (the table's signature).
@@ -68,7 +69,8 @@ pub struct ShapeFit {
 /// A second shape parameter at the member the fit chose ([`crate::effects::Family::profiled`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Profiled {
-    /// `pause` (the warm-up's, between the passes).
+    /// `pause` (the warm-up's, between the passes) or `take_up` (a backlash's lost motion whose
+    /// take-up the member has, [`crate::effects::builtin::take_up_shape`]).
     pub name: &'static str,
     pub unit: Unit,
     /// Its grid value at the chosen member.
@@ -159,7 +161,7 @@ fn hull(z: &[f64], bound: f64, best: usize) -> (usize, usize) {
 }
 
 /// The upper `1 − confidence` quantile of `F(1, dof)`, by bisection on its survival function.
-fn f_quantile(confidence: f64, dof: f64) -> f64 {
+pub(crate) fn f_quantile(confidence: f64, dof: f64) -> f64 {
     stats::sf_inverse(|f| stats::f_sf(f, 1.0, dof), 1.0 - confidence, 1e4)
 }
 
@@ -318,7 +320,7 @@ pub fn fit_shape(
             .map(|s| fwl(factor, r0, &s).0)
             .min_by(f64::total_cmp)
     };
-    if family.member_at(grid[best], 0.0).is_some() && grid[best].is_finite() {
+    if family.is_computed() && grid[best].is_finite() {
         let a = coords[best.saturating_sub(1)];
         let b = coords[(best + 1).min(grid.len() - 1)];
         let (x_star, rss_star) =

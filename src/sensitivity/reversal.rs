@@ -546,20 +546,17 @@ impl Lag {
         }
     }
 
-    /// This lag with the play's take-up ([`super::take_up`]) of a lost motion `b[a]` on axis
-    /// `axes[a]` (its unit; 0: switched at the turn, as [`Lag::with_length`]), `travel` the
-    /// axes' travels after their turns on this lag's pass ([`super::take_up::travels`], same
-    /// axes).
+    /// This lag on the axes `axes[a]` with a lost motion `b[a] > 0` (their unit) only, each
+    /// with the play's take-up of that `b` ([`super::take_up`]); `travel` the axes' travels
+    /// after their turns on this lag's pass ([`super::take_up::travels`], all of this lag's
+    /// axes). The axes without one are left out: their columns are this lag's.
     pub fn taken_up(&self, travel: &[Vec<TurnTravel>], b: &[f64]) -> Self {
         let tau = self.tau;
-        let segments = self
-            .segments
+        let kept: Vec<usize> = (0..self.axes.len()).filter(|&a| b[a] > 0.0).collect();
+        let segments = kept
             .iter()
-            .enumerate()
-            .map(|(a, old)| {
-                if b[a] <= 0.0 {
-                    return old.clone();
-                }
+            .map(|&a| {
+                let old = &self.segments[a];
                 let mut segs: Vec<Segment> = vec![old[0].clone()];
                 for (g, tr) in old[1..].iter().zip(&travel[a]) {
                     let from = offset_on(&segs, g.k - 1, g.s0, tau);
@@ -578,8 +575,10 @@ impl Lag {
             })
             .collect();
         Self {
+            axes: kept.iter().map(|&a| self.axes[a]).collect(),
+            tau,
+            length: self.length.clone(),
             segments,
-            ..self.clone()
         }
     }
 
