@@ -65,9 +65,10 @@ function shapeText(sh) {
   const v = (x) => (x === null || !Number.isFinite(x) ? '∞ (linear)' : String(Number(x.toPrecision(3))));
   const unit = sh.unit === 'mm' ? ' mm of path' : '';
   // the profiled parameter at the member that fits best: the warm-up's pause between the passes,
-  // a backlash's take-up (the interval holds the lags with and without it)
+  // a backlash's overshoot or take-up (the interval holds the lags with and without it)
   const p = sh.profiled;
   const pause = !p ? '' : p.name === 'pause' ? `; pause between the passes ${v(p.value)} of the machining time`
-    : p.value > 0 ? `; play taken up over a lost motion of ${v(p.value)} ${p.unit}` : '; switched at the reversal';
+    : p.name === 'overshoot' ? (p.value > 0 ? `; rings: overshoots by ${Math.round(p.value * 100)} % of the lost motion (second order; the lag is its natural length)` : '; settles in first order')
+      : p.value > 0 ? `; play taken up over a lost motion of ${v(p.value)} ${p.unit}` : '; switched at the reversal';
   return `${sh.name} = ${v(sh.value)}${unit} (95 %: ${sh.low_open ? '≤ ' : ''}${v(sh.low)} to ${sh.high_open ? '≥ ' : ''}${v(sh.high)}${pause})`;
 }

@@ -2,7 +2,9 @@
 
 use crate::effects::data::{Candidate, Family, NamedColumns, PointMeta};
 use crate::effects::effect::{warm_up_basis, SignatureModel};
-use crate::effects::family::Members;
+use std::sync::Arc;
+
+use crate::effects::family::{LagBasis, Members};
 use crate::effects::path_model::PathModel;
 use crate::effects::EffectPoint;
 use crate::effects::GapError;
@@ -11,7 +13,7 @@ use crate::numerics::order::argsort;
 use crate::parameter::{Effect, ParamId, Shape};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
-use crate::sensitivity::reversal::{backlash_gains, grid_spots, lagged_columns_at, GridSpot};
+use crate::sensitivity::reversal::{backlash_gains, grid_spots, lagged_columns_at, Lag};
 use crate::sensitivity::SensitivityOptions;
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
 use crate::toolpath::tip_length::TipLength;
@@ -87,9 +89,9 @@ pub struct PartModel {
     pub baseline: NamedColumns,
     pub candidates: Vec<Candidate>,
     pub reversals: Vec<crate::effects::data::Reversal>,
-    /// What the backlash candidates are made of beside the lags, to rebuild them with the play's
+    /// What the backlash candidates' families are made of, to rebuild them with the play's
     /// take-up ([`PartModel::with_take_up`]).
-    pub backlash: BacklashBasis,
+    pub backlash: LagBasis,
 }
 
 /// The profiled parameter of a backlash family rebuilt with the play's take-up: the lost motion
@@ -101,15 +103,6 @@ pub fn take_up_shape(axis: AxisName, b: f64) -> Shape {
         reference: 0.0,
         grid: vec![0.0, b],
     }
-}
-
-/// The factors of the backlash columns that do not depend on the lag: the gains `(∂x/∂q)·N` of
-/// the lags' axes ([`crate::sensitivity::reversal::backlash_gains`], one vector per axis of
-/// [`PathModel::lags`]) and where each point falls on the passes' grid.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BacklashBasis {
-    pub gains: Vec<Vec<f64>>,
-    pub spots: Vec<GridSpot>,
 }
 
 impl PartModel {
@@ -134,50 +127,40 @@ impl PartModel {
             })
             .collect();
         let mut out = self.clone();
-        // the axes with a lost motion, in the order of the taken-up lags' columns
-        let kept: Vec<usize> = (0..axes.len()).filter(|&a| b[a] > 0.0).collect();
-        if kept.is_empty() {
+        if b.iter().all(|&b| b <= 0.0) {
             return Ok(out);
         }
-        let gains: Vec<Vec<f64>> = kept
+        // each lag switched at the reversal (its first order, as it was) and with the take-up
+        // (PathModel::taken_up's order; only the axes with a lost motion): the take-up is
+        // profiled out, so the lag's interval holds every lag either explains
+        let lags: Vec<[Lag; 2]> = path
+            .lag_family
             .iter()
-            .map(|&a| self.backlash.gains[a].clone())
+            .zip(path.taken_up(&b))
+            .flat_map(|(switched, taken)| [switched.clone(), taken])
             .collect();
-        // each lag's columns with the take-up (PathModel::taken_up's order)
-        let columns: Vec<Vec<Vec<f64>>> = path
-            .taken_up(&b)
-            .iter()
-            .map(|lags| lagged_columns_at(lags, &self.backlash.spots, &gains))
-            .collect();
+        let basis = LagBasis {
+            lags: Arc::new(lags),
+            ..self.backlash.clone()
+        };
         for c in out.candidates.iter_mut() {
             let Effect::Backlash(axis) = c.effect else {
                 continue;
             };
-            let Some(i) = kept.iter().position(|&a| axes[a] == axis) else {
+            let Some(i) = axes.iter().position(|&a| a == axis) else {
                 continue;
             };
-            let b = b[kept[i]];
-            let ids = c.effect.parameter_ids();
-            // each lag's member switched at the reversal (as it was) and with the take-up: the
-            // take-up is profiled out, so the lag's interval holds every lag either explains
-            let family = match (&c.family, c.effect.shape()) {
-                (Some(old), Some(shape)) if old.len() == shape.grid.len() => {
-                    let mut members = Vec::with_capacity(2 * old.len());
-                    for (k, cols) in columns.iter().enumerate() {
-                        members.push(old.member(k).into_owned());
-                        members.push(
-                            NamedColumns::from_columns(ids.clone(), &[cols[i].clone()])?.matrix,
-                        );
-                    }
-                    Some(Family {
-                        shape,
-                        profiled: Some(take_up_shape(axis, b)),
-                        members: Members::Stored(members),
-                    })
-                }
+            if b[i] <= 0.0 || c.family.is_none() {
+                continue;
+            }
+            c.family = match (c.effect.shape(), basis.members(axis)) {
+                (Some(shape), Some(members)) => Some(Family {
+                    shape,
+                    profiled: Some(take_up_shape(axis, b[i])),
+                    members: Members::Lagged(members),
+                }),
                 _ => None,
             };
-            c.family = family;
         }
         Ok(out)
     }
@@ -229,19 +212,19 @@ fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapErr
     let columns = effect
         .signature(model)
         .ok_or(GapError::NotModelled(effect))?;
-    let family = match (effect, effect.shape(), effect.family_signatures(model)) {
+    let family = match (effect, effect.shape(), &model.backlash_family) {
         (Effect::ThermalDrift, Some(shape), _) => Some(Family {
             shape,
             profiled: effect.profiled(),
             members: Members::WarmUp(warm_up_basis(model)),
         }),
-        (_, Some(shape), Some(members)) => Some(Family::stored(
-            shape,
-            members
-                .iter()
-                .map(|cols| Ok(NamedColumns::from_columns(effect.parameter_ids(), cols)?.matrix))
-                .collect::<Result<Vec<_>, GapError>>()?,
-        )),
+        (Effect::Backlash(axis), Some(shape), Some(basis)) => {
+            basis.members(axis).map(|members| Family {
+                shape,
+                profiled: effect.profiled(),
+                members: Members::Lagged(members),
+            })
+        }
         _ => None,
     };
     Ok(invisible_as_zero(Candidate {
@@ -294,17 +277,17 @@ pub(crate) fn every_candidate_model(
         .collect::<Result<_, _>>()?;
     let named = |cols: Vec<Vec<f64>>| axes.iter().copied().zip(cols).collect::<Vec<_>>();
     // where each point falls on the passes' grid, shared by every lag (the passes' lengths)
-    let spots = grid_spots(&path.lags, part, points);
+    let spots = Arc::new(grid_spots(&path.lags, part, points));
     let servo = crate::sensitivity::servo::servo_signatures_with(part, points, opts, &all_gains)?;
     let model = SignatureModel {
         s_total: path.s_total(),
         envelope,
         backlash: named(lagged_columns_at(&path.lags, &spots, &gains)),
-        backlash_family: path
-            .lag_family
-            .iter()
-            .map(|lags| named(lagged_columns_at(lags, &spots, &gains)))
-            .collect(),
+        backlash_family: Some(LagBasis {
+            lags: path.settling.clone(),
+            spots: spots.clone(),
+            gains: named(gains.clone()),
+        }),
         servo: servo.lag,
         servo_common: servo.common,
         scale: scale_signatures(part, points, q, opts)?,
@@ -322,6 +305,10 @@ pub(crate) fn every_candidate_model(
         baseline,
         candidates,
         reversals: path.reversals.clone(),
-        backlash: BacklashBasis { gains, spots },
+        backlash: LagBasis {
+            lags: path.settling.clone(),
+            spots,
+            gains: named(gains),
+        },
     })
 }

@@ -40,9 +40,11 @@
 //! - `servo_lag_<axis>.l` and `servo_common.L2`: the servo's following error
 //!   ([`crate::sensitivity::servo`]): `−(dq_i/ds)·(d dev/dq_i)` and `(1/2)·Σ_i (d²q_i/ds²)·(d dev/dq_i)`.
 //! - Families (effects.md, "Shapes are families"): `backlash_<axis>` at each lag `tau` of its grid
-//!   (the reference 2 mm is the table's), `thermal_drift` with the warm-up
+//!   (the reference 2 mm is the table's) and each overshoot of a servo that rings after the
+//!   reversal (none, the table's, then second order, [`crate::effects::family::LagMembers`]),
+//!   `thermal_drift` with the warm-up
 //!   `g·(1 − exp(−s/(f·s_total)))/(1 − exp(−1/f))` at each `f` of its grid (the linear law the
-//!   limit `f = ∞`, the table's) ([`Effect::family_signatures`]), and at each pause `π` between
+//!   limit `f = ∞`, the table's), and at each pause `π` between
 //!   the passes: the head keeps warming while the machine moves from A to B, so B is machined as
 //!   if `π·s_total` more path had been cut before it ([`warm_up_paused`], [`warm_up_basis`]).
 //! - `pivot_length.dL0`: a real pivot-to-tip length `L0 + dL0` moves the tool by `−dL0·w` along
@@ -51,7 +53,7 @@
 
 use nalgebra::Vector3;
 
-use crate::effects::family::WarmUpBasis;
+use crate::effects::family::{LagBasis, WarmUpBasis};
 
 use crate::machine::AxisName;
 use crate::parameter::Effect;
@@ -87,22 +89,6 @@ impl Effect {
             }
             Effect::ServoCommon => return None,
         })
-    }
-
-    /// The signature columns at every value of the effect's shape grid ([`Effect::shape`]), in
-    /// grid order, for a family whose members are stored (a backlash's lags); `None` for an
-    /// effect of one shape, the warm-up (its members are computed from [`warm_up_basis`]) or when
-    /// the model has no column for it.
-    pub fn family_signatures(self, m: &SignatureModel) -> Option<Vec<Vec<Vec<f64>>>> {
-        let shape = self.shape()?;
-        match self {
-            Effect::Backlash(a) if m.backlash_family.len() == shape.grid.len() => m
-                .backlash_family
-                .iter()
-                .map(|cols| axis_column(cols, a))
-                .collect(),
-            _ => None,
-        }
     }
 }
 
@@ -199,8 +185,9 @@ pub struct SignatureModel {
     /// `<a>_index` columns from the Jacobian of the axis's constant positioning error (mm/rad),
     /// for the index axes [`SignatureModel::c_table_sign`] does not cover.
     pub index: Vec<(AxisName, Vec<f64>)>,
-    /// `backlash_<axis>.b` columns at each lag of the backlash family's grid ([`Effect::shape`]).
-    pub backlash_family: Vec<Vec<(AxisName, Vec<f64>)>>,
+    /// What the members of the backlash families are computed from ([`Effect::shape`],
+    /// [`Effect::profiled`]); `None` without the kinematics stage.
+    pub backlash_family: Option<LagBasis>,
     /// `servo_lag_<axis>.l` column per axis of the chain (mm per mm of path,
     /// [`crate::sensitivity::servo`]).
     pub servo: Vec<(AxisName, Vec<f64>)>,

@@ -4,16 +4,21 @@
 //! second shape parameter the fit profiles out, [`crate::gap::shape`]).
 //!
 //! Members are numbered shape-major: member `k` is the shape value `k / m` and the profiled
-//! value `k % m` (`m` the profiled grid's size, 1 without one). A backlash's members are stored
-//! ([`Members::Stored`]); the warm-up's are computed when asked from three vectors
-//! ([`WarmUpBasis`]), so that its 12 × 6 members cost no more memory than one column a point.
+//! value `k % m` (`m` the profiled grid's size, 1 without one). No family stores its members:
+//! a backlash's are computed when asked from the lags of the passes and the axis's gains
+//! ([`LagMembers`], its 18 lags × 3 overshoots), the warm-up's from three vectors
+//! ([`WarmUpBasis`], its 12 constants × 6 pauses), so that a family costs no more memory than
+//! one or two columns a point.
 
 use std::borrow::Cow;
+use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
 use crate::effects::effect::warm_up_paused;
+use crate::machine::AxisName;
 use crate::parameter::Shape;
+use crate::sensitivity::reversal::{lagged_column_at, GridSpot, Lag};
 
 /// The signatures of a family: the diagnosis fits the amplitude linearly at each member and
 /// keeps the best shape.
@@ -34,6 +39,64 @@ pub enum Members {
     Stored(Vec<DMatrix<f64>>),
     /// The warm-up's members, each computed from the basis when asked.
     WarmUp(WarmUpBasis),
+    /// A backlash's members, each computed from its lags when asked.
+    Lagged(LagMembers),
+}
+
+/// What every member of a backlash family is made of: the lags of the passes A and B of each
+/// member, in member order (shared by the candidates of every axis), where each point falls on
+/// the passes' grid, and the axis's gain `(∂x/∂q)·N` at each point
+/// ([`crate::sensitivity::reversal::lagged_column_at`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LagMembers {
+    pub lags: Arc<Vec<[Lag; 2]>>,
+    pub axis: AxisName,
+    pub spots: Arc<Vec<GridSpot>>,
+    pub gain: Vec<f64>,
+}
+
+/// What the backlash families of every axis are made of: the members' lags
+/// ([`crate::effects::PathModel::settling`]), where the points fall on the passes' grid, and the
+/// gains of the lags' axes (one vector per axis of the lags, in their order).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LagBasis {
+    pub lags: Arc<Vec<[Lag; 2]>>,
+    pub spots: Arc<Vec<GridSpot>>,
+    pub gains: Vec<(AxisName, Vec<f64>)>,
+}
+
+impl LagBasis {
+    /// The members of `axis`'s family; `None` when the lags do not hold the axis.
+    pub fn members(&self, axis: AxisName) -> Option<LagMembers> {
+        let (_, gain) = self.gains.iter().find(|(a, _)| *a == axis)?;
+        Some(LagMembers {
+            lags: self.lags.clone(),
+            axis,
+            spots: self.spots.clone(),
+            gain: gain.clone(),
+        })
+    }
+}
+
+impl LagMembers {
+    /// The column of member `k` (zeros where its lags do not hold the axis).
+    pub fn column(&self, k: usize) -> Vec<f64> {
+        let lags = &self.lags[k];
+        match lags[0].position(self.axis) {
+            Some(a) => lagged_column_at(lags, a, &self.spots, &self.gain),
+            None => vec![0.0; self.gain.len()],
+        }
+    }
+
+    /// The rows `rows` (in that order).
+    pub fn select_rows(&self, rows: &[usize]) -> Self {
+        Self {
+            lags: self.lags.clone(),
+            axis: self.axis,
+            spots: Arc::new(rows.iter().map(|&i| self.spots[i]).collect()),
+            gain: rows.iter().map(|&i| self.gain[i]).collect(),
+        }
+    }
 }
 
 /// What every member of the warm-up family is made of: at each point the share `x = s/s_total`
@@ -89,6 +152,7 @@ impl Family {
         match &self.members {
             Members::Stored(m) => m.len(),
             Members::WarmUp(_) => self.shape.grid.len() * self.profiled_len(),
+            Members::Lagged(l) => l.lags.len(),
         }
     }
 
@@ -120,6 +184,10 @@ impl Family {
                 let col = basis.column(f, pause.unwrap_or(0.0));
                 Cow::Owned(DMatrix::from_vec(col.len(), 1, col))
             }
+            Members::Lagged(l) => {
+                let col = l.column(k);
+                Cow::Owned(DMatrix::from_vec(col.len(), 1, col))
+            }
         }
     }
 
@@ -129,11 +197,11 @@ impl Family {
     }
 
     /// The signature at any shape value `shape` and profiled value `profiled` (0 without one),
-    /// for a family whose members are computed ([`Members::WarmUp`]); `None` for stored members,
-    /// which exist at the grid's values only.
+    /// for a family whose members are computed ([`Members::WarmUp`]); `None` for the others,
+    /// whose members exist at the grid's values only.
     pub fn member_at(&self, shape: f64, profiled: f64) -> Option<DMatrix<f64>> {
         match &self.members {
-            Members::Stored(_) => None,
+            Members::Stored(_) | Members::Lagged(_) => None,
             Members::WarmUp(basis) => {
                 let col = basis.column(shape, profiled);
                 Some(DMatrix::from_vec(col.len(), 1, col))
@@ -151,6 +219,7 @@ impl Family {
                     Members::Stored(m.iter().map(|x| x.select_rows(rows)).collect())
                 }
                 Members::WarmUp(b) => Members::WarmUp(b.select_rows(rows)),
+                Members::Lagged(l) => Members::Lagged(l.select_rows(rows)),
             },
         }
     }

@@ -13,6 +13,9 @@ use crate::effects::data::Reversal;
 use crate::effects::machine::reversals;
 use crate::effects::GapError;
 use crate::machine::AxisName;
+use std::sync::Arc;
+
+use crate::parameter::effect::{damping_of_overshoot, OVERSHOOT_GRID};
 use crate::parameter::{backlash_axes, Effect};
 use crate::part::{SShape, Surface};
 use crate::sensitivity::reversal::{passes, Lag};
@@ -29,6 +32,10 @@ pub struct PathModel {
     pub lags: [Lag; 2],
     /// The same at each lag of the backlash family's grid ([`crate::parameter::Effect::shape`]).
     pub lag_family: Vec<[Lag; 2]>,
+    /// The backlash family's members: at each lag of the grid, each overshoot of
+    /// [`OVERSHOOT_GRID`] (the first order [`PathModel::lag_family`]'s, the others settling in
+    /// second order, [`Lag::with_settling`]), in the family's order (lag-major).
+    pub settling: Arc<Vec<[Lag; 2]>>,
     /// Each backlash axis's travel after each of its turns on the passes of A and B
     /// ([`crate::sensitivity::take_up::travels`]): what the play's take-up is made of.
     pub travel: [Vec<Vec<TurnTravel>>; 2],
@@ -47,20 +54,33 @@ impl PathModel {
         let grid = Effect::Backlash(AxisName::X)
             .shape()
             .map_or_else(Vec::new, |s| s.grid);
+        let lag_family: Vec<[Lag; 2]> = grid
+            .iter()
+            .map(|&tau| {
+                [
+                    Lag::with_length(part, &passes[0], &axes, tau),
+                    Lag::with_length(part, &passes[1], &axes, tau),
+                ]
+            })
+            .collect();
+        let mut settling = Vec::with_capacity(grid.len() * OVERSHOOT_GRID.len());
+        for (&tau, first) in grid.iter().zip(&lag_family) {
+            for &m in &OVERSHOOT_GRID {
+                settling.push(match damping_of_overshoot(m) {
+                    None => first.clone(),
+                    Some(z) => {
+                        [0, 1].map(|i| Lag::with_settling(part, &passes[i], &axes, tau, Some(z)))
+                    }
+                });
+            }
+        }
         Ok(Self {
             lags: [
                 Lag::of(part, &passes[0], &axes),
                 Lag::of(part, &passes[1], &axes),
             ],
-            lag_family: grid
-                .iter()
-                .map(|&tau| {
-                    [
-                        Lag::with_length(part, &passes[0], &axes, tau),
-                        Lag::with_length(part, &passes[1], &axes, tau),
-                    ]
-                })
-                .collect(),
+            lag_family,
+            settling: Arc::new(settling),
             travel: [
                 travels(part, &passes[0], &axes, opts)?,
                 travels(part, &passes[1], &axes, opts)?,

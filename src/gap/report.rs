@@ -145,12 +145,18 @@ fn shape_sentence(e: Effect, sh: &crate::gap::shape::ShapeFit) -> String {
         _ => ("warm-up constant, a fraction of the machining time", ""),
     };
     // the profiled parameter at the member that fits best: the warm-up's pause between the
-    // passes, a backlash's take-up
+    // passes, a backlash's overshoot or take-up
     let pause = sh.profiled.as_ref().map_or(String::new(), |p| match p.name {
         "pause" => format!(
             ", with a pause between the passes of {:.2} of the machining time (the grid's value that fits best)",
             p.value
         ),
+        "overshoot" if p.value > 0.0 => format!(
+            ", settling in second order: the slide overshoots by {:.0} % of the lost motion (damping ζ {:.2}; the grid's value that fits best; the lag is then the natural length)",
+            100.0 * p.value,
+            crate::parameter::effect::damping_of_overshoot(p.value).unwrap_or(1.0)
+        ),
+        "overshoot" => ", settling in first order (the interval holds the lags with and without an overshoot)".to_string(),
         _ if p.value > 0.0 => format!(
             ", with the play taken up over a lost motion of {:.3e} (the interval holds the lags with and without it)",
             p.value

@@ -124,20 +124,24 @@ pub fn effective_shapes(factor: &Factor, c: &Candidate) -> f64 {
         return 1.0;
     };
     // One direction per member: the unabsorbed part of its first column (the families here have
-    // one parameter), normalised; members the baseline absorbs entirely add nothing.
-    let dirs: Vec<DVector<f64>> = (0..family.len())
-        .filter_map(|k| {
-            let s = family.member(k);
-            let u = factor.unabsorbed(&s.columns(0, 1).into_owned());
-            let n = u.norm();
-            (n > 1e-12 * s.norm().max(1e-300)).then(|| u.column(0) / n)
-        })
-        .collect();
-    if dirs.is_empty() {
+    // one parameter), normalised; members the baseline absorbs entirely add nothing. The
+    // correlations as one product `DᵀD` (a blocked product instead of k² dot products).
+    let mut dirs = DMatrix::<f64>::zeros(c.signature.matrix.nrows(), family.len());
+    let mut k = 0;
+    for j in 0..family.len() {
+        let s = family.member(j);
+        let u = factor.unabsorbed(&s.columns(0, 1).into_owned());
+        let n = u.norm();
+        if n > 1e-12 * s.norm().max(1e-300) {
+            dirs.set_column(k, &(u.column(0) / n));
+            k += 1;
+        }
+    }
+    if k == 0 {
         return 1.0;
     }
-    let k = dirs.len();
-    let corr = DMatrix::from_fn(k, k, |i, j| dirs[i].dot(&dirs[j]));
+    let dirs = dirs.columns(0, k).into_owned();
+    let corr = dirs.tr_mul(&dirs);
     let eig = SymmetricEigen::new(corr).eigenvalues;
     eig.iter()
         .map(|&l| {
