@@ -25,7 +25,9 @@ export function gapView(root, a) {
     ]));
   if (d.pair) {
     const p = d.pair;
-    root.append(table('gap-pair', `No single candidate explains the gap; ${p.first} and ${p.second} together do (joint refit with the baseline)`,
+    root.append(table('gap-pair', p.second_below_limit
+      ? `No single candidate explains the gap alone; fitted with ${p.second} (significant, but below the detection limit, so not named), ${p.first} is visible and the residual left is noise (joint refit with the baseline)`
+      : `No single candidate explains the gap; ${p.first} and ${p.second} together do (joint refit with the baseline)`,
       ['pair', 'parameters', 'RMS (µm)', 'withheld RMS (µm)', `what ${p.second} adds beyond ${p.first} (µm RMS)`, 'F-test p (Bonferroni)'],
       [[`${p.first} + ${p.second}`,
         Object.entries(p.fit.parameters).map(([k, e]) => `${k} = ${Number(e.value.toPrecision(4))} ± ${Number(e.std.toPrecision(2))}`).join('; '),

@@ -11,7 +11,7 @@ use crate::gap::folds::{build_folds, withheld_sets};
 use crate::gap::location::{locate, DETECT_FACTOR};
 use crate::gap::pairs::best_pair;
 use crate::gap::report::{summary, BaselineReport, DiagnosisReport};
-use crate::gap::verdict::{decide, pair_verdict, DecisionInput, Finding, ALPHA};
+use crate::gap::verdict::{decide, pair_verdict, weak_pair_verdict, DecisionInput, Finding, ALPHA};
 use crate::gap::which::{
     cross_validate, cv_score, estimates, fit_searched, per_curve, BaselineFit, Context, SmoothFit,
 };
@@ -238,10 +238,21 @@ pub fn diagnose_with_smooth(
         })
     };
     // (the pairs fit a family's shape jointly with the other member)
-    if let Some(pf) =
-        best_pair(&ctx, &input.candidates, &fits, base_cv_score).filter(|pf| keeps_named(pf))
+    // (a pair whose second member is below the limit only when no single candidate is named)
+    if let Some(pf) = best_pair(
+        &ctx,
+        &input.candidates,
+        &fits,
+        base_cv_score,
+        named_single.is_none(),
+    )
+    .filter(|pf| keeps_named(pf))
     {
-        verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
+        verdict = if pf.second_below_limit {
+            weak_pair_verdict(&verdict, &fits, &pf, opts.detect_factor)
+        } else {
+            pair_verdict(&verdict, &fits, &pf, opts.detect_factor)
+        };
         pair = Some(pf);
     }
     let backlash_axes: Vec<_> = verdict

@@ -30,7 +30,16 @@
 //! - (d) the pair explains the gap: the structure left is at most 2.5 σ.
 //!
 //! Among accepted pairs the lowest `cv_score` wins. The verdict names the member with the larger
-//! visible part first. A candidate the part cannot tell apart from a member is one that, in that
+//! visible part first.
+//!
+//! **A second effect below the limit** (issue 29: σ that structure cannot inflate). A single
+//! candidate's σ is its own residual's, so a part with one effect above the limit and a second,
+//! weaker one, e.g. all axes' common servo rounding and one axis's mismatch at the limit, gets
+//! `unexplained`: the first's σ holds the second, and the second is under the limit against the
+//! pair's σ. When no single candidate is named and no pair meets (a)-(d), a pair meeting (a),
+//! (c) and (d) whose larger member is visible against the pair's σ and whose smaller member is
+//! not (`second_below_limit`) names the larger one alone ([`crate::gap::verdict::weak_pair_verdict`]),
+//! the smaller one among the effects possible below the detection limit. A candidate the part cannot tell apart from a member is one that, in that
 //! member's place, fits not significantly worse (`(RSS' − RSS₁₂)/σ̂² < χ²₁(0.95)`), as for single
 //! candidates, or whose unabsorbed span reproduces the member's (cosine ≥ [`EQUIVALENT_COS`]).
 
@@ -57,11 +66,16 @@ pub struct PairFit {
     pub first_equivalent: Vec<Effect>,
     /// Candidates this part cannot tell apart from `second` (in the pair with `first`).
     pub second_equivalent: Vec<Effect>,
+    /// `second` is significant on top of `first` but its visible part is at most the detection
+    /// limit (module doc): the verdict names `first` alone.
+    pub second_below_limit: bool,
     /// F-test of `second` on top of `first`, Bonferroni-corrected p-value.
     pub f: f64,
     pub p_bonferroni: f64,
     /// RMS of what `second` adds beyond baseline + `first` (mm).
     pub added_rms: f64,
+    /// RMS of what `first` adds beyond baseline + `second` (mm).
+    pub first_added_rms: f64,
     /// The joint fit (`effect` = `first`, `with` = `second`, parameters named
     /// `<effect>.<parameter>`).
     pub fit: CandidateFit,
@@ -134,12 +148,14 @@ fn added(rss_other: f64, rss_pair: f64, dq: usize, dof: f64, n: f64) -> (f64, f6
 }
 
 /// Pairs the significant candidates `fits` (see the module doc); `None` when no pair meets
-/// (a)-(d). `baseline_cv_score` is the baseline's own score.
+/// (a)-(d), nor, with `below_limit`, (a), (c) and (d) with one member visible.
+/// `baseline_cv_score` is the baseline's own score.
 pub fn best_pair(
     ctx: &Context,
     candidates: &[Candidate],
     fits: &[CandidateFit],
     baseline_cv_score: f64,
+    below_limit: bool,
 ) -> Option<PairFit> {
     let n = ctx.y.len();
     let nf = n as f64;
@@ -213,31 +229,32 @@ pub fn best_pair(
         let (fb, pb, vb) = added(rss(a), rss_ab, dqb, dof, nf);
         let e = &fit.evidence;
         let limit = ctx.detect_factor * e.sigma;
-        let ok = pa * (tries as f64) < ctx.alpha
+        let explains = pa * (tries as f64) < ctx.alpha
             && pb * (tries as f64) < ctx.alpha
-            && va > limit
-            && vb > limit
             && fit.cv_score < baseline_cv_score
             && fit.cv_score < a.cv_score
             && fit.cv_score < b.cv_score
             && e.structure_after <= ctx.detect_factor * e.sigma_smooth;
-        if ok {
+        let weak = below_limit && va.max(vb) > limit && va.min(vb) <= limit;
+        if explains && (va.min(vb) > limit || weak) {
             // The member with the larger visible part first.
-            let (first, second, f, pv, v) = if va >= vb {
-                (a, b, fb, pb, vb)
+            let (first, second, f, pv, v, v_first) = if va >= vb {
+                (a, b, fb, pb, vb, va)
             } else {
-                (b, a, fa, pa, va)
+                (b, a, fa, pa, va, vb)
             };
             fit.effect = first.effect;
             fit.with = Some(second.effect);
             accepted.push(PairFit {
                 first: first.effect,
                 second: second.effect,
+                second_below_limit: va.min(vb) <= limit,
                 first_equivalent: Vec::new(),
                 second_equivalent: Vec::new(),
                 f,
                 p_bonferroni: (pv * tries as f64).min(1.0),
                 added_rms: v,
+                first_added_rms: v_first,
                 fit,
                 shapes: if first.effect == a.effect {
                     shapes
@@ -247,9 +264,12 @@ pub fn best_pair(
             });
         }
     }
-    let mut best = accepted
-        .into_iter()
-        .min_by(|a, b| a.fit.cv_score.total_cmp(&b.fit.cv_score))?;
+    // a pair of two visible members first
+    let mut best = accepted.into_iter().min_by(|a, b| {
+        (a.second_below_limit, a.fit.cv_score)
+            .partial_cmp(&(b.second_below_limit, b.fit.cv_score))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    })?;
     let rss_best = rss(&best.fit);
     let sigma2 = (best.fit.rms * best.fit.rms)
         .max(best.fit.evidence.sigma * best.fit.evidence.sigma)

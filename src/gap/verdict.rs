@@ -455,6 +455,62 @@ pub fn pair_verdict(
     }
 }
 
+/// The verdict of a pair whose second member is significant but below the detection limit
+/// ([`crate::gap::pairs`], `second_below_limit`): the first member named alone, with its own fit's
+/// figures and parameters (what the final answer fits), against the pair's σ (the second effect
+/// no longer inflates it); the second first among the effects possible below the limit.
+pub fn weak_pair_verdict(
+    before: &Verdict,
+    fits: &[CandidateFit],
+    pair: &PairFit,
+    detect_factor: f64,
+) -> Verdict {
+    let f = &pair.fit;
+    let limit = detect_factor * f.evidence.sigma;
+    let Some(first) = fits
+        .iter()
+        .find(|c| c.effect == pair.first && c.with.is_none())
+    else {
+        return before.clone();
+    };
+    let mut possible = vec![pair.second];
+    possible.extend(
+        before
+            .possible_below_limit
+            .iter()
+            .filter(|c| **c != pair.first && **c != pair.second),
+    );
+    Verdict {
+        finding: Finding::Named {
+            effect: pair.first,
+            equivalent: pair_equivalent(fits, first, &pair.first_equivalent, pair.second),
+            with: None,
+        },
+        rms_before: before.rms_before,
+        rms_after: first.rms,
+        max_before: before.max_before,
+        max_after: first.max_abs,
+        cv_rms_before: before.cv_rms_before,
+        cv_rms_after: first.cv_rms,
+        detection_limit: limit,
+        sigma: f.evidence.sigma,
+        parameters: first.parameters.clone(),
+        possible_below_limit: possible,
+        per_curve: first.per_curve.clone(),
+        reason: format!(
+            "no single candidate explains the gap alone: `{}` leaves `{}` in its residual, which inflates its σ; fitted together, `{}` is significant and visible ({:.1} µm RMS > {detect_factor}σ = {:.1} µm, σ of the pair's fit) and the residual left is noise, while `{}` adds {:.1} µm RMS (F-test p = {:.2e}, Bonferroni over the pairs tried): significant but below the detection limit, so it is not named",
+            pair.first,
+            pair.second,
+            pair.first,
+            pair.first_added_rms * 1e3,
+            limit * 1e3,
+            pair.second,
+            pair.added_rms * 1e3,
+            pair.p_bonferroni,
+        ),
+    }
+}
+
 /// Equivalents of one member `m` of a pair: the swaps that fit as well (`swaps`) and the candidates
 /// whose unabsorbed span reproduces `m`'s visible effect; never the pair's `other` member.
 fn pair_equivalent(

@@ -15,7 +15,9 @@ use crate::common::{analyse_files, branch, cmm_noise, machine, mm, mpe, print_js
 /// errors, physical mode) is fitted, the residual located (per curve, region, reversal), every
 /// candidate of effects.md added one at a time and cross-validated (then pairs of the significant
 /// ones when no single candidate explains the gap), and a verdict given (an effect id, with a
-/// second one when a pair explains the gap, none or unexplained) with its detection limit.
+/// second one when a pair explains the gap, none or unexplained) with its detection limit. When
+/// the pair's second effect is significant but below the detection limit, the first is named
+/// alone and the second listed as possible below the limit.
 ///
 /// FILE: any CMM export of shared/spec/cmm-csv.md; every point is matched to the nominal surfaces
 /// by projection of its own coordinates, and the model (baseline and candidate signatures) is built
