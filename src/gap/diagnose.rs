@@ -11,7 +11,7 @@ use crate::gap::folds::{build_folds, withheld_sets};
 use crate::gap::location::{locate, DETECT_FACTOR};
 use crate::gap::pairs::best_pair;
 use crate::gap::report::{summary, BaselineReport, DiagnosisReport};
-use crate::gap::verdict::{decide, pair_verdict, weak_pair_verdict, DecisionInput, Finding, ALPHA};
+use crate::gap::verdict::{decide, pair_verdict, DecisionInput, Finding, ALPHA};
 use crate::gap::which::{
     cross_validate, cv_score, estimates, fit_searched, per_curve, BaselineFit, Context, SmoothFit,
 };
@@ -248,11 +248,7 @@ pub fn diagnose_with_smooth(
     )
     .filter(|pf| keeps_named(pf))
     {
-        verdict = if pf.second_below_limit {
-            weak_pair_verdict(&verdict, &fits, &pf, opts.detect_factor)
-        } else {
-            pair_verdict(&verdict, &fits, &pf, opts.detect_factor)
-        };
+        verdict = pair_verdict(&verdict, &fits, &pf, opts.detect_factor);
         pair = Some(pf);
     }
     let backlash_axes: Vec<_> = verdict

@@ -38,7 +38,7 @@
 //! `unexplained`: the first's σ holds the second, and the second is under the limit against the
 //! pair's σ. When no single candidate is named and no pair meets (a)-(d), a pair meeting (a),
 //! (c) and (d) whose larger member is visible against the pair's σ and whose smaller member is
-//! not (`second_below_limit`) names the larger one alone ([`crate::gap::verdict::weak_pair_verdict`]),
+//! not (`second_below_limit`) names the larger one alone ([`crate::gap::verdict::pair_verdict`]),
 //! the smaller one among the effects possible below the detection limit. A candidate the part cannot tell apart from a member is one that, in that
 //! member's place, fits not significantly worse (`(RSS' − RSS₁₂)/σ̂² < χ²₁(0.95)`), as for single
 //! candidates, or whose unabsorbed span reproduces the member's (cosine ≥ [`EQUIVALENT_COS`]).

@@ -398,13 +398,17 @@ pub fn equivalents(fits: &[CandidateFit], w: &CandidateFit) -> Vec<Effect> {
 }
 
 /// The verdict of an accepted pair ([`crate::gap::pairs`]): its first member named, the second under
-/// `with`, the pair's figures and parameters. `before` is the single-candidate verdict.
+/// `with`, the pair's figures and parameters (of a pair whose second member is below the limit,
+/// `weak_pair_verdict`). `before` is the single-candidate verdict.
 pub fn pair_verdict(
     before: &Verdict,
     fits: &[CandidateFit],
     pair: &PairFit,
     detect_factor: f64,
 ) -> Verdict {
+    if pair.second_below_limit {
+        return weak_pair_verdict(before, fits, pair, detect_factor);
+    }
     let f = &pair.fit;
     let fit_of = |e: Effect| fits.iter().find(|c| c.effect == e);
     let limit = detect_factor * f.evidence.sigma;
@@ -459,14 +463,9 @@ pub fn pair_verdict(
 /// ([`crate::gap::pairs`], `second_below_limit`): the first member named alone, with its own fit's
 /// figures and parameters (what the final answer fits), against the pair's σ (the second effect
 /// no longer inflates it); the second first among the effects possible below the limit.
-pub fn weak_pair_verdict(
-    before: &Verdict,
-    fits: &[CandidateFit],
-    pair: &PairFit,
-    detect_factor: f64,
-) -> Verdict {
+fn weak_pair_verdict(before: &Verdict, fits: &[CandidateFit], pair: &PairFit, k: f64) -> Verdict {
     let f = &pair.fit;
-    let limit = detect_factor * f.evidence.sigma;
+    let limit = k * f.evidence.sigma;
     let Some(first) = fits
         .iter()
         .find(|c| c.effect == pair.first && c.with.is_none())
@@ -498,7 +497,7 @@ pub fn weak_pair_verdict(
         possible_below_limit: possible,
         per_curve: first.per_curve.clone(),
         reason: format!(
-            "no single candidate explains the gap alone: `{}` leaves `{}` in its residual, which inflates its σ; fitted together, `{}` is significant and visible ({:.1} µm RMS > {detect_factor}σ = {:.1} µm, σ of the pair's fit) and the residual left is noise, while `{}` adds {:.1} µm RMS (F-test p = {:.2e}, Bonferroni over the pairs tried): significant but below the detection limit, so it is not named",
+            "no single candidate explains the gap alone: `{}` leaves `{}` in its residual, which inflates its σ; fitted together, `{}` is significant and visible ({:.1} µm RMS > {k}σ = {:.1} µm, σ of the pair's fit) and the residual left is noise, while `{}` adds {:.1} µm RMS (F-test p = {:.2e}, Bonferroni over the pairs tried): significant but below the detection limit, so it is not named",
             pair.first,
             pair.second,
             pair.first,
