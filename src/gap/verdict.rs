@@ -461,8 +461,9 @@ pub fn pair_verdict(
 
 /// The verdict of a pair whose second member is significant but below the detection limit
 /// ([`crate::gap::pairs`], `second_below_limit`): the first member named alone, with its own fit's
-/// figures and parameters (what the final answer fits), against the pair's σ (the second effect
-/// no longer inflates it); the second first among the effects possible below the limit.
+/// figures (what the final answer fits) and its parameters from the joint fit, against the pair's
+/// σ (the second effect no longer inflates it); the second first among the effects possible below
+/// the limit.
 fn weak_pair_verdict(before: &Verdict, fits: &[CandidateFit], pair: &PairFit, k: f64) -> Verdict {
     let f = &pair.fit;
     let limit = k * f.evidence.sigma;
@@ -493,7 +494,9 @@ fn weak_pair_verdict(before: &Verdict, fits: &[CandidateFit], pair: &PairFit, k:
         cv_rms_after: first.cv_rms,
         detection_limit: limit,
         sigma: f.evidence.sigma,
-        parameters: first.parameters.clone(),
+        // the named member's parameters from the joint fit: the second effect is significant, so
+        // leaving it out would bias them (a servo lag fitted alone holds the common rounding)
+        parameters: member_parameters(&f.parameters, pair.first),
         possible_below_limit: possible,
         per_curve: first.per_curve.clone(),
         reason: format!(
@@ -508,6 +511,17 @@ fn weak_pair_verdict(before: &Verdict, fits: &[CandidateFit], pair: &PairFit, k:
             pair.p_bonferroni,
         ),
     }
+}
+
+/// The parameters of `member` in a pair's fit (keyed `<effect>.<name>`), keyed by their name.
+fn member_parameters(
+    pair: &BTreeMap<String, Estimate>,
+    member: Effect,
+) -> BTreeMap<String, Estimate> {
+    let prefix = format!("{member}.");
+    pair.iter()
+        .filter_map(|(k, e)| Some((k.strip_prefix(&prefix)?.to_string(), e.clone())))
+        .collect()
 }
 
 /// Equivalents of one member `m` of a pair: the swaps that fit as well (`swaps`) and the candidates
