@@ -160,12 +160,13 @@ pub fn diagnose_with_smooth(
     };
     // (c) WHICH: each candidate on its own.
     // a family counts as its effectively independent shapes (the search's cost, effects.md)
-    let shapes: Vec<f64> = input
+    // (each family's members fitted on the baseline residual in the same pass)
+    let scans: Vec<crate::gap::shape::FamilyScan> = input
         .candidates
         .iter()
-        .map(|c| crate::gap::shape::effective_shapes(&baseline.factor, c))
+        .map(|c| crate::gap::shape::scan_family(&baseline.factor, Some(&baseline.residual), c))
         .collect();
-    let tries: f64 = shapes.iter().sum();
+    let tries: f64 = scans.iter().map(|s| s.effective_shapes).sum();
     let ctx = Context {
         y: &y,
         a,
@@ -182,8 +183,8 @@ pub fn diagnose_with_smooth(
     let mut fits: Vec<_> = input
         .candidates
         .iter()
-        .zip(&shapes)
-        .map(|(c, &m)| fit_searched(&ctx, c, m))
+        .zip(scans)
+        .map(|(c, scan)| fit_searched(&ctx, c, scan))
         .collect();
     sort_by_key_f64(&mut fits, |f| f.cv_score);
     let spans: Vec<_> = fits

@@ -117,39 +117,70 @@ fn fwl(factor: &Factor, r0: &DVector<f64>, s: &DMatrix<f64>) -> (f64, usize) {
     Unabsorbed::of(factor, s).rss(r0)
 }
 
+/// A family searched on the baseline: its `m_eff` (module doc) and, on the baseline residual,
+/// each member's residual sum of squares and the rank it adds ([`Unabsorbed::rss`]), both from
+/// one unabsorbed part a member (a member's column is computed once: a backlash's ring with a
+/// sine and a cosine a point).
+pub struct FamilyScan {
+    pub effective_shapes: f64,
+    /// `None` for a candidate of one shape, or when no residual was given.
+    pub members: Option<Vec<(f64, usize)>>,
+}
+
 /// `m_eff` of the family of `c` on the baseline `factor` (module doc); 1 for a candidate of one
 /// shape.
 pub fn effective_shapes(factor: &Factor, c: &Candidate) -> f64 {
+    scan_family(factor, None, c).effective_shapes
+}
+
+/// [`FamilyScan`] of `c` on the baseline `factor`, the members' fits on the residual `r0` when
+/// given.
+pub fn scan_family(factor: &Factor, r0: Option<&DVector<f64>>, c: &Candidate) -> FamilyScan {
     let Some(family) = &c.family else {
-        return 1.0;
+        return FamilyScan {
+            effective_shapes: 1.0,
+            members: None,
+        };
     };
     // One direction per member: the unabsorbed part of its first column (the families here have
     // one parameter), normalised; members the baseline absorbs entirely add nothing. The
     // correlations as one product `DᵀD` (a blocked product instead of k² dot products).
     let mut dirs = DMatrix::<f64>::zeros(c.signature.matrix.nrows(), family.len());
+    let mut members = r0.map(|_| Vec::with_capacity(family.len()));
     let mut k = 0;
     for j in 0..family.len() {
         let s = family.member(j);
-        let u = factor.unabsorbed(&s.columns(0, 1).into_owned());
-        let n = u.norm();
-        if n > 1e-12 * s.norm().max(1e-300) {
-            dirs.set_column(k, &(u.column(0) / n));
+        let un = Unabsorbed::of(factor, &s);
+        if let (Some(r0), Some(m)) = (r0, members.as_mut()) {
+            m.push(un.rss(r0));
+        }
+        let n = un.u.column(0).norm();
+        if n > 1e-12 * s.column(0).norm().max(1e-300) {
+            dirs.set_column(k, &(un.u.column(0) / n));
             k += 1;
         }
     }
     if k == 0 {
-        return 1.0;
+        return FamilyScan {
+            effective_shapes: 1.0,
+            members,
+        };
     }
     let dirs = dirs.columns(0, k).into_owned();
     let corr = dirs.tr_mul(&dirs);
     let eig = SymmetricEigen::new(corr).eigenvalues;
-    eig.iter()
+    let m_eff = eig
+        .iter()
         .map(|&l| {
             let l = l.max(0.0);
             (if l >= 1.0 { 1.0 } else { 0.0 }) + (l - l.floor())
         })
         .sum::<f64>()
-        .max(1.0)
+        .max(1.0);
+    FamilyScan {
+        effective_shapes: m_eff,
+        members,
+    }
 }
 
 /// The first and last indices of `z` within `bound` (`best` among them): the hull of the
@@ -213,7 +244,8 @@ fn coords_are_logs(grid: &[f64]) -> bool {
 
 /// The shape of the family of `c` that fits the baseline residual `r0` best, with its interval;
 /// `None` for a candidate of one shape. `n` points, `p` the baseline's rank, `given_s2` the
-/// decision's σ² when fixed.
+/// decision's σ² when fixed; `members` each member's fit when already scanned
+/// ([`scan_family`]).
 pub fn fit_shape(
     factor: &Factor,
     r0: &DVector<f64>,
@@ -221,15 +253,20 @@ pub fn fit_shape(
     p: usize,
     given_s2: Option<f64>,
     effective_shapes: f64,
+    members: Option<Vec<(f64, usize)>>,
 ) -> Option<ShapeFit> {
     let family = c.family.as_ref()?;
     let grid = &family.shape.grid;
     if !family.is_complete() || grid.len() < 2 {
         return None;
     }
-    let every: Vec<(f64, usize)> = (0..family.len())
-        .map(|k| fwl(factor, r0, &family.member(k)))
-        .collect();
+    // each member's fit ([`FamilyScan::members`] when scanned on this residual)
+    let every: Vec<(f64, usize)> = match members {
+        Some(m) if m.len() == family.len() => m,
+        _ => (0..family.len())
+            .map(|k| fwl(factor, r0, &family.member(k)))
+            .collect(),
+    };
     // the profile over the shape: at each of its values the least RSS over the profiled
     // parameter's (module doc), and the member that gives it
     let m = family.profiled_len();
@@ -422,7 +459,7 @@ mod tests {
         };
         let m = effective_shapes(&factor, &c);
         assert!(m > 1.0 && m < grid.len() as f64, "m_eff {m}");
-        let fit = fit_shape(&factor, &r0, &c, 1, None, m).unwrap();
+        let fit = fit_shape(&factor, &r0, &c, 1, None, m, None).unwrap();
         assert!(fit.low < 3.1 && 3.1 < fit.high, "{fit:?}");
         // the estimate within 5 % of the truth (noise 0.01 on an amplitude of 0.5)
         assert!((fit.value / 3.1 - 1.0).abs() < 0.05, "{fit:?}");
@@ -469,7 +506,7 @@ mod tests {
             .unwrap(),
             family: Some(family.clone()),
         };
-        let fit = fit_shape(&factor, &r0, &c, 1, None, 1.0).unwrap();
+        let fit = fit_shape(&factor, &r0, &c, 1, None, 1.0, None).unwrap();
         assert!(fit.low <= 0.3 && 0.3 <= fit.high, "{fit:?}");
         assert_eq!(fit.profiled.as_ref().map(|p| p.value), Some(0.2), "{fit:?}");
         assert_eq!(family.values(fit.grid_index).1, Some(0.2));
@@ -484,7 +521,7 @@ mod tests {
             family: Some(unpaused),
             ..c
         };
-        let fit0 = fit_shape(&factor, &r0, &c0, 1, None, 1.0).unwrap();
+        let fit0 = fit_shape(&factor, &r0, &c0, 1, None, 1.0, None).unwrap();
         assert!(!(fit0.low <= 0.3 && 0.3 <= fit0.high), "{fit0:?}");
     }
 }

@@ -27,7 +27,7 @@ use serde::Serialize;
 use crate::effects::data::curve_sequences;
 use crate::effects::data::{Candidate, PointMeta};
 use crate::gap::folds::FoldFactor;
-use crate::gap::shape::{effective_shapes, fit_shape, ShapeFit};
+use crate::gap::shape::{fit_shape, scan_family, FamilyScan, ShapeFit};
 use crate::identify::solve::{max_abs, rms, Factor};
 use crate::numerics::stats;
 use crate::parameter::{Effect, ParamId};
@@ -313,13 +313,13 @@ pub fn at_fitted_shapes(
 /// Fits one candidate on top of the baseline; a family at the shape that fits best
 /// ([`crate::gap::shape`]).
 pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
-    let m = effective_shapes(&ctx.baseline.factor, c);
-    fit_searched(ctx, c, m)
+    let scan = scan_family(&ctx.baseline.factor, Some(&ctx.baseline.residual), c);
+    fit_searched(ctx, c, scan)
 }
 
-/// [`fit_candidate`] with the family's effectively independent shapes `m`
-/// ([`effective_shapes`], 1 for a candidate of one shape) already counted.
-pub fn fit_searched(ctx: &Context, c: &Candidate, m: f64) -> CandidateFit {
+/// [`fit_candidate`] with the family already scanned on the baseline and its residual
+/// ([`scan_family`]: its effectively independent shapes, counted, and each member's fit).
+pub fn fit_searched(ctx: &Context, c: &Candidate, scan: FamilyScan) -> CandidateFit {
     let shape = c.family.as_ref().and_then(|_| {
         fit_shape(
             &ctx.baseline.factor,
@@ -327,7 +327,8 @@ pub fn fit_searched(ctx: &Context, c: &Candidate, m: f64) -> CandidateFit {
             c,
             ctx.baseline.factor.rank,
             ctx.given_sigma.map(|s| s * s),
-            m,
+            scan.effective_shapes,
+            scan.members,
         )
     });
     let at = c.at_shape(shape.as_ref().map(|f| f.grid_index));
