@@ -520,7 +520,7 @@ fn member_parameters(
 ) -> BTreeMap<String, Estimate> {
     let prefix = format!("{member}.");
     pair.iter()
-        .filter_map(|(k, e)| Some((k.strip_prefix(&prefix)?.to_string(), e.clone())))
+        .filter_map(|(k, e)| Some((k.strip_prefix(&prefix)?.to_string(), *e)))
         .collect()
 }
 
