@@ -146,7 +146,7 @@ fn on_ruling((c0, d): &Ruling, p: &Vector3<f64>) -> (f64, f64) {
 
 /// The direct method [`StartRulings::nearest`] replaces: every ruling in turn, the first of the
 /// nearest kept.
-#[cfg(test)]
+#[cfg(all(test, not(target_arch = "wasm32")))]
 fn scan(rulings: &[Ruling], p: &Vector3<f64>) -> (f64, f64, f64) {
     let (mut u, mut v, mut best) = (0.0, 0.0, f64::INFINITY);
     for (i, r) in rulings.iter().enumerate() {
