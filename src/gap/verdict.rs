@@ -519,9 +519,14 @@ fn member_parameters(
     member: Effect,
 ) -> BTreeMap<String, Estimate> {
     let prefix = format!("{member}.");
-    pair.iter()
-        .filter_map(|(k, e)| Some((k.strip_prefix(&prefix)?.to_string(), *e)))
-        .collect()
+    // inserted one by one (a `collect` into the map would bring a sort into the page's wasm)
+    let mut out = BTreeMap::new();
+    for (k, e) in pair {
+        if let Some(name) = k.strip_prefix(&prefix) {
+            out.insert(name.to_string(), *e);
+        }
+    }
+    out
 }
 
 /// Equivalents of one member `m` of a pair: the swaps that fit as well (`swaps`) and the candidates
