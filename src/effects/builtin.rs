@@ -134,8 +134,7 @@ impl PartModel {
         // (PathModel::taken_up's order; only the axes with a lost motion): the take-up is
         // profiled out, so the lag's interval holds every lag either explains
         let lags: Vec<[Lag; 2]> = path
-            .lag_family
-            .iter()
+            .first_order()
             .zip(path.taken_up(&b))
             .flat_map(|(switched, taken)| [switched.clone(), taken])
             .collect();
@@ -277,17 +276,20 @@ pub(crate) fn every_candidate_model(
         .collect::<Result<_, _>>()?;
     let named = |cols: Vec<Vec<f64>>| axes.iter().copied().zip(cols).collect::<Vec<_>>();
     // where each point falls on the passes' grid, shared by every lag (the passes' lengths)
-    let spots = Arc::new(grid_spots(&path.lags, part, points));
+    let spots = grid_spots(&path.lags, part, points);
     let servo = crate::sensitivity::servo::servo_signatures_with(part, points, opts, &all_gains)?;
+    let backlash = named(lagged_columns_at(&path.lags, &spots, &gains));
+    // what the backlash families' members are computed from (also kept for the take-up rounds)
+    let basis = LagBasis {
+        lags: path.settling.clone(),
+        spots: Arc::new(spots),
+        gains: named(gains),
+    };
     let model = SignatureModel {
         s_total: path.s_total(),
         envelope,
-        backlash: named(lagged_columns_at(&path.lags, &spots, &gains)),
-        backlash_family: Some(LagBasis {
-            lags: path.settling.clone(),
-            spots: spots.clone(),
-            gains: named(gains.clone()),
-        }),
+        backlash,
+        backlash_family: Some(basis.clone()),
         servo: servo.lag,
         servo_common: servo.common,
         scale: scale_signatures(part, points, q, opts)?,
@@ -305,10 +307,6 @@ pub(crate) fn every_candidate_model(
         baseline,
         candidates,
         reversals: path.reversals.clone(),
-        backlash: LagBasis {
-            lags: path.settling.clone(),
-            spots,
-            gains: named(gains),
-        },
+        backlash: basis,
     })
 }

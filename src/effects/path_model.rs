@@ -30,11 +30,10 @@ use crate::toolpath::tip_length::TipLength;
 pub struct PathModel {
     /// The lags of the chain's backlash axes ([`backlash_axes`]) on the passes of A and B.
     pub lags: [Lag; 2],
-    /// The same at each lag of the backlash family's grid ([`crate::parameter::Effect::shape`]).
-    pub lag_family: Vec<[Lag; 2]>,
-    /// The backlash family's members: at each lag of the grid, each overshoot of
-    /// [`OVERSHOOT_GRID`] (the first order [`PathModel::lag_family`]'s, the others settling in
-    /// second order, [`Lag::with_settling`]), in the family's order (lag-major).
+    /// The backlash family's members: at each lag of the backlash family's grid
+    /// ([`crate::parameter::Effect::shape`]), each overshoot of [`OVERSHOOT_GRID`] (the first
+    /// order, then settling in second order, [`Lag::with_settling`]), in the family's order
+    /// (lag-major; [`PathModel::first_order`] the lags of the first order).
     pub settling: Arc<Vec<[Lag; 2]>>,
     /// Each backlash axis's travel after each of its turns on the passes of A and B
     /// ([`crate::sensitivity::take_up::travels`]): what the play's take-up is made of.
@@ -54,24 +53,12 @@ impl PathModel {
         let grid = Effect::Backlash(AxisName::X)
             .shape()
             .map_or_else(Vec::new, |s| s.grid);
-        let lag_family: Vec<[Lag; 2]> = grid
-            .iter()
-            .map(|&tau| {
-                [
-                    Lag::with_length(part, &passes[0], &axes, tau),
-                    Lag::with_length(part, &passes[1], &axes, tau),
-                ]
-            })
-            .collect();
         let mut settling = Vec::with_capacity(grid.len() * OVERSHOOT_GRID.len());
-        for (&tau, first) in grid.iter().zip(&lag_family) {
+        for &tau in &grid {
             for &m in &OVERSHOOT_GRID {
-                settling.push(match damping_of_overshoot(m) {
-                    None => first.clone(),
-                    Some(z) => {
-                        [0, 1].map(|i| Lag::with_settling(part, &passes[i], &axes, tau, Some(z)))
-                    }
-                });
+                let zeta = damping_of_overshoot(m);
+                settling
+                    .push([0, 1].map(|i| Lag::with_settling(part, &passes[i], &axes, tau, zeta)));
             }
         }
         Ok(Self {
@@ -79,7 +66,6 @@ impl PathModel {
                 Lag::of(part, &passes[0], &axes),
                 Lag::of(part, &passes[1], &axes),
             ],
-            lag_family,
             settling: Arc::new(settling),
             travel: [
                 travels(part, &passes[0], &axes, opts)?,
@@ -95,12 +81,18 @@ impl PathModel {
         [&self.lags[0].length, &self.lags[1].length]
     }
 
-    /// Every lag of the family on the axes with a lost motion `b > 0` (per axis of
+    /// The first-order lag at each lag of the family's grid, in grid order (the first member of
+    /// each lag in [`PathModel::settling`]: [`OVERSHOOT_GRID`] starts with no overshoot).
+    pub fn first_order(&self) -> impl Iterator<Item = &[Lag; 2]> {
+        const _: () = assert!(OVERSHOOT_GRID[0] == 0.0);
+        self.settling.iter().step_by(OVERSHOOT_GRID.len())
+    }
+
+    /// Every first-order lag of the family on the axes with a lost motion `b > 0` (per axis of
     /// [`PathModel::lags`], in its unit) only, with its take-up ([`Lag::taken_up`]), in the
     /// family's order.
     pub fn taken_up(&self, b: &[f64]) -> Vec<[Lag; 2]> {
-        self.lag_family
-            .iter()
+        self.first_order()
             .map(|l| {
                 [
                     l[0].taken_up(&self.travel[0], b),

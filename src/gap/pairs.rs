@@ -30,7 +30,9 @@
 //! - (d) the pair explains the gap: the structure left is at most 2.5 σ.
 //!
 //! Among accepted pairs the lowest `cv_score` wins. The verdict names the member with the larger
-//! visible part first.
+//! visible part first. A candidate the part cannot tell apart from a member is one that, in that
+//! member's place, fits not significantly worse (`(RSS' − RSS₁₂)/σ̂² < χ²₁(0.95)`), as for single
+//! candidates, or whose unabsorbed span reproduces the member's (cosine ≥ [`EQUIVALENT_COS`]).
 //!
 //! **A second effect below the limit** (issue 29: σ that structure cannot inflate). A single
 //! candidate's σ is its own residual's, so a part with one effect above the limit and a second,
@@ -39,9 +41,8 @@
 //! pair's σ. When no single candidate is named and no pair meets (a)-(d), a pair meeting (a),
 //! (c) and (d) whose larger member is visible against the pair's σ and whose smaller member is
 //! not (`second_below_limit`) names the larger one alone ([`crate::gap::verdict::pair_verdict`]),
-//! the smaller one among the effects possible below the detection limit. A candidate the part cannot tell apart from a member is one that, in that
-//! member's place, fits not significantly worse (`(RSS' − RSS₁₂)/σ̂² < χ²₁(0.95)`), as for single
-//! candidates, or whose unabsorbed span reproduces the member's (cosine ≥ [`EQUIVALENT_COS`]).
+//! the smaller one among the effects possible below the detection limit. A pair of two visible
+//! members is preferred to such a pair.
 
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -266,9 +267,9 @@ pub fn best_pair(
     }
     // a pair of two visible members first
     let mut best = accepted.into_iter().min_by(|a, b| {
-        (a.second_below_limit, a.fit.cv_score)
-            .partial_cmp(&(b.second_below_limit, b.fit.cv_score))
-            .unwrap_or(std::cmp::Ordering::Equal)
+        a.second_below_limit
+            .cmp(&b.second_below_limit)
+            .then(a.fit.cv_score.total_cmp(&b.fit.cv_score))
     })?;
     let rss_best = rss(&best.fit);
     let sigma2 = (best.fit.rms * best.fit.rms)

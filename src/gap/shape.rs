@@ -127,14 +127,8 @@ pub struct FamilyScan {
     pub members: Option<Vec<(f64, usize)>>,
 }
 
-/// `m_eff` of the family of `c` on the baseline `factor` (module doc); 1 for a candidate of one
-/// shape.
-pub fn effective_shapes(factor: &Factor, c: &Candidate) -> f64 {
-    scan_family(factor, None, c).effective_shapes
-}
-
-/// [`FamilyScan`] of `c` on the baseline `factor`, the members' fits on the residual `r0` when
-/// given.
+/// [`FamilyScan`] of `c` on the baseline `factor` (`m_eff` 1 for a candidate of one shape), the
+/// members' fits on the residual `r0` when given.
 pub fn scan_family(factor: &Factor, r0: Option<&DVector<f64>>, c: &Candidate) -> FamilyScan {
     let Some(family) = &c.family else {
         return FamilyScan {
@@ -457,7 +451,7 @@ mod tests {
                 grid.iter().map(|&t| col(t)).collect(),
             )),
         };
-        let m = effective_shapes(&factor, &c);
+        let m = scan_family(&factor, None, &c).effective_shapes;
         assert!(m > 1.0 && m < grid.len() as f64, "m_eff {m}");
         let fit = fit_shape(&factor, &r0, &c, 1, None, m, None).unwrap();
         assert!(fit.low < 3.1 && 3.1 < fit.high, "{fit:?}");

@@ -225,7 +225,7 @@ pub struct Context<'a> {
     /// The baseline augmented with the per-curve smooth basis of [`crate::measurement::smooth_noise`].
     pub smooth: &'a SmoothFit,
     /// The Bonferroni factor: the candidates tried, a family counted by its effectively
-    /// independent shapes ([`crate::gap::shape::effective_shapes`]).
+    /// independent shapes ([`crate::gap::shape::scan_family`]).
     pub tries: f64,
     pub alpha: f64,
     pub detect_factor: f64,

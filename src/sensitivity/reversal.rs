@@ -821,7 +821,7 @@ pub fn lagged_columns_at(lags: &[Lag; 2], spots: &[GridSpot], gains: &[Vec<f64>]
 /// The column of axis `axes[a]` of [`lagged_columns_at`], its gain `gain`. A lag that rings
 /// ([`Lag::zeta`]) is evaluated once a point, at the point's path length on its step (the step's
 /// segment: a turn at step `k` starts at sample `k − 1`), not interpolated between the samples:
-/// its closed form costs a sine and a cosine (at a scan's 20,000 points, 90 members a family),
+/// its closed form costs a sine and a cosine (at a scan's 20,000 points, 54 members a family),
 /// and the two agree to the curvature of the settling over one grid step (~0.014 mm).
 pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &[GridSpot], gain: &[f64]) -> Vec<f64> {
     spots
@@ -893,8 +893,6 @@ mod tests {
         }
     }
 
-    /// The Hermite interpolant of a cubic is the cubic: q = t³ − 1.5t² + 0.6t turns and returns
-    /// inside (rate 3t² − 3t + 0.6 < 0 between 0.276 and 0.724), q = t² − 0.6t turns at 0.3.
     /// The second-order settling in closed form ([`ringing_on`]) against its definition,
     /// `e'' + 2ζe'/τ + e/τ² = e*/τ²` integrated by classical Runge-Kutta (4 steps a grid step,
     /// the target of step `k` the grid's direction there) over all 20,001 samples of both passes
@@ -941,6 +939,8 @@ mod tests {
         }
     }
 
+    /// The Hermite interpolant of a cubic is the cubic: q = t³ − 1.5t² + 0.6t turns and returns
+    /// inside (rate 3t² − 3t + 0.6 < 0 between 0.276 and 0.724), q = t² − 0.6t turns at 0.3.
     #[test]
     fn hermite_turns_of_known_cubics() {
         assert!(hermite_dips(0.0, 0.1, 0.6, 0.6));
