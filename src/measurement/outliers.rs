@@ -54,7 +54,7 @@ use crate::effects::data::GapInput;
 use crate::identify::solve::{hstack, Factor};
 use crate::measurement::noise::total_sigma;
 use crate::measurement::smooth_noise::{smooth_basis, SmoothFit, SMOOTH_DEGREE};
-use crate::numerics::order::sort_by_key_f64_descending;
+use crate::numerics::order::{argsort, sort_by_key_f64_descending, sort_f64};
 use crate::numerics::stats;
 
 /// Family-wise false-alarm rate of the outlier test (Bonferroni over the points).
@@ -295,13 +295,12 @@ impl Neighbours {
         let by_s = seqs
             .iter()
             .map(|idx| {
-                let mut v: Vec<(f64, usize, usize)> = idx
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &j)| (pts[j].s, k, j))
-                    .collect();
-                v.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                v
+                // by s, equal s in the sequence's order (the shared sort of numerics::order)
+                let s: Vec<f64> = idx.iter().map(|&j| pts[j].s).collect();
+                argsort(&s)
+                    .into_iter()
+                    .map(|k| (s[k], k, idx[k]))
+                    .collect::<Vec<(f64, usize, usize)>>()
             })
             .collect();
         let half = seqs
@@ -311,7 +310,7 @@ impl Neighbours {
                     .windows(2)
                     .map(|w| (pts[w[1]].s - pts[w[0]].s).abs())
                     .collect();
-                gaps.sort_by(f64::total_cmp);
+                sort_f64(&mut gaps);
                 gaps.get(gaps.len() / 2).map_or(0.0, |g| 0.5 * g)
             })
             .collect();
