@@ -205,7 +205,8 @@ fn coordinates(grid: &[f64]) -> Vec<f64> {
 }
 
 /// A grid coordinate back to the shape's value (linear interpolation of the values between the
-/// grid's neighbours; the last finite value for the index coordinate's `inf` end).
+/// grid's neighbours; between the last finite value and the index coordinate's `inf` end,
+/// linear in the value's inverse).
 fn value_at(grid: &[f64], coords: &[f64], x: f64) -> f64 {
     let last = grid.len() - 1;
     let x = x.clamp(coords[0], coords[last]);
@@ -220,9 +221,11 @@ fn value_at(grid: &[f64], coords: &[f64], x: f64) -> f64 {
         return v0;
     }
     if v1.is_infinite() {
-        // between the last finite warm-up and the linear law: the parabola's value is reported
-        // as the law it is nearer to
-        return if t < 0.5 { v0 } else { v1 };
+        // between the last finite warm-up and the linear law (`1/f = 0`): linear in `1/f`, the
+        // coordinate in which the law is smooth there, so an end or an estimate between them
+        // is a finite `f` (before, the nearer of the two: a warm-up of 4.9, past the grid's
+        // last 2.2, got the interval [∞, ∞] that left it out)
+        return v0 / (1.0 - t);
     }
     if coords_are_logs(grid) {
         (v0.ln() + t * (v1.ln() - v0.ln())).exp()
@@ -426,6 +429,20 @@ mod tests {
     /// A family of exponential steps `exp(−x/τ)` on 200 points with a constant baseline: data
     /// made at τ = 3.1 (between grid values 2.6 and 3.38) with noise 0.01 are fitted to within
     /// the interval, the interval holds the truth, and `m_eff` lies between 1 and the grid's size.
+    /// Between the warm-up grid's last finite value (2.2) and the linear law, a coordinate is a
+    /// finite `f`, linear in `1/f`: halfway 2·2.2, a quarter of the step past 2.2 2.2/0.75 (to
+    /// rounding), at the ends the grid's values.
+    #[test]
+    fn past_the_last_warm_up_the_value_is_linear_in_its_inverse() {
+        let grid = crate::parameter::effect::WARM_UP_GRID;
+        let coords = coordinates(&grid);
+        let last = grid.len() - 1;
+        assert!((value_at(&grid, &coords, last as f64 - 0.5) - 4.4).abs() < 1e-12);
+        assert!((value_at(&grid, &coords, last as f64 - 0.75) - 2.2 / 0.75).abs() < 1e-12);
+        assert_eq!(value_at(&grid, &coords, (last - 1) as f64), 2.2);
+        assert!(value_at(&grid, &coords, last as f64).is_infinite());
+    }
+
     #[test]
     fn the_shape_is_found_between_grid_values_and_its_interval_holds_it() {
         let n = 200;
