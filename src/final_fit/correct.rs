@@ -330,6 +330,24 @@ pub fn with_effects(
     Ok((d, added, notes))
 }
 
+/// The note of a servo lag fitted with the common rounding ([`with_rounding`]).
+const NUISANCE_ROUNDING: &str = "`servo_common.L2` is fitted with the servo lag: the axes lag together, and their lag rounds the path.";
+
+/// `effects`, and `servo_common` when they hold a servo lag without it and the part has its
+/// column: the lag's estimate with the rounding every lagging axis shares
+/// ([`crate::gap::which`]'s candidate fit does the same).
+fn with_rounding(candidates: &[Candidate], effects: &[Effect]) -> Vec<Effect> {
+    let mut out = effects.to_vec();
+    let lag = effects.iter().any(|e| matches!(e, Effect::ServoLag(_)));
+    if lag
+        && !effects.contains(&Effect::ServoCommon)
+        && candidates.iter().any(|c| c.effect == Effect::ServoCommon)
+    {
+        out.push(Effect::ServoCommon);
+    }
+    out
+}
+
 /// The effects to fit for `choice` and the verdict, or the reason there are none.
 fn chosen(input: &CorrectionInput, choice: &EffectsChoice) -> (Basis, Vec<Effect>, Vec<String>) {
     match choice {
@@ -407,7 +425,11 @@ pub fn correct(input: &CorrectionInput, choice: &EffectsChoice) -> Result<Final,
             None,
         ),
         Basis::Effects => {
-            let (d, added, n) = with_effects(input.design, input.candidates, &effects)?;
+            let fitted = with_rounding(input.candidates, &effects);
+            if fitted.len() > effects.len() {
+                notes.push(NUISANCE_ROUNDING.to_string());
+            }
+            let (d, added, n) = with_effects(input.design, input.candidates, &fitted)?;
             notes.extend(n);
             let id = identify(&d, input.observations, input.options)?;
             match left_structured(&id, input.noise_sigma) {
@@ -572,7 +594,11 @@ fn alternatives(
             .into_iter()
             .map(|e| if e == named { alt } else { e })
             .collect();
-        let (d, _, _) = with_effects(input.design, input.candidates, &effects)?;
+        let (d, _, _) = with_effects(
+            input.design,
+            input.candidates,
+            &with_rounding(input.candidates, &effects),
+        )?;
         let id = identify(&d, input.observations, input.options)?;
         let mut worst = (String::new(), 0.0f64);
         for p in base_ids {

@@ -25,6 +25,7 @@ use crate::measurement::noise::{
 use crate::measurement::ruling_pairs::pair_sigma;
 use crate::measurement::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
 use crate::numerics::order::sort_by_key_f64;
+use crate::parameter::Effect;
 
 /// Options of a diagnosis (defaults: α = 0.05 family-wise, 2.5 σ).
 #[derive(Debug, Clone, Copy)]
@@ -179,6 +180,11 @@ pub fn diagnose_with_smooth(
         tries,
         alpha: opts.alpha,
         detect_factor: opts.detect_factor,
+        servo_common: input
+            .candidates
+            .iter()
+            .find(|c| c.effect == Effect::ServoCommon)
+            .map(|c| &c.signature.matrix),
     };
     let mut fits: Vec<_> = input
         .candidates

@@ -28,7 +28,7 @@ use crate::effects::data::curve_sequences;
 use crate::effects::data::{Candidate, PointMeta};
 use crate::gap::folds::FoldFactor;
 use crate::gap::shape::{fit_shape, scan_family, FamilyScan, ShapeFit};
-use crate::identify::solve::{max_abs, rms, Factor};
+use crate::identify::solve::{hstack, max_abs, rms, Factor};
 use crate::numerics::stats;
 use crate::parameter::{Effect, ParamId};
 
@@ -229,6 +229,9 @@ pub struct Context<'a> {
     pub tries: f64,
     pub alpha: f64,
     pub detect_factor: f64,
+    /// The `servo_common` column when the part has one: a servo lag's parameter is estimated
+    /// with it ([`fit_one_shape`]).
+    pub servo_common: Option<&'a DMatrix<f64>>,
 }
 
 /// `cv_score` of a model with `q` parameters beyond the baseline.
@@ -265,6 +268,53 @@ pub fn per_curve(
 
 /// The names a candidate's fit reports its parameters by: the effect's own parameter names
 /// (`dR0`, `g`) for one effect, `<effect>.<parameter>` for a pair of effects ([`super::pairs`]).
+/// A servo lag's parameter with the common rounding (`servo_common`): an axis trailing the
+/// others by `l` lags behind its command with every other axis, by `L = F/Kv`, and that lag
+/// rounds the path by `(L²/2)·d²q/ds²` (effects.md, "Servo rounding"). The rounding is below
+/// the detection limit on most parts, yet its unabsorbed part is correlated with a lag's (0.70
+/// for Y on the built-in part), so a lag fitted alone takes it up: 14-25 % on Y with `L`
+/// 0.56-1.09 mm, 1 % once fitted together (`effects_families_physics`, servos integrated in
+/// time). Only the estimate: the test and the ranking stay those of the lag alone (the rounding
+/// is a nuisance of the estimate, not a second effect to detect). `None` for a candidate without
+/// a lag, a part without the rounding's column, or a pair that holds it (the rank does not grow).
+/// `q`: the rank the lag's columns add.
+#[inline(never)]
+fn with_rounding(
+    ctx: &Context,
+    c: &Candidate,
+    q: usize,
+    keys: &[String],
+) -> Option<BTreeMap<String, Estimate>> {
+    let common = ctx.servo_common?;
+    let lagged = c
+        .signature
+        .params
+        .iter()
+        .any(|id| matches!(id.effect(), Some(Effect::ServoLag(_))));
+    if !lagged {
+        return None;
+    }
+    let (u, _, fu, theta) = fwl_fit(ctx, &hstack(&c.signature.matrix, common));
+    if fu.rank != q + 1 {
+        return None;
+    }
+    let r0 = &ctx.baseline.residual;
+    let rss = (r0 - u * &theta).norm_squared();
+    let dof = (r0.len().saturating_sub(ctx.baseline.factor.rank + fu.rank)).max(1) as f64;
+    Some(estimates(keys, &theta, &fu.cov, rss / dof))
+}
+
+/// The columns `s` on the baseline (Frisch–Waugh–Lovell): their unabsorbed part `U`, their norms
+/// (what its rank is judged against), its factor and `θ = U⁺r₀`.
+#[inline(never)]
+fn fwl_fit(ctx: &Context, s: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>, Factor, DVector<f64>) {
+    let scale: Vec<f64> = (0..s.ncols()).map(|j| s.column(j).norm()).collect();
+    let u = ctx.baseline.factor.unabsorbed(s);
+    let fu = Factor::new(&u, Some(&scale));
+    let theta = fu.solve(&ctx.baseline.residual);
+    (u, scale, fu, theta)
+}
+
 fn parameter_keys(c: &Candidate) -> Vec<String> {
     let ids = &c.signature.params;
     let one_effect = ids.iter().all(|id| id.effect() == Some(c.effect));
@@ -342,13 +392,9 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
     let n = ctx.y.len();
     let nf = n as f64;
     let s = &c.signature.matrix;
-    let q_cols = s.ncols();
-    let scale: Vec<f64> = (0..q_cols).map(|j| s.column(j).norm()).collect();
-    let u = ctx.baseline.factor.unabsorbed(s);
-    let fu = Factor::new(&u, Some(&scale));
+    let (u, scale, fu, theta) = fwl_fit(ctx, s);
     let q = fu.rank;
     let r0 = &ctx.baseline.residual;
-    let theta = fu.solve(r0);
     let r1 = r0 - &u * &theta;
     let rss0 = ctx.baseline.rss;
     let rss1 = r1.norm_squared();
@@ -369,6 +415,10 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
     });
     let keys = parameter_keys(c);
     let mut parameters = estimates(&keys, &theta, &fu.cov, s2);
+    // a servo lag's parameter with the common rounding ([`with_rounding`])
+    if let Some(with) = with_rounding(ctx, c, q, &keys) {
+        parameters = with;
+    }
     // a servo lag's std holds the first-order formula's own uncertainty
     // ([`crate::sensitivity::servo::FIRST_ORDER_REL`])
     for (id, key) in c.signature.params.iter().zip(&keys) {

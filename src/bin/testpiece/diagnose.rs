@@ -85,8 +85,9 @@ pub struct Args {
     /// the B-axis branch of the inverse kinematics
     #[arg(long, value_name = "signed|positive", default_value = "signed", value_parser = branch)]
     branch: Branch,
-    /// the feed the part was cut with (mm/min): a servo lag the diagnosis names is stated as the
-    /// position loop's time constant (1/Kv, ms) at it
+    /// the feed the part was cut with (mm/min): a servo lag the diagnosis names (fitted with the
+    /// rounding of the path by the lag all axes share) is stated as the position loop's time
+    /// constant (1/Kv, ms) at it
     #[arg(long, value_name = "MM_PER_MIN", default_value_t = testpiece::settings::feed::PROGRAMME_FEED, value_parser = mm, allow_negative_numbers = true)]
     feed: f64,
     /// leave out the rows the reader rejects instead of refusing the file
