@@ -344,12 +344,10 @@ pub fn fit_shape(
     // profile is evaluated there instead of interpolated. On a grid coarser than the part's
     // resolution the parabola's vertex is biased and a convex profile interpolated linearly
     // narrows the interval. At a coordinate between two grid values the profiled parameter takes
-    // the better of those the two chose.
+    // the better of those the two chose. Between the last finite warm-up and the linear law
+    // too (a finite `f`, linear in `1/f`: [`value_at`]), and at the law itself.
     let exact = |x: f64| -> Option<f64> {
         let v = value_at(grid, &coords, x);
-        if !v.is_finite() {
-            return None;
-        }
         let k0 = coords.partition_point(|c| *c <= x).clamp(1, grid.len() - 1) - 1;
         [chosen[k0], chosen[k0 + 1]]
             .iter()
@@ -358,7 +356,7 @@ pub fn fit_shape(
             .map(|s| fwl(factor, r0, &s).0)
             .min_by(f64::total_cmp)
     };
-    if family.is_computed() && grid[best].is_finite() {
+    if family.is_computed() {
         let a = coords[best.saturating_sub(1)];
         let b = coords[(best + 1).min(grid.len() - 1)];
         let (x_star, rss_star) =
@@ -368,8 +366,7 @@ pub fn fit_shape(
         let zg: Vec<f64> = prof.iter().map(|(r, _)| (r - rss_c) / s2).collect();
         refined = x_star;
         // an end: the root of zc − bound between the last grid value within the bound (or the
-        // estimate) and the first past it; a grid value whose member cannot be computed (the
-        // linear law) keeps the interpolated end
+        // estimate) and the first past it (the linear law included)
         let root = |inner: f64, outer: f64| -> Option<f64> {
             let (mut i, mut o) = (inner, outer);
             if zc(o)? <= bound {
