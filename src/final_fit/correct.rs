@@ -743,6 +743,33 @@ pub fn summary(c: &Correction, baseline: &Identification, fin: &Identification) 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::effects::data::NamedColumns;
+    use crate::machine::AxisName;
+
+    fn candidate(effect: Effect) -> Candidate {
+        Candidate::new(
+            effect,
+            NamedColumns::try_new(effect.parameter_ids(), DMatrix::from_element(3, 1, 1.0))
+                .unwrap(),
+        )
+    }
+
+    /// A servo lag is fitted with the rounding when the part has its column, once; nothing
+    /// else is.
+    #[test]
+    fn a_servo_lag_brings_the_rounding_into_the_final_fit() {
+        let lag = Effect::ServoLag(AxisName::Y);
+        let with = [candidate(lag), candidate(Effect::ServoCommon)];
+        assert_eq!(with_rounding(&with, &[lag]), vec![lag, Effect::ServoCommon]);
+        assert_eq!(
+            with_rounding(&with, &[lag, Effect::ServoCommon]),
+            vec![lag, Effect::ServoCommon]
+        );
+        assert_eq!(with_rounding(&with[..1], &[lag]), vec![lag]);
+        let backlash = Effect::Backlash(AxisName::C);
+        assert_eq!(with_rounding(&with, &[backlash]), vec![backlash]);
+        assert_eq!(with_rounding(&with, &[]), Vec::<Effect>::new());
+    }
 
     #[test]
     fn the_choice_parses_and_prints_back() {
