@@ -266,8 +266,6 @@ pub fn per_curve(
         .collect()
 }
 
-/// The names a candidate's fit reports its parameters by: the effect's own parameter names
-/// (`dR0`, `g`) for one effect, `<effect>.<parameter>` for a pair of effects ([`super::pairs`]).
 /// A servo lag's parameter with the common rounding (`servo_common`): an axis trailing the
 /// others by `l` lags behind its command with every other axis, by `L = F/Kv`, and that lag
 /// rounds the path by `(L²/2)·d²q/ds²` (effects.md, "Servo rounding"). The rounding is below
@@ -315,6 +313,8 @@ fn fwl_fit(ctx: &Context, s: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>, Factor, 
     (u, scale, fu, theta)
 }
 
+/// The names a candidate's fit reports its parameters by: the effect's own parameter names
+/// (`dR0`, `g`) for one effect, `<effect>.<parameter>` for a pair of effects ([`super::pairs`]).
 fn parameter_keys(c: &Candidate) -> Vec<String> {
     let ids = &c.signature.params;
     let one_effect = ids.iter().all(|id| id.effect() == Some(c.effect));
