@@ -230,7 +230,7 @@ pub struct Context<'a> {
     pub alpha: f64,
     pub detect_factor: f64,
     /// The `servo_common` column when the part has one: a servo lag's parameter is estimated
-    /// with it ([`fit_one_shape`]).
+    /// with it (the candidate fit).
     pub servo_common: Option<&'a DMatrix<f64>>,
 }
 
