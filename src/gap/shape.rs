@@ -423,11 +423,8 @@ mod tests {
     use crate::numerics::random::Sampler;
     use crate::parameter::{Effect, Shape};
 
-    /// A family of exponential steps `exp(−x/τ)` on 200 points with a constant baseline: data
-    /// made at τ = 3.1 (between grid values 2.6 and 3.38) with noise 0.01 are fitted to within
-    /// the interval, the interval holds the truth, and `m_eff` lies between 1 and the grid's size.
     /// Between the warm-up grid's last finite value (2.2) and the linear law, a coordinate is a
-    /// finite `f`, linear in `1/f`: halfway 2·2.2, a quarter of the step past 2.2 2.2/0.75 (to
+    /// finite `f`, linear in `1/f`: halfway 2·2.2, a quarter of the step past it 2.2/0.75 (to
     /// rounding), at the ends the grid's values.
     #[test]
     fn past_the_last_warm_up_the_value_is_linear_in_its_inverse() {
@@ -440,6 +437,9 @@ mod tests {
         assert!(value_at(&grid, &coords, last as f64).is_infinite());
     }
 
+    /// A family of exponential steps `exp(−x/τ)` on 200 points with a constant baseline: data
+    /// made at τ = 3.1 (between grid values 2.6 and 3.38) with noise 0.01 are fitted to within
+    /// the interval, the interval holds the truth, and `m_eff` lies between 1 and the grid's size.
     #[test]
     fn the_shape_is_found_between_grid_values_and_its_interval_holds_it() {
         let n = 200;
