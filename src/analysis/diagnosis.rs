@@ -10,9 +10,9 @@ use crate::effects::prepared::Prepared;
 use crate::effects::{GapError, GapInput};
 use crate::gap::shape::{f_quantile, SHAPE_CONFIDENCE};
 use crate::gap::verdict::VerdictId;
-use crate::gap::{diagnose, diagnose_with_smooth, DiagnoseOptions, DiagnosisReport};
+use crate::gap::{diagnose, diagnose_with, diagnose_with_smooth, DiagnoseOptions, DiagnosisReport};
 use crate::machine::AxisName;
-use crate::measurement::outliers::{find_outliers_with_fit, without_rows, OutlierTest};
+use crate::measurement::outliers::{find_outliers_with_fit_on, without_rows, OutlierTest};
 use crate::parameter::Effect;
 use crate::settings::MachineChoice;
 
@@ -119,20 +119,24 @@ struct Run {
 fn run(m: &PartModel, deviations: &[f64], opts: &AnalysisOptions) -> Result<Run, GapError> {
     let input = input_of(m, deviations, opts.noise_sigma);
     // the test's plain fit of [A | smooth basis] on every row is the diagnosis's
-    let (test, smooth) = find_outliers_with_fit(&input);
+    let (test, smooth) = find_outliers_with_fit_on(&input, opts.threads);
     let drop = if opts.keep_outliers {
         Vec::new()
     } else {
         test.indices()
     };
-    let all = diagnose_with_smooth(&input, DiagnoseOptions::default(), smooth)?;
+    let dopts = DiagnoseOptions {
+        threads: opts.threads,
+        ..DiagnoseOptions::default()
+    };
+    let all = diagnose_with_smooth(&input, dopts, smooth)?;
     let rss_all = all.verdict.rms_after.powi(2) * deviations.len() as f64;
     let sigma_all = all.structure.noise.used;
     let (report, verdict_all_points) = if drop.is_empty() {
         (all, None)
     } else {
         let v = all.verdict.id();
-        (diagnose(&without_rows(&input, &drop))?, Some(v))
+        (diagnose_with(&without_rows(&input, &drop), dopts)?, Some(v))
     };
     Ok(Run {
         report,

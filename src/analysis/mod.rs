@@ -119,7 +119,9 @@ pub(super) fn read_parts(
     files: &[(&[u8], &str)],
     opts: &AnalysisOptions,
 ) -> Result<(MatchedPart, Option<PureError>), AnalysisError> {
-    let ropts = ReadOptions::default().with_exclude_bad_rows(opts.exclude_bad_rows);
+    let ropts = ReadOptions::default()
+        .with_exclude_bad_rows(opts.exclude_bad_rows)
+        .with_threads(opts.threads);
     let mut parts = files
         .iter()
         .map(|(bytes, name)| read_and_match(bytes, name, &ropts))

@@ -6,6 +6,7 @@ use crate::final_fit::correct::EffectsChoice;
 use crate::identify::monte_carlo::CmmMpe;
 use crate::machine::chain::PAPER000_L0;
 use crate::machine::Branch;
+use crate::numerics::parallel::Threads;
 use crate::sensitivity::Mode;
 use crate::settings::MachineChoice;
 
@@ -52,6 +53,11 @@ pub struct AnalysisOptions {
     /// [`crate::settings::feed::PROGRAMME_FEED`]): a servo lag in mm of path is reported as the
     /// position loop's time constant at it.
     pub feed: f64,
+    /// Threads the part model and the diagnosis may use (the same numbers on any count; the CLI
+    /// gives the machine's cores, the page and `validate`'s parts one). Not a setting of the
+    /// result: not written out.
+    #[serde(skip)]
+    pub threads: Threads,
 }
 
 /// A deviation the process explains, per matched point (mm, + = material left).
@@ -79,6 +85,7 @@ impl Default for AnalysisOptions {
             known: None,
             effects: EffectsChoice::Auto,
             feed: crate::settings::feed::PROGRAMME_FEED,
+            threads: Threads::ONE,
         }
     }
 }

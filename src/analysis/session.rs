@@ -24,6 +24,7 @@ use crate::final_fit::structure::Decompositions;
 use crate::machine::AxisValues;
 use crate::measurement::scan_lines::{read_scan, ScanReading};
 use crate::numerics::memo::Memo;
+use crate::numerics::parallel::Threads;
 use crate::part::{MeasurementPoint, SShape};
 use crate::sensitivity::SensitivityError;
 
@@ -95,10 +96,15 @@ impl PointsModel {
     /// a scan are grouped by their scan lines ([`read_scan`]), the others by the nearer
     /// measurement curve.
     pub fn new(prepared: &Prepared, points: &[MeasurementPoint]) -> Self {
+        Self::on(prepared, points, Threads::ONE)
+    }
+
+    /// [`PointsModel::new`] with the part model computed on `threads` threads: the same numbers.
+    pub fn on(prepared: &Prepared, points: &[MeasurementPoint], threads: Threads) -> Self {
         let axis_values = prepared.axis_values(points);
         let scan = read_scan(points);
         let part_model = match &axis_values {
-            Ok(q) => prepared.part_model(points, q).map(|mut m| {
+            Ok(q) => prepared.part_model_on(points, q, threads).map(|mut m| {
                 if let Some(s) = &scan {
                     for (p, l) in m.points.iter_mut().zip(&s.labels) {
                         p.curve.clone_from(l);
@@ -176,12 +182,17 @@ fn same_point(a: &MeasurementPoint, b: &MeasurementPoint) -> bool {
 pub struct Session {
     prepared: Prepared,
     kept: RefCell<Memo<Vec<MeasurementPoint>, PointsModel>>,
+    /// The threads a points' model is built on ([`AnalysisOptions::threads`]).
+    threads: Threads,
 }
 
 impl Session {
     /// The session of the settings of `opts` ([`prepare`]).
     pub fn new(opts: &AnalysisOptions) -> Result<Self, AnalysisError> {
-        Ok(Self::of(prepare(opts)?))
+        Ok(Self {
+            threads: opts.threads,
+            ..Self::of(prepare(opts)?)
+        })
     }
 
     /// A session on settings already prepared.
@@ -189,6 +200,7 @@ impl Session {
         Self {
             prepared,
             kept: RefCell::new(Memo::new(KEPT_POINT_SETS)),
+            threads: Threads::ONE,
         }
     }
 
@@ -210,7 +222,7 @@ impl Session {
         if let Some(m) = kept.find(|k| same_points(k, points)) {
             return m;
         }
-        let m = Arc::new(PointsModel::new(&self.prepared, points));
+        let m = Arc::new(PointsModel::on(&self.prepared, points, self.threads));
         if points.len() <= KEPT_MAX_POINTS {
             kept.insert(points.to_vec(), Arc::clone(&m));
         }

@@ -17,6 +17,7 @@
 //! a bad row whose message says whether another unit would bring it onto the part, else that
 //! the alignment is off. Units: mm; deviation + = material left, − = overcut.
 
+use crate::numerics::parallel::map;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -210,8 +211,13 @@ pub fn match_points(
     let mut points = Vec::with_capacity(file.points.len());
     let mut problems: Vec<RowProblem> = Vec::new();
     let mut remarks = Remarks::new();
-    for pt in file.points {
-        match match_point(&projector, pt, opts)? {
+    // each point projected on its own (side by side on the threads given), then taken in the
+    // file's order: the first error and the remarks as on one thread
+    let matched = map(opts.threads, &file.points, |pt| {
+        match_point(&projector, pt.clone(), opts)
+    });
+    for m in matched {
+        match m? {
             Ok((point, gap)) => {
                 remarks.note(&point, gap, opts);
                 points.push(point);

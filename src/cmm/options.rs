@@ -1,5 +1,6 @@
 //! Options of reading and matching a CMM file; defaults follow cmm-csv.md.
 
+use crate::numerics::parallel::Threads;
 use serde::{Deserialize, Serialize};
 
 use super::units::LengthUnit;
@@ -40,6 +41,10 @@ pub struct ReadOptions {
     pub normal_warn_deg: f64,
     /// Disagreement between a file deviation and the positions above which a warning is given (mm).
     pub deviation_warn_mm: f64,
+    /// Threads the points are matched on (the same matches on any count; not a setting of
+    /// the result: not written out).
+    #[serde(skip)]
+    pub threads: Threads,
 }
 
 impl Default for ReadOptions {
@@ -53,6 +58,7 @@ impl Default for ReadOptions {
             max_distance_mm: MAX_DISTANCE_MM,
             normal_warn_deg: NORMAL_WARN_DEG,
             deviation_warn_mm: DEVIATION_WARN_MM,
+            threads: Threads::ONE,
         }
     }
 }
@@ -78,6 +84,10 @@ impl ReadOptions {
     }
     pub fn with_exclude_bad_rows(mut self, yes: bool) -> Self {
         self.exclude_bad_rows = yes;
+        self
+    }
+    pub fn with_threads(mut self, threads: Threads) -> Self {
+        self.threads = threads;
         self
     }
     pub fn with_min_points(mut self, n: usize) -> Self {

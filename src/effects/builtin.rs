@@ -10,6 +10,7 @@ use crate::effects::EffectPoint;
 use crate::effects::GapError;
 use crate::machine::{AxisName, AxisValues, ErrorParam};
 use crate::numerics::order::argsort;
+use crate::numerics::parallel::{join, Threads};
 use crate::parameter::{Effect, ParamId, Shape};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
@@ -245,28 +246,50 @@ pub(crate) fn every_candidate_model(
     opts: &SensitivityOptions,
     errors: &[ErrorParam],
     path: &PathModel,
+    threads: Threads,
 ) -> Result<PartModel, GapError> {
     use crate::effects::machine::{
         c_table_sign, index_signatures, machine_z_columns, scale_signatures,
     };
-    let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
+    // two halves of about the same cost, side by side when `threads` allows (issue 31): the
+    // design's columns, the envelope, the path lengths and the scale columns; the axes' gains
+    // with the servo signatures and the points' places on the reversal grid
+    let (first, second) = join(
+        threads,
+        || -> Result<_, GapError> {
+            let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
+            let eps = effect_points_on(part, points, path.lengths());
+            let flank =
+                |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
+            let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)?
+                .iter()
+                .map(|d| d.deviation)
+                .collect();
+            let scale = scale_signatures(part, points, q, opts)?;
+            Ok((sens, eps, envelope, scale))
+        },
+        || -> Result<_, GapError> {
+            // the gains (∂x/∂q)·N of every axis of the chain, once: the servo signatures read
+            // them all, the backlash columns those of the lags' axes
+            let chain_axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
+            let all_gains = backlash_gains(part, points, q, &chain_axes, opts)?;
+            let servo =
+                crate::sensitivity::servo::servo_signatures_with(part, points, opts, &all_gains)?;
+            // where each point falls on the passes' grid, shared by every lag (the passes'
+            // lengths)
+            let spots = grid_spots(&path.lags, part, points);
+            Ok((chain_axes, all_gains, servo, spots))
+        },
+    );
+    let (sens, eps, envelope, scale) = first?;
+    let (chain_axes, all_gains, servo, spots) = second?;
     let baseline = NamedColumns::try_new(
         sens.errors.iter().map(|e| ParamId::Machine(*e)).collect(),
         sens.values.clone(),
     )?;
-    let eps = effect_points_on(part, points, path.lengths());
-    let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
-    let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)?
-        .iter()
-        .map(|d| d.deviation)
-        .collect();
     // the backlash columns at the reference lag and at each lag of the family, from the gains
-    // (∂x/∂q)·N computed once
-    // the gains (∂x/∂q)·N of every axis of the chain, once: the servo signatures read them
-    // all, the backlash columns those of the lags' axes
+    // computed once
     let axes = &path.lags[0].axes;
-    let chain_axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
-    let all_gains = backlash_gains(part, points, q, &chain_axes, opts)?;
     let gains: Vec<Vec<f64>> = axes
         .iter()
         .map(|a| match chain_axes.iter().position(|c| c == a) {
@@ -275,9 +298,6 @@ pub(crate) fn every_candidate_model(
         })
         .collect::<Result<_, _>>()?;
     let named = |cols: Vec<Vec<f64>>| axes.iter().copied().zip(cols).collect::<Vec<_>>();
-    // where each point falls on the passes' grid, shared by every lag (the passes' lengths)
-    let spots = grid_spots(&path.lags, part, points);
-    let servo = crate::sensitivity::servo::servo_signatures_with(part, points, opts, &all_gains)?;
     let backlash = named(lagged_columns_at(&path.lags, &spots, &gains));
     // what the backlash families' members are computed from (also kept for the take-up rounds)
     let basis = LagBasis {
@@ -292,7 +312,7 @@ pub(crate) fn every_candidate_model(
         backlash_family: Some(basis.clone()),
         servo: servo.lag,
         servo_common: servo.common,
-        scale: scale_signatures(part, points, q, opts)?,
+        scale,
         machine_z: machine_z_columns(q, opts),
         c_table_sign: c_table_sign(&opts.chain),
         index: index_signatures(points, q, opts)?,

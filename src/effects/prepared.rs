@@ -23,6 +23,7 @@ use crate::effects::location_equivalent::location_equivalents;
 use crate::effects::path_model::PathModel;
 use crate::effects::GapError;
 use crate::machine::{AxisValues, ErrorParam};
+use crate::numerics::parallel::Threads;
 use crate::parameter::Effect;
 use crate::part::{builtin_points, MeasurementPoint, SShape};
 use crate::sensitivity::error_set::{error_set, ErrorSet};
@@ -53,7 +54,8 @@ impl Prepared {
         let errors = error_set.params();
         let points = builtin_points(&part);
         let q = axis_values(&part, &points, &physical)?;
-        let builtin = every_candidate_model(&part, &points, &q, &physical, &errors, &path)?;
+        let builtin =
+            every_candidate_model(&part, &points, &q, &physical, &errors, &path, Threads::ONE)?;
         let typical: Vec<f64> = errors.iter().map(ErrorParam::typical).collect();
         let location_equivalents =
             location_equivalents(&builtin.baseline, &typical, &builtin.candidates);
@@ -144,7 +146,26 @@ impl Prepared {
         points: &[MeasurementPoint],
         q: &[AxisValues],
     ) -> Result<PartModel, GapError> {
-        let mut m = self.part_model_every_candidate(points, q)?;
+        self.part_model_on(points, q, Threads::ONE)
+    }
+
+    /// [`Prepared::part_model`] computed on `threads` threads: the same numbers.
+    pub fn part_model_on(
+        &self,
+        points: &[MeasurementPoint],
+        q: &[AxisValues],
+        threads: Threads,
+    ) -> Result<PartModel, GapError> {
+        let physical = self.options.clone().with_mode(Mode::Physical);
+        let mut m = every_candidate_model(
+            &self.part,
+            points,
+            q,
+            &physical,
+            &self.errors(),
+            &self.path,
+            threads,
+        )?;
         m.candidates.retain(|c| {
             !self
                 .location_equivalents
@@ -162,7 +183,15 @@ impl Prepared {
         q: &[AxisValues],
     ) -> Result<PartModel, GapError> {
         let physical = self.options.clone().with_mode(Mode::Physical);
-        every_candidate_model(&self.part, points, q, &physical, &self.errors(), &self.path)
+        every_candidate_model(
+            &self.part,
+            points,
+            q,
+            &physical,
+            &self.errors(),
+            &self.path,
+            Threads::ONE,
+        )
     }
 }
 

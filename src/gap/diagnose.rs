@@ -25,6 +25,7 @@ use crate::measurement::noise::{
 use crate::measurement::ruling_pairs::pair_sigma;
 use crate::measurement::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
 use crate::numerics::order::sort_by_key_f64;
+use crate::numerics::parallel::{map, Threads};
 use crate::parameter::Effect;
 
 /// Options of a diagnosis (defaults: α = 0.05 family-wise, 2.5 σ).
@@ -35,6 +36,8 @@ pub struct DiagnoseOptions {
     /// `k` of the `k σ` rule: the detection limit of an effect's visible part, the structure
     /// test of WHERE, the "structure left" check of the verdict and of pairs.
     pub detect_factor: f64,
+    /// Threads the candidates are scanned and fitted on (the same numbers on any count).
+    pub threads: Threads,
 }
 
 impl Default for DiagnoseOptions {
@@ -42,6 +45,7 @@ impl Default for DiagnoseOptions {
         Self {
             alpha: ALPHA,
             detect_factor: DETECT_FACTOR,
+            threads: Threads::ONE,
         }
     }
 }
@@ -162,11 +166,11 @@ pub fn diagnose_with_smooth(
     // (c) WHICH: each candidate on its own.
     // a family counts as its effectively independent shapes (the search's cost, effects.md)
     // (each family's members fitted on the baseline residual in the same pass)
-    let scans: Vec<crate::gap::shape::FamilyScan> = input
-        .candidates
-        .iter()
-        .map(|c| crate::gap::shape::scan_family(&baseline.factor, Some(&baseline.residual), c))
-        .collect();
+    // (the candidates side by side on the threads there are: the families' scans are a third
+    // of a dense scan's diagnosis)
+    let scans: Vec<crate::gap::shape::FamilyScan> = map(opts.threads, &input.candidates, |c| {
+        crate::gap::shape::scan_family(&baseline.factor, Some(&baseline.residual), c)
+    });
     let tries: f64 = scans.iter().map(|s| s.effective_shapes).sum();
     let ctx = Context {
         y: &y,
@@ -186,12 +190,10 @@ pub fn diagnose_with_smooth(
             .find(|c| c.effect == Effect::ServoCommon)
             .map(|c| &c.signature.matrix),
     };
-    let mut fits: Vec<_> = input
-        .candidates
-        .iter()
-        .zip(scans)
-        .map(|(c, scan)| fit_searched(&ctx, c, scan))
-        .collect();
+    let searched: Vec<_> = input.candidates.iter().zip(scans).collect();
+    let mut fits: Vec<_> = map(opts.threads, &searched, |(c, scan)| {
+        fit_searched(&ctx, c, scan.clone())
+    });
     sort_by_key_f64(&mut fits, |f| f.cv_score);
     let spans: Vec<_> = fits
         .iter()

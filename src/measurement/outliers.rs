@@ -44,6 +44,7 @@
 //!
 //! Units: deviations, sizes and σ in mm; the statistic is dimensionless.
 
+use crate::numerics::parallel::{map, Threads};
 use std::borrow::Cow;
 
 use nalgebra::{DMatrix, DVector};
@@ -391,6 +392,15 @@ pub fn find_outliers(input: &GapInput) -> OutlierTest {
 /// fit of the same input, bit for bit ([`crate::gap::diagnose_with_smooth`]; the factorisation
 /// of a 20,000-point scan's design is 4 % of `diagnose`, issue 31).
 pub fn find_outliers_with_fit(input: &GapInput) -> (OutlierTest, Option<SmoothFit>) {
+    find_outliers_with_fit_on(input, Threads::ONE)
+}
+
+/// [`find_outliers_with_fit`] with each round's candidates fitted side by side on `threads`
+/// threads: the same numbers.
+pub fn find_outliers_with_fit_on(
+    input: &GapInput,
+    threads: Threads,
+) -> (OutlierTest, Option<SmoothFit>) {
     let n = input.deviations.len();
     let y = DVector::from_column_slice(&input.deviations);
     let x0 = hstack(
@@ -418,7 +428,7 @@ pub fn find_outliers_with_fit(input: &GapInput) -> (OutlierTest, Option<SmoothFi
             .filter(|i| !named.iter().any(|o| o.index == *i))
             .collect();
         // the round's fit, kept for the candidates' test of each row over the bound
-        let (x, base, plain) = with_best_candidate(input, &x0, &y, &keep);
+        let (x, base, plain) = with_best_candidate(input, &x0, &y, &keep, threads);
         let found = round_outlier(
             input,
             &x,
@@ -534,13 +544,17 @@ fn with_best_candidate<'a, 'x>(
     x: &'x DMatrix<f64>,
     y: &DVector<f64>,
     keep: &'a [usize],
+    threads: Threads,
 ) -> (Cow<'x, DMatrix<f64>>, Base<'a>, bool) {
     let base = Base::new(x, y, keep);
     let plain = robust_sigma(&base.r, &base.h, keep);
     let mut best = (CANDIDATE_GAIN * plain, None);
-    for c in input.candidates.iter() {
+    // each candidate's σ on its own thread's turn, the least taken in the candidates' order
+    let sigmas = map(threads, &input.candidates, |c| {
         let (r, h, _) = fit_added(&base, x, &c.signature.matrix, y);
-        let s = robust_sigma(&r, &h, keep);
+        robust_sigma(&r, &h, keep)
+    });
+    for (c, s) in input.candidates.iter().zip(sigmas) {
         if s < best.0 {
             best = (s, Some(c));
         }

@@ -188,3 +188,24 @@ fn the_analysis_of_a_scan_carries_its_separability() {
         .summary
         .contains("Separability"));
 }
+
+/// The analysis on 1 and on 3 threads (the reading, the part model, the outlier test's and the
+/// diagnosis's candidates shared out, [`testpiece::numerics::parallel`]) gives the same result
+/// bit for bit: the JSON of both is the same text (a scan with a C backlash, so the families'
+/// scans, a verdict and a final fit with the effect all run).
+#[test]
+fn a_scan_is_analysed_the_same_on_any_number_of_threads() {
+    use testpiece::numerics::parallel::Threads;
+    let file = scan_file(Extra::Effect("backlash_c".parse::<Effect>().unwrap(), 5e-4));
+    let on = |n: usize| {
+        let opts = AnalysisOptions {
+            threads: Threads::new(n),
+            ..AnalysisOptions::default()
+        };
+        let a = analyse_once(file.as_bytes(), "scan.csv", &opts).unwrap();
+        serde_json::to_string(&a).unwrap()
+    };
+    let one = on(1);
+    assert!(one.contains("backlash_c"));
+    assert!(one == on(3), "the analysis on 3 threads differs from 1");
+}

@@ -12,6 +12,7 @@ use testpiece::analysis::{
 };
 use testpiece::identify::monte_carlo::CmmMpe;
 use testpiece::machine::Branch;
+use testpiece::numerics::parallel::Threads;
 use testpiece::part::ConeFrustum;
 use testpiece::sensitivity::Mode;
 use testpiece::settings::MachineChoice;
@@ -153,6 +154,14 @@ pub fn analyse_files(
         analyse_parts(&session, &files, settings)
     };
     result.map_err(|e| format!("{file}: {e}"))
+}
+
+/// `--threads N`, or the machine's cores when not given.
+pub fn threads(given: Option<u16>) -> Threads {
+    Threads::new(given.map_or_else(
+        || std::thread::available_parallelism().map_or(1, usize::from),
+        usize::from,
+    ))
 }
 
 /// One stage on the terminal's progress line: `part.csv: stage 4 of 6: diagnosing … [###...]`.

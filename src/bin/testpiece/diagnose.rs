@@ -7,7 +7,9 @@ use testpiece::machine::chain::PAPER000_L0;
 use testpiece::machine::Branch;
 use testpiece::settings::MachineChoice;
 
-use crate::common::{analyse_files, branch, cmm_noise, machine, mm, mpe, print_json, to_json, Mpe};
+use crate::common::{
+    analyse_files, branch, cmm_noise, machine, mm, mpe, print_json, threads, to_json, Mpe,
+};
 
 /// the sim-to-real gap of a measured part: where, which effect, how far [--json]
 ///
@@ -93,6 +95,10 @@ pub struct Args {
     /// leave out the rows the reader rejects instead of refusing the file
     #[arg(long)]
     exclude_bad_rows: bool,
+    /// threads the reading, the part model and the diagnosis use (default: the machine's
+    /// cores); the results are the same, bit for bit, on any count
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    threads: Option<u16>,
     /// the report as JSON (shared/spec/cli.md); default: the plain-language summary
     ///
     /// `corrected`: {parameters (the final location errors and effect parameters,
@@ -119,6 +125,7 @@ pub fn run(a: Args) -> Result<(), String> {
         keep_outliers: a.keep_outliers,
         exclude_bad_rows: a.exclude_bad_rows,
         feed: a.feed,
+        threads: threads(a.threads),
         ..AnalysisOptions::default()
     };
     let [file] = a.files.as_slice() else {

@@ -15,8 +15,8 @@ use testpiece::machine::chain::PAPER000_L0;
 use testpiece::settings::MachineChoice;
 
 use crate::common::{
-    analyse_files, branch_name, cmm_noise, machine, mm, mpe, print_json, seed, to_json, whole,
-    ModeBranch, Mpe,
+    analyse_files, branch_name, cmm_noise, machine, mm, mpe, print_json, seed, threads, to_json,
+    whole, ModeBranch, Mpe,
 };
 
 /// the machine errors, groups, uncertainty and residuals; --compensation: the errors as the controller's kinematic description and the part after correction
@@ -130,6 +130,10 @@ pub struct Args {
     /// refines it when the linearisation error exceeds 0.1 σ (reported under "refinement")
     #[arg(long, verbatim_doc_comment)]
     no_refine: bool,
+    /// threads the reading, the part model and the diagnosis use (default: the machine's
+    /// cores); the results are the same, bit for bit, on any count
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    threads: Option<u16>,
     /// adds a Monte Carlo check of N runs
     ///
     /// With the noise of the CMM of --mpe, else of the paper's CMM: MPE_E = ±(3 + L/75) µm,
@@ -246,6 +250,7 @@ impl Args {
             known: None,
             effects: self.effects.clone().unwrap_or_default(),
             feed: self.feed,
+            threads: threads(self.threads),
         })
     }
 

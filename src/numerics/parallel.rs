@@ -1,0 +1,111 @@
+//! A map over independent items on a given number of threads (issue 31: a scan's candidates are
+//! fitted and its model's signatures computed side by side on the cores there are).
+//!
+//! The thread count is a value the caller passes ([`Threads`]), never read from the machine here:
+//! the CLI gives the cores it has, `validate` one a part (its parts are already spread over its
+//! threads), the wasm build always one (`wasm32-unknown-unknown` has no threads; the map is then
+//! the plain sequential one). Each item is computed by the same code whatever the count and the
+//! results keep the items' order, so the output is the same bit for bit on 1 or 8 threads.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// How many threads a stage may use (at least 1; 1 = the calling thread alone).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Threads(usize);
+
+impl Threads {
+    /// The calling thread alone.
+    pub const ONE: Threads = Threads(1);
+
+    /// `n` threads (0 counts as 1).
+    pub fn new(n: usize) -> Self {
+        Threads(n.max(1))
+    }
+
+    pub fn get(self) -> usize {
+        self.0
+    }
+}
+
+impl Default for Threads {
+    fn default() -> Self {
+        Threads::ONE
+    }
+}
+
+/// `items.iter().map(f).collect()`, the items shared out between `threads` threads as each
+/// becomes free (their costs differ: a family of 54 members beside a one-column candidate).
+pub fn map<T, R, F>(threads: Threads, items: &[T], f: F) -> Vec<R>
+where
+    T: Sync,
+    R: Send,
+    F: Fn(&T) -> R + Sync,
+{
+    let workers = threads.get().min(items.len());
+    if workers <= 1 || cfg!(target_arch = "wasm32") {
+        return items.iter().map(f).collect();
+    }
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            if i >= items.len() {
+                return done;
+            }
+            done.push((i, f(&items[i])));
+        }
+    };
+    let mut all: Vec<(usize, R)> = std::thread::scope(|s| {
+        let others: Vec<_> = (1..workers).map(|_| s.spawn(work)).collect();
+        let mut all = work();
+        for h in others {
+            match h.join() {
+                Ok(part) => all.extend(part),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+        all
+    });
+    all.sort_unstable_by_key(|(i, _)| *i);
+    all.into_iter().map(|(_, r)| r).collect()
+}
+
+/// `(a(), b())`, `b` on another thread when `threads` allows it.
+pub fn join<A, B, RA, RB>(threads: Threads, a: A, b: B) -> (RA, RB)
+where
+    A: FnOnce() -> RA + Send,
+    B: FnOnce() -> RB + Send,
+    RA: Send,
+    RB: Send,
+{
+    if threads.get() <= 1 || cfg!(target_arch = "wasm32") {
+        return (a(), b());
+    }
+    std::thread::scope(|s| {
+        let hb = s.spawn(b);
+        let ra = a();
+        match hb.join() {
+            Ok(rb) => (ra, rb),
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The same results in the same order on 1, 2 and 7 threads, items of unequal cost.
+    #[test]
+    fn the_map_keeps_the_order_whatever_the_threads() {
+        let items: Vec<u64> = (0..50).collect();
+        let f = |&k: &u64| (0..(k % 7) * 1000).fold(k, |a, x| a.wrapping_mul(31).wrapping_add(x));
+        let one = map(Threads::ONE, &items, f);
+        assert_eq!(one, items.iter().map(f).collect::<Vec<_>>());
+        assert_eq!(map(Threads::new(2), &items, f), one);
+        assert_eq!(map(Threads::new(7), &items, f), one);
+        assert_eq!(map(Threads::new(3), &[] as &[u64], f), Vec::<u64>::new());
+        assert_eq!(join(Threads::new(2), || 1, || 2), (1, 2));
+    }
+}
