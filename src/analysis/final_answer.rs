@@ -10,6 +10,7 @@ use crate::identify::correlated::{whiten, whitened_limit, Whitened, Whitener};
 use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
 use crate::identify::{Design, Identification, IdentifyOptions, Observations};
 use crate::identify::{Status, NONZERO_T};
+use crate::numerics::parallel::Threads;
 use crate::numerics::stats;
 use crate::parameter::Effect;
 use crate::simulate::ExactDefectModel;
@@ -131,6 +132,7 @@ pub(super) fn final_answer(
                 whitener.as_ref(),
                 &mut identification,
                 &mut correction,
+                opts.threads,
             );
         }
     }
@@ -215,6 +217,7 @@ fn widen_by_model_spread(
     whitener: Option<&Whitener>,
     identification: &mut Identification,
     correction: &mut Correction,
+    threads: Threads,
 ) {
     let obs = f.observations;
     let used: Vec<usize> = (0..obs.len()).filter(|&i| obs.weight(i) > 0.0).collect();
@@ -234,6 +237,7 @@ fn widen_by_model_spread(
             whitener,
         },
         v.sigma,
+        threads,
     );
     let rescale = noise_share(
         correction.basis,

@@ -43,6 +43,7 @@ mod progress;
 mod report;
 mod session;
 
+use crate::numerics::parallel::join;
 pub use diagnosis::{diagnose_on_machine, diagnose_points, Diagnosis};
 pub use error::AnalysisError;
 pub use fit::{fit_points, fit_points_with, PointsFit};
@@ -215,15 +216,21 @@ pub fn analyse_parts_with(
     progress(Progress::of(Stage::Model));
     let model = session.points_model(&points);
     let scan = model.scan().map(|s| s.layout.clone());
-    // what a scan's heights tell apart that the built-in points cannot (issue 31 item 2)
-    let separability = scan
-        .as_ref()
-        .and_then(|_| model.part_model().ok())
-        .map(|m| crate::gap::separability::separability(m, prepared.builtin_model()));
     let path_position = model
         .part_model()
         .ok()
         .map(|m| m.points.iter().map(|p| p.s).collect());
+    // the fit, and beside it (on another thread when there is one) what a scan's heights tell
+    // apart that the built-in points cannot (issue 31 item 2)
+    let (fitted, separability) = join(
+        opts.threads,
+        || fit_points_with(prepared, &model, &deviations, &ids, opts, progress),
+        || {
+            scan.as_ref()
+                .and_then(|_| model.part_model().ok())
+                .map(|m| crate::gap::separability::separability(m, prepared.builtin_model()))
+        },
+    );
     let PointsFit {
         mut diagnosis,
         outliers,
@@ -233,7 +240,7 @@ pub fn analyse_parts_with(
         refinement: final_refinement,
         correction,
         observations: obs,
-    } = fit_points_with(prepared, &model, &deviations, &ids, opts, progress)?;
+    } = fitted?;
     let repeat = pure.map(|pe| {
         let baseline = &baseline.identification;
         let used: Vec<f64> = baseline

@@ -32,6 +32,7 @@ use serde::Serialize;
 use crate::effects::data::Candidate;
 use crate::identify::correlated::Whitener;
 use crate::identify::solve::{hstack, Factor};
+use crate::numerics::parallel::{map, Threads};
 
 /// The model spread of each location error.
 #[derive(Debug, Clone, Serialize, Default)]
@@ -80,7 +81,9 @@ fn fit(x: &DMatrix<f64>, y: &DVector<f64>, p: usize) -> Fit {
 
 /// The spread over the models of the location errors (`a`: their columns, `names` in order)
 /// fitted to `y` on the rows `used`, about the chosen model's estimate (`chosen`: the columns it
-/// adds to `a`, none for the baseline), with the part's noise `sigma` (mm).
+/// adds to `a`, none for the baseline), with the part's noise `sigma` (mm); the candidates' fits
+/// side by side on `threads` threads (the same numbers).
+#[allow(clippy::too_many_arguments)]
 pub fn model_spread(
     a: &DMatrix<f64>,
     names: &[String],
@@ -89,6 +92,7 @@ pub fn model_spread(
     candidates: &[Candidate],
     answer: Answer,
     sigma: f64,
+    threads: Threads,
 ) -> ModelSpread {
     let Answer { chosen, whitener } = answer;
     let p = a.ncols();
@@ -117,8 +121,9 @@ pub fn model_spread(
     let base_rank = base.rank;
     // (id, estimate, BIC) of every model; the answer's own first
     let mut models: Vec<(String, DVector<f64>, f64)> = Vec::new();
-    let mut push = |id: String, x: &DMatrix<f64>, f: Fit| {
-        if x.nrows() <= x.ncols() {
+    // a model of `cols` columns on the `n` rows
+    let mut push = |id: String, cols: usize, f: Fit| {
+        if n <= cols {
             return;
         }
         let added = f.rank.saturating_sub(base_rank);
@@ -129,16 +134,17 @@ pub fn model_spread(
         Some(_) => {
             let f = fit(&answer, &yu, p);
             let rank = f.rank;
-            push("answer".into(), &answer, f);
-            push("baseline".into(), &au, base);
+            push("answer".into(), answer.ncols(), f);
+            push("baseline".into(), p, base);
             rank
         }
         None => {
-            push("baseline".into(), &au, base);
+            push("baseline".into(), p, base);
             base_rank
         }
     };
-    for c in candidates {
+    // each candidate's fits (side by side on the threads given), taken in the candidates' order
+    let fitted = map(threads, candidates, |c| {
         let s = c.signature.matrix.select_rows(used);
         let single = hstack(&au, &s);
         let fs = fit(&single, &yu, p);
@@ -151,12 +157,16 @@ pub fn model_spread(
             }
             None => (single.clone(), fs.clone()),
         };
+        // the fits and their column counts (the designs dropped: 91 MB each at 200,000 points)
+        (fs, single.ncols(), fw, with.ncols())
+    });
+    for (c, (fs, single, fw, with)) in candidates.iter().zip(fitted) {
         // the answer's own effect is not an alternative to it
         if !(fw.rank == answer_rank && fs.rank == answer_rank) {
-            push(c.effect.id().to_string(), &single, fs);
+            push(c.effect.id().to_string(), single, fs);
         }
         if chosen.is_some() && fw.rank > answer_rank {
-            push(format!("answer+{}", c.effect.id()), &with, fw);
+            push(format!("answer+{}", c.effect.id()), with, fw);
         }
     }
     // prior: half the mass on the answer's model (the diagnosis chose it), the other half
@@ -232,6 +242,7 @@ mod tests {
             std::slice::from_ref(&c),
             Answer::default(),
             0.01,
+            Threads::ONE,
         );
         assert!(s.weights["tool_radius"] > 0.99, "{:?}", s.weights);
         // the baseline's intercept holds 0.2·(0.5 + the bump's mean) − the fit with the effect's
@@ -249,6 +260,7 @@ mod tests {
                 whitener: None,
             },
             0.01,
+            Threads::ONE,
         );
         assert!(s.std["c"] < 0.01, "{:?}", s.std);
     }
@@ -293,6 +305,7 @@ mod tests {
                 whitener: None,
             },
             0.002,
+            Threads::ONE,
         );
         assert!(s.weights["answer+tool_radius"] > 0.99, "{:?}", s.weights);
         // the answer's slope with the wear alone, against the pair's (≈ the true 0.3)

@@ -6,7 +6,7 @@ use nalgebra::DVector;
 use crate::effects::data::curve_sequences;
 use crate::effects::data::GapInput;
 use crate::effects::GapError;
-use crate::gap::equivalence::near_equivalent_pairs;
+use crate::gap::equivalence::near_equivalent_pairs_on;
 use crate::gap::folds::{build_folds, withheld_sets};
 use crate::gap::location::{locate, DETECT_FACTOR};
 use crate::gap::pairs::best_pair;
@@ -96,7 +96,7 @@ pub fn diagnose_with_smooth(
         .map(|c| c.signature.ncols())
         .max()
         .unwrap_or(0);
-    let folds = build_folds(&input.points, a, &y, a.ncols() + max_q + 2);
+    let folds = build_folds(&input.points, a, &y, a.ncols() + max_q + 2, opts.threads);
     let base_cv = cross_validate(&folds, &nalgebra::DMatrix::zeros(n, 0), n);
     let base_cv_score = cv_score(base_cv.mse(), 0, n);
     let r0: Vec<f64> = residual.iter().copied().collect();
@@ -200,7 +200,7 @@ pub fn diagnose_with_smooth(
         .filter(|f| f.evidence.added_rank > 0)
         .map(|f| (f.effect, &f.unabsorbed_basis))
         .collect();
-    let equivalences = near_equivalent_pairs(&spans);
+    let equivalences = near_equivalent_pairs_on(&spans, opts.threads);
     let invisible = fits
         .iter()
         .filter(|f| f.with.is_none() && f.evidence.added_rank == 0)

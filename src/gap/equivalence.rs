@@ -14,6 +14,7 @@
 //! the other candidate, which stays below the 2.5 σ detection limit unless the effect's visible
 //! part exceeds 12.5 σ: at ordinary magnitudes the two cannot be told apart.
 
+use crate::numerics::parallel::{map, Threads};
 use std::borrow::Borrow;
 
 use nalgebra::{DMatrix, DVector};
@@ -109,22 +110,34 @@ pub fn unabsorbed_spans(
 
 /// All pairs whose unabsorbed spans (orthonormal bases, owned or borrowed: the diagnosis lends its
 /// fits' without a copy) are within [`EQUIVALENT_COS`].
-pub fn near_equivalent_pairs<M: Borrow<DMatrix<f64>>>(spans: &[(Effect, M)]) -> Vec<Equivalence> {
-    let mut out = Vec::new();
-    for (i, (na, qa)) in spans.iter().enumerate() {
-        for (nb, qb) in &spans[i + 1..] {
-            let Some(p) = compare_spans((*na, qa.borrow()), (*nb, qb.borrow())) else {
-                continue;
-            };
-            if p.cosine >= EQUIVALENT_COS {
-                out.push(Equivalence {
-                    a: p.a,
-                    b: p.b,
-                    cosine: p.cosine,
-                    a_within_b: Some(p.a_within_b),
-                });
-            }
-        }
-    }
-    out
+pub fn near_equivalent_pairs<M: Borrow<DMatrix<f64>> + Sync>(
+    spans: &[(Effect, M)],
+) -> Vec<Equivalence> {
+    near_equivalent_pairs_on(spans, Threads::ONE)
+}
+
+/// [`near_equivalent_pairs`], each span's pairs with the later ones on its own (side by side on
+/// `threads` threads), in the same order.
+pub fn near_equivalent_pairs_on<M: Borrow<DMatrix<f64>> + Sync>(
+    spans: &[(Effect, M)],
+    threads: Threads,
+) -> Vec<Equivalence> {
+    let rows: Vec<usize> = (0..spans.len()).collect();
+    map(threads, &rows, |&i| {
+        let (na, qa) = &spans[i];
+        spans[i + 1..]
+            .iter()
+            .filter_map(|(nb, qb)| compare_spans((*na, qa.borrow()), (*nb, qb.borrow())))
+            .filter(|p| p.cosine >= EQUIVALENT_COS)
+            .map(|p| Equivalence {
+                a: p.a,
+                b: p.b,
+                cosine: p.cosine,
+                a_within_b: Some(p.a_within_b),
+            })
+            .collect::<Vec<_>>()
+    })
+    .into_iter()
+    .flatten()
+    .collect()
 }

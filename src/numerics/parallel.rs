@@ -71,12 +71,12 @@ where
     all.into_iter().map(|(_, r)| r).collect()
 }
 
-/// `(a(), b())`, `b` on another thread when `threads` allows it.
+/// `(a(), b())`, `b` on another thread when `threads` allows it (`a` on the calling thread:
+/// it may hold what cannot cross threads, a progress sink).
 pub fn join<A, B, RA, RB>(threads: Threads, a: A, b: B) -> (RA, RB)
 where
-    A: FnOnce() -> RA + Send,
+    A: FnOnce() -> RA,
     B: FnOnce() -> RB + Send,
-    RA: Send,
     RB: Send,
 {
     if threads.get() <= 1 || cfg!(target_arch = "wasm32") {
