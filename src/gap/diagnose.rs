@@ -189,6 +189,7 @@ pub fn diagnose_with_smooth(
             .iter()
             .find(|c| c.effect == Effect::ServoCommon)
             .map(|c| &c.signature.matrix),
+        threads: opts.threads,
     };
     let searched: Vec<_> = input.candidates.iter().zip(scans).collect();
     let mut fits: Vec<_> = map(opts.threads, &searched, |(c, scan)| {

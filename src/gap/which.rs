@@ -19,6 +19,7 @@
 //!   (≈ 4.7 % in mean square for 100 points), so a nested candidate (`tool_taper` ⊃
 //!   `tool_radius`) only wins when its extra parameter is real.
 
+use crate::numerics::parallel::Threads;
 use std::collections::BTreeMap;
 
 use nalgebra::{DMatrix, DVector};
@@ -232,6 +233,8 @@ pub struct Context<'a> {
     /// The `servo_common` column when the part has one: a servo lag's parameter is estimated
     /// with it (the candidate fit).
     pub servo_common: Option<&'a DMatrix<f64>>,
+    /// Threads a family's members are searched on ([`crate::gap::pairs`]: the same numbers).
+    pub threads: Threads,
 }
 
 /// `cv_score` of a model with `q` parameters beyond the baseline.
