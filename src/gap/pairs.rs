@@ -90,12 +90,15 @@ pub struct PairFit {
 /// The members' shapes fitted jointly: each family member's shape chosen with the other member
 /// in the model (variable projection over its grid, the other at its shape), in turn, twice: a
 /// shape that the single fit bent towards the other effect's structure is found again once that
-/// structure is fitted. Returns the members at those shapes and the grid indices.
+/// structure is fitted. Returns the members at those shapes and the grid indices. `kept`: the
+/// families' members already projected off the baseline by an earlier search of the same
+/// diagnosis ([`KeptMembers`]).
 fn joint_shapes(
     ctx: &Context,
     a: &Candidate,
     b: &Candidate,
     start: [Option<usize>; 2],
+    kept: &mut KeptMembers,
 ) -> (Candidate, Candidate, [Option<usize>; 2]) {
     let mut idx = start;
     if a.family.is_none() && b.family.is_none() {
@@ -111,19 +114,61 @@ fn joint_shapes(
             let fixed = Unabsorbed::of(factor, &fixed.signature.matrix);
             // each member's fit on its own (side by side on the threads given: a backlash's 54
             // members at a scan's 20,000 points are most of a named backlash's diagnosis), the
-            // least taken in the members' order
+            // least taken in the members' order; the members' parts outside the baseline kept
+            // for the next search of the same family when they fit in the budget
             let members: Vec<usize> = (0..family.len()).collect();
-            let best = map(ctx.threads, &members, |&k| {
-                let u = Unabsorbed::of(factor, &family.member(k)).beside(&fixed);
-                (k, u.rss(&ctx.baseline.residual).0)
-            })
-            .into_iter()
-            .min_by(|x, y| x.1.total_cmp(&y.1))
-            .map(|(k, _)| k);
+            let fits: Vec<(usize, f64)> = match kept.get(me.effect) {
+                Some(un) => map(ctx.threads, &members, |&k| {
+                    (k, un[k].beside(&fixed).rss(&ctx.baseline.residual).0)
+                }),
+                None => {
+                    let bytes = family.len() * ctx.y.len() * me.signature.ncols() * 8;
+                    let keep = kept.bytes + bytes <= KEPT_MEMBERS_BYTES;
+                    let done = map(ctx.threads, &members, |&k| {
+                        let un = Unabsorbed::of(factor, &family.member(k));
+                        let rss = un.beside(&fixed).rss(&ctx.baseline.residual).0;
+                        (k, rss, keep.then_some(un))
+                    });
+                    let fits = done.iter().map(|(k, rss, _)| (*k, *rss)).collect();
+                    if keep {
+                        kept.bytes += bytes;
+                        let un = done.into_iter().filter_map(|(_, _, u)| u).collect();
+                        kept.families.push((me.effect, un));
+                    }
+                    fits
+                }
+            };
+            let best = fits
+                .into_iter()
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .map(|(k, _)| k);
             idx[which] = best;
         }
     }
     (a.at_shape(idx[0]), b.at_shape(idx[1]), idx)
+}
+
+/// The most the members of the families searched in pairs may hold, projected off the baseline,
+/// for the next pair with the same family (bytes: every family of a 20,000-point scan, one or
+/// two of a 200,000-point one; the others are computed again, the same numbers).
+const KEPT_MEMBERS_BYTES: usize = 128 << 20;
+
+/// The families' members projected off the baseline ([`Unabsorbed::of`]) by the pairs' joint
+/// searches of one diagnosis, kept within [`KEPT_MEMBERS_BYTES`]: a family is in up to
+/// [`POOL`] − 1 + [`ANCHORS`] pairs and searched twice in each.
+#[derive(Default)]
+struct KeptMembers {
+    families: Vec<(Effect, Vec<Unabsorbed>)>,
+    bytes: usize,
+}
+
+impl KeptMembers {
+    fn get(&self, e: Effect) -> Option<&[Unabsorbed]> {
+        self.families
+            .iter()
+            .find(|(f, _)| *f == e)
+            .map(|(_, u)| u.as_slice())
+    }
 }
 
 /// The candidate `first + second`: stacked signatures, parameters named `<effect>.<name>`; it
@@ -209,6 +254,7 @@ pub fn best_pair(
     let rss = |f: &CandidateFit| f.rms * f.rms * nf;
     let mut tried: Vec<(Effect, Effect, f64)> = Vec::new();
     let mut accepted: Vec<PairFit> = Vec::new();
+    let mut kept = KeptMembers::default();
     for (a, b) in pairs {
         let (ca, cb) = (
             candidates.iter().find(|c| c.effect == a.effect)?,
@@ -218,7 +264,7 @@ pub fn best_pair(
             a.shape.as_ref().map(|s| s.grid_index),
             b.shape.as_ref().map(|s| s.grid_index),
         ];
-        let (ca, cb, shapes) = joint_shapes(ctx, ca, cb, start);
+        let (ca, cb, shapes) = joint_shapes(ctx, ca, cb, start, &mut kept);
         let mut fit = fit_candidate(&pair_ctx, &stacked(&ca, &cb));
         let q = fit.evidence.added_rank;
         let rss_ab = rss(&fit);
