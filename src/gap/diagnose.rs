@@ -19,7 +19,7 @@ use crate::identify::solve::{max_abs, rms, Factor};
 use crate::measurement::layout::curve_degree;
 use crate::measurement::noise::NoiseInputs;
 use crate::measurement::noise::{
-    periodogram_sigma, projected_whiteness, second_difference_sigma, sinusoid_free_sigma,
+    periodogram_sigma, projected_whiteness, second_difference_sigma, sinusoid_free_sigma_on,
     SmoothResidual, LJUNG_BOX_LAGS, NOT_WHITE_P,
 };
 use crate::measurement::ruling_pairs::pair_sigma;
@@ -132,7 +132,9 @@ pub fn diagnose_with_smooth(
         periodogram: periodogram_sigma(&smooth_at, |m| (curve_degree(m, SMOOTH_DEGREE) + 2) / 2),
         // only read when the residual is not white (the frequency search costs a few ms)
         sinusoid_free: (whiteness_p < NOT_WHITE_P)
-            .then(|| sinusoid_free_sigma(&curves, &s_path, &sfactor.basis, &sresid))
+            .then(|| {
+                sinusoid_free_sigma_on(&curves, &s_path, &sfactor.basis, &sresid, opts.threads)
+            })
             .flatten(),
         whiteness_p,
         dof: sdof,

@@ -39,6 +39,7 @@
 //!   smallest estimate is used: the wave is then structure beyond noise, and the verdict
 //!   `unexplained`. On white residuals nothing changes.
 
+use crate::numerics::parallel::{map, Threads};
 use serde::Serialize;
 
 use crate::measurement::ruling_pairs::PairSigma;
@@ -481,7 +482,19 @@ pub fn sinusoid_free_sigma(
     basis: &nalgebra::DMatrix<f64>,
     r: &nalgebra::DVector<f64>,
 ) -> Option<f64> {
-    sinusoid_free_sigma_by(curves, t, basis, r, r.len() > DENSE_SEARCH_POINTS)
+    sinusoid_free_sigma_on(curves, t, basis, r, Threads::ONE)
+}
+
+/// [`sinusoid_free_sigma`], the curves searched side by side on `threads` threads: the same
+/// numbers.
+pub fn sinusoid_free_sigma_on(
+    curves: &[Vec<usize>],
+    t: &[f64],
+    basis: &nalgebra::DMatrix<f64>,
+    r: &nalgebra::DVector<f64>,
+    threads: Threads,
+) -> Option<f64> {
+    sinusoid_free_sigma_by(curves, t, basis, r, r.len() > DENSE_SEARCH_POINTS, threads)
 }
 
 /// [`sinusoid_free_sigma`], the joint fit of the waves by their Gram matrix (`gram`, a large
@@ -493,6 +506,7 @@ fn sinusoid_free_sigma_by(
     basis: &nalgebra::DMatrix<f64>,
     r: &nalgebra::DVector<f64>,
     gram: bool,
+    threads: Threads,
 ) -> Option<f64> {
     use nalgebra::{DMatrix, DVector};
     use std::f64::consts::PI;
@@ -502,10 +516,9 @@ fn sinusoid_free_sigma_by(
         v - basis * c
     };
     let btr = basis.transpose() * r;
-    let mut columns: Vec<DVector<f64>> = Vec::new();
-    let mut waves: Vec<WaveSums> = Vec::new();
-    let mut used = 0usize;
-    for idx in curves {
+    // each curve's frequency found on its own (side by side on the threads given), the waves
+    // then taken in the curves' order
+    let found = map(threads, curves, |idx| {
         let m = idx.len();
         let (t0, t1) = idx
             .iter()
@@ -514,7 +527,7 @@ fn sinusoid_free_sigma_by(
             });
         let span = t1 - t0;
         if m < 8 || span <= 0.0 {
-            continue;
+            return None;
         }
         // A large part searches shorter waves only down to DENSE_SEARCH_CYCLES a curve.
         let dense = n > DENSE_SEARCH_POINTS;
@@ -525,39 +538,43 @@ fn sinusoid_free_sigma_by(
             PI * (m - 1) as f64 / span
         };
         let steps = (10.0 * (hi - lo) / (2.0 * PI / span)).ceil().max(1.0) as usize;
-        let wave = |om: f64| {
-            let mut c = DVector::zeros(n);
-            let mut s = DVector::zeros(n);
-            for &i in idx {
-                let (si, ci) = (om * (t[i] - t0)).sin_cos();
-                c[i] = ci;
-                s[i] = si;
-            }
-            (project(c), project(s))
-        };
         // The reduction from sums over the curve's points (the same value as projecting the two
         // n-vectors of `wave`, at a quarter of the cost on 100 points).
         let curve = CurveRows::new(idx, t, t0, basis, r);
         let reduction = |om: f64| curve.sums(om).reduction(&btr);
-        let best = (0..=steps)
+        let (om, _) = (0..=steps)
             .map(|k| lo + (hi - lo) * k as f64 / steps as f64)
             .map(|om| (om, reduction(om)))
-            .max_by(|a, b| a.1.total_cmp(&b.1));
-        if let Some((om, _)) = best {
-            // refine between the neighbouring grid frequencies (golden section to 1e-6 step: a
-            // frequency error of 1/20 cycle over the span would leave ~1 % of a wave's variance)
-            let step = (hi - lo) / steps as f64;
-            let f = |w: f64| -reduction(w);
-            let om = golden_min(&f, om - step, om + step, 1e-6 * step).0;
-            if gram {
-                waves.push(curve.sums(om));
-            } else {
-                let (u, v) = wave(om);
-                columns.push(u);
-                columns.push(v);
+            .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        // refine between the neighbouring grid frequencies (golden section to 1e-6 step: a
+        // frequency error of 1/20 cycle over the span would leave ~1 % of a wave's variance)
+        let step = (hi - lo) / steps as f64;
+        let f = |w: f64| -reduction(w);
+        let om = golden_min(&f, om - step, om + step, 1e-6 * step).0;
+        Some((t0, om, gram.then(|| curve.sums(om))))
+    });
+    let mut columns: Vec<DVector<f64>> = Vec::new();
+    let mut waves: Vec<WaveSums> = Vec::new();
+    let mut used = 0usize;
+    for (idx, found) in curves.iter().zip(found) {
+        let Some((t0, om, sums)) = found else {
+            continue;
+        };
+        match sums {
+            Some(w) => waves.push(w),
+            None => {
+                let mut c = DVector::zeros(n);
+                let mut s = DVector::zeros(n);
+                for &i in idx {
+                    let (si, ci) = (om * (t[i] - t0)).sin_cos();
+                    c[i] = ci;
+                    s[i] = si;
+                }
+                columns.push(project(c));
+                columns.push(project(s));
             }
-            used += 1;
         }
+        used += 1;
     }
     let dof = n
         .checked_sub(basis.ncols() + 3 * used)
@@ -1286,8 +1303,9 @@ mod tests {
                 })
                 .collect();
             let (b, r) = project(&curves, &t, 5, &y);
-            let by_sums = sinusoid_free_sigma_by(&curves, &t, &b, &r, true).unwrap();
-            let by_vectors = sinusoid_free_sigma_by(&curves, &t, &b, &r, false).unwrap();
+            let by_sums = sinusoid_free_sigma_by(&curves, &t, &b, &r, true, Threads::ONE).unwrap();
+            let by_vectors =
+                sinusoid_free_sigma_by(&curves, &t, &b, &r, false, Threads::ONE).unwrap();
             assert!(
                 (by_sums / by_vectors - 1.0).abs() < 1e-9,
                 "{by_sums} vs {by_vectors}"
