@@ -10,7 +10,6 @@
 //! The baseline design restricted to each training set is factorised once per fold
 //! ([`FoldFactor`]) and reused for every candidate.
 
-use crate::numerics::parallel::{map, Threads};
 use nalgebra::{DMatrix, DVector};
 
 use crate::effects::data::PointMeta;
@@ -94,38 +93,34 @@ pub fn build_folds(
     a: &DMatrix<f64>,
     y: &DVector<f64>,
     min_train: usize,
-    threads: Threads,
 ) -> Vec<FoldFactor> {
     let n = points.len();
-    // each fold's factorisation on its own (side by side on the threads given), in the sets' order
-    let sets = withheld_sets(points);
-    map(threads, &sets, |(name, test)| {
-        let (name, test) = (name.clone(), test.clone());
-        let mut is_test = vec![false; n];
-        for &i in &test {
-            is_test[i] = true;
-        }
-        let train: Vec<usize> = (0..n).filter(|&i| !is_test[i]).collect();
-        if train.len() < min_train || test.is_empty() {
-            return None;
-        }
-        let a_train = a.select_rows(&train);
-        let base = Factor::new(&a_train, None);
-        let y_train = DVector::from_iterator(train.len(), train.iter().map(|&i| y[i]));
-        let y_test = DVector::from_iterator(test.len(), test.iter().map(|&i| y[i]));
-        let r0_train = base.unabsorbed_vec(&y_train);
-        Some(FoldFactor {
-            name,
-            a_test: a.select_rows(&test),
-            train,
-            test,
-            base,
-            y_train,
-            y_test,
-            r0_train,
+    withheld_sets(points)
+        .into_iter()
+        .filter_map(|(name, test)| {
+            let mut is_test = vec![false; n];
+            for &i in &test {
+                is_test[i] = true;
+            }
+            let train: Vec<usize> = (0..n).filter(|&i| !is_test[i]).collect();
+            if train.len() < min_train || test.is_empty() {
+                return None;
+            }
+            let a_train = a.select_rows(&train);
+            let base = Factor::new(&a_train, None);
+            let y_train = DVector::from_iterator(train.len(), train.iter().map(|&i| y[i]));
+            let y_test = DVector::from_iterator(test.len(), test.iter().map(|&i| y[i]));
+            let r0_train = base.unabsorbed_vec(&y_train);
+            Some(FoldFactor {
+                name,
+                a_test: a.select_rows(&test),
+                train,
+                test,
+                base,
+                y_train,
+                y_test,
+                r0_train,
+            })
         })
-    })
-    .into_iter()
-    .flatten()
-    .collect()
+        .collect()
 }

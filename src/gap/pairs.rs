@@ -117,27 +117,23 @@ fn joint_shapes(
             // least taken in the members' order; the members' parts outside the baseline kept
             // for the next search of the same family when they fit in the budget
             let members: Vec<usize> = (0..family.len()).collect();
-            let fits: Vec<(usize, f64)> = match kept.get(me.effect) {
-                Some(un) => map(ctx.threads, &members, |&k| {
-                    (k, un[k].beside(&fixed).rss(&ctx.baseline.residual).0)
-                }),
-                None => {
-                    let bytes = family.len() * ctx.y.len() * me.signature.ncols() * 8;
-                    let keep = kept.bytes + bytes <= KEPT_MEMBERS_BYTES;
-                    let done = map(ctx.threads, &members, |&k| {
-                        let un = Unabsorbed::of(factor, &family.member(k));
-                        let rss = un.beside(&fixed).rss(&ctx.baseline.residual).0;
-                        (k, rss, keep.then_some(un))
-                    });
-                    let fits = done.iter().map(|(k, rss, _)| (*k, *rss)).collect();
-                    if keep {
-                        kept.bytes += bytes;
-                        let un = done.into_iter().filter_map(|(_, _, u)| u).collect();
-                        kept.families.push((me.effect, un));
-                    }
-                    fits
-                }
-            };
+            let bytes = family.len() * ctx.y.len() * me.signature.ncols() * 8;
+            if kept.get(me.effect).is_none() && kept.bytes + bytes <= KEPT_MEMBERS_BYTES {
+                let un = map(ctx.threads, &members, |&k| {
+                    Unabsorbed::of(factor, &family.member(k))
+                });
+                kept.bytes += bytes;
+                kept.families.push((me.effect, un));
+            }
+            let stored = kept.get(me.effect);
+            let fits = map(ctx.threads, &members, |&k| {
+                let rss = |u: &Unabsorbed| u.beside(&fixed).rss(&ctx.baseline.residual).0;
+                let r = match stored {
+                    Some(un) => rss(&un[k]),
+                    None => rss(&Unabsorbed::of(factor, &family.member(k))),
+                };
+                (k, r)
+            });
             let best = fits
                 .into_iter()
                 .min_by(|x, y| x.1.total_cmp(&y.1))
