@@ -174,6 +174,12 @@ pub fn diagnose_with_smooth(
         crate::gap::shape::scan_family(&baseline.factor, Some(&baseline.residual), c)
     });
     let tries: f64 = scans.iter().map(|s| s.effective_shapes).sum();
+    // the rounding every lagging axis shares, off the baseline once for every servo lag's fit
+    let servo_common = input
+        .candidates
+        .iter()
+        .find(|c| c.effect == Effect::ServoCommon)
+        .map(|c| crate::gap::shape::Unabsorbed::of(&baseline.factor, &c.signature.matrix));
     let ctx = Context {
         y: &y,
         a,
@@ -186,11 +192,7 @@ pub fn diagnose_with_smooth(
         tries,
         alpha: opts.alpha,
         detect_factor: opts.detect_factor,
-        servo_common: input
-            .candidates
-            .iter()
-            .find(|c| c.effect == Effect::ServoCommon)
-            .map(|c| &c.signature.matrix),
+        servo_common: servo_common.as_ref(),
         threads: opts.threads,
     };
     let searched: Vec<_> = input.candidates.iter().zip(scans).collect();

@@ -28,7 +28,7 @@ use serde::Serialize;
 use crate::effects::data::curve_sequences;
 use crate::effects::data::{Candidate, PointMeta};
 use crate::gap::folds::FoldFactor;
-use crate::gap::shape::{fit_shape, scan_family, FamilyScan, ShapeFit};
+use crate::gap::shape::{fit_shape, scan_family, FamilyScan, ShapeFit, Unabsorbed};
 use crate::identify::solve::{hstack, max_abs, rms, Factor};
 use crate::numerics::stats;
 use crate::parameter::{Effect, ParamId};
@@ -230,9 +230,10 @@ pub struct Context<'a> {
     pub tries: f64,
     pub alpha: f64,
     pub detect_factor: f64,
-    /// The `servo_common` column when the part has one: a servo lag's parameter is estimated
-    /// with it (the candidate fit).
-    pub servo_common: Option<&'a DMatrix<f64>>,
+    /// The `servo_common` column's part outside the baseline when the part has the column
+    /// (projected once a diagnosis): a servo lag's parameter is estimated with it (the
+    /// candidate fit).
+    pub servo_common: Option<&'a Unabsorbed>,
     /// Threads a family's members are searched on ([`crate::gap::pairs`]: the same numbers).
     pub threads: Threads,
 }
@@ -278,13 +279,16 @@ pub fn per_curve(
 /// time). Only the estimate: the test and the ranking stay those of the lag alone (the rounding
 /// is a nuisance of the estimate, not a second effect to detect). `None` for a candidate without
 /// a lag, a part without the rounding's column, or a pair that holds it (the rank does not grow).
-/// `q`: the rank the lag's columns add.
+/// `q`: the rank the lag's columns add; `u`, `scale`: their part outside the baseline and their
+/// norms, from the lag's own fit (the unabsorbed part is taken column by column, so these are
+/// the numbers of the pair's projection).
 #[inline(never)]
 fn with_rounding(
     ctx: &Context,
     c: &Candidate,
     q: usize,
     keys: &[String],
+    (u, scale): (&DMatrix<f64>, &[f64]),
 ) -> Option<BTreeMap<String, Estimate>> {
     let common = ctx.servo_common?;
     let lagged = c
@@ -295,7 +299,10 @@ fn with_rounding(
     if !lagged {
         return None;
     }
-    let (u, _, fu, theta) = fwl_fit(ctx, &hstack(&c.signature.matrix, common));
+    let u = hstack(u, &common.u);
+    let scale: Vec<f64> = scale.iter().chain(&common.norms).copied().collect();
+    let fu = Factor::new(&u, Some(&scale));
+    let theta = fu.solve(&ctx.baseline.residual);
     if fu.rank != q + 1 {
         return None;
     }
@@ -419,7 +426,7 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
     let keys = parameter_keys(c);
     let mut parameters = estimates(&keys, &theta, &fu.cov, s2);
     // a servo lag's parameter with the common rounding ([`with_rounding`])
-    if let Some(with) = with_rounding(ctx, c, q, &keys) {
+    if let Some(with) = with_rounding(ctx, c, q, &keys, (&u, &scale)) {
         parameters = with;
     }
     // a servo lag's std holds the first-order formula's own uncertainty
