@@ -156,16 +156,7 @@ impl Prepared {
         q: &[AxisValues],
         threads: Threads,
     ) -> Result<PartModel, GapError> {
-        let physical = self.options.clone().with_mode(Mode::Physical);
-        let mut m = every_candidate_model(
-            &self.part,
-            points,
-            q,
-            &physical,
-            &self.errors(),
-            &self.path,
-            threads,
-        )?;
+        let mut m = self.every_candidate_on(points, q, threads)?;
         m.candidates.retain(|c| {
             !self
                 .location_equivalents
@@ -182,6 +173,16 @@ impl Prepared {
         points: &[MeasurementPoint],
         q: &[AxisValues],
     ) -> Result<PartModel, GapError> {
+        self.every_candidate_on(points, q, Threads::ONE)
+    }
+
+    /// Every candidate's model at `points` in `physical` mode, on `threads` threads.
+    fn every_candidate_on(
+        &self,
+        points: &[MeasurementPoint],
+        q: &[AxisValues],
+        threads: Threads,
+    ) -> Result<PartModel, GapError> {
         let physical = self.options.clone().with_mode(Mode::Physical);
         every_candidate_model(
             &self.part,
@@ -190,7 +191,7 @@ impl Prepared {
             &physical,
             &self.errors(),
             &self.path,
-            Threads::ONE,
+            threads,
         )
     }
 }
