@@ -232,6 +232,7 @@ fn widen_by_model_spread(
         &obs.deviation,
         &used,
         f.candidates,
+        f.model.map_or(&[][..], |m| &m.nuisance[..]),
         Answer {
             chosen: chosen.as_ref(),
             whitener,

@@ -93,6 +93,8 @@ pub struct PartModel {
     /// What the backlash candidates' families are made of, to rebuild them with the play's
     /// take-up ([`PartModel::with_take_up`]).
     pub backlash: LagBasis,
+    /// Shapes no candidate names, for the model spread ([`crate::effects::nuisance`]).
+    pub nuisance: Vec<crate::effects::nuisance::Nuisance>,
 }
 
 /// The profiled parameter of a backlash family rebuilt with the play's take-up: the lost motion
@@ -322,11 +324,16 @@ pub(crate) fn every_candidate_model(
         .into_iter()
         .map(|e| candidate(e, &model))
         .collect::<Result<Vec<_>, _>>()?;
+    let nuisance = vec![
+        crate::effects::nuisance::probing(&model.points),
+        crate::effects::nuisance::drift(&model.points),
+    ];
     Ok(PartModel {
         points: point_meta(points, &model.points),
         baseline,
         candidates,
         reversals: path.reversals.clone(),
         backlash: basis,
+        nuisance,
     })
 }

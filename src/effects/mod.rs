@@ -12,7 +12,8 @@
 //!   set and the built-in points' model are built once by [`prepared`] (the prepared settings,
 //!   a value the caller holds and passes);
 //! - [`catalogue`]: a machine's own effect catalogue; [`location_equivalent`]: candidates that
-//!   are a location error of the machine under another name;
+//!   are a location error of the machine under another name; [`nuisance`]: shapes no candidate
+//!   names, for the model spread;
 //! - [`error`]: the one error type of the part model and the diagnosis built on it.
 
 pub mod builtin;
@@ -23,6 +24,7 @@ pub mod error;
 pub mod family;
 pub mod location_equivalent;
 pub mod machine;
+pub mod nuisance;
 pub mod path_length;
 pub mod path_model;
 pub mod prepared;

@@ -15,12 +15,16 @@
 //! Models: the answer's (`A`, or `[A | S_0]` with the named effect's columns `S_0`), the
 //! baseline `A`, `[A | S_c]` for every other candidate `c` (its signature columns) and, for a
 //! named answer, `[A | S_0 | S_c]` (the named effect with another: a tool's wear with a run-in is
-//! a radius change and a wear), each fitted by least squares on the points used. `β̂_0` is the
+//! a radius change and a wear), and `[A | N_f]` for every family `f` of
+//! [`crate::effects::nuisance`] (shapes no candidate names: a probe's lobing, the part drifting
+//! on the CMM), each fitted by least squares on the points used. `β̂_0` is the
 //! answer's own linear estimate: by generalised least squares in the whitened problem when the
 //! answer has the structure as a correlated error (`unexplained`), so that the spread is about
 //! the value reported. The weights are BIC's (Schwarz 1978): `w_c ∝ π_c exp(−½ (RSS_c/σ² +
 //! q_c ln n))`, `q_c` the columns the model adds, σ the part's noise, with the prior `π` half on
-//! the answer's model (the diagnosis chose it) and half shared by the alternatives. The spread's
+//! the answer's model (the diagnosis chose it) and half shared by the alternatives, the `m`
+//! nuisance families sharing one candidate's share (each `1/m` of it: they are what no candidate
+//! is, not `m` more effects the part could have). The spread's
 //! whole second moment `Σ_c w_c (β̂_c − β̂_0)(β̂_c − β̂_0)ᵀ` is added to the answer's covariance.
 //! Unidentified parameters (no std) are left as they are.
 
@@ -30,6 +34,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use crate::effects::data::Candidate;
+use crate::effects::nuisance::Nuisance;
 use crate::identify::correlated::Whitener;
 use crate::identify::solve::{hstack, Factor};
 use crate::numerics::parallel::{map, Threads};
@@ -81,8 +86,9 @@ fn fit(x: &DMatrix<f64>, y: &DVector<f64>, p: usize) -> Fit {
 
 /// The spread over the models of the location errors (`a`: their columns, `names` in order)
 /// fitted to `y` on the rows `used`, about the chosen model's estimate (`chosen`: the columns it
-/// adds to `a`, none for the baseline), with the part's noise `sigma` (mm); the candidates' fits
-/// side by side on `threads` threads (the same numbers).
+/// adds to `a`, none for the baseline), with the part's noise `sigma` (mm), over the models of
+/// the `candidates` and of the `nuisance` families; their fits side by side on `threads` threads
+/// (the same numbers).
 #[allow(clippy::too_many_arguments)]
 pub fn model_spread(
     a: &DMatrix<f64>,
@@ -90,6 +96,7 @@ pub fn model_spread(
     y: &[f64],
     used: &[usize],
     candidates: &[Candidate],
+    nuisance: &[Nuisance],
     answer: Answer,
     sigma: f64,
     threads: Threads,
@@ -144,8 +151,13 @@ pub fn model_spread(
         }
     };
     // each candidate's fits (side by side on the threads given), taken in the candidates' order
-    let fitted = map(threads, candidates, |c| {
-        let s = c.signature.matrix.select_rows(used);
+    let alts: Vec<(String, &DMatrix<f64>)> = candidates
+        .iter()
+        .map(|c| (c.effect.id().to_string(), &c.signature.matrix))
+        .chain(nuisance.iter().map(|s| (s.id.clone(), &s.columns)))
+        .collect();
+    let fitted = map(threads, &alts, |(_, m)| {
+        let s = m.select_rows(used);
         let single = hstack(&au, &s);
         let fs = fit(&single, &yu, p);
         // with the baseline as the answer, the answer with the candidate is the single model
@@ -160,18 +172,25 @@ pub fn model_spread(
         // the fits and their column counts (the designs dropped: 91 MB each at 200,000 points)
         (fs, single.ncols(), fw, with.ncols())
     });
-    for (c, (fs, single, fw, with)) in candidates.iter().zip(fitted) {
+    for (k, ((id, _), (fs, single, fw, with))) in alts.iter().zip(fitted).enumerate() {
+        let shape = k >= candidates.len();
         // the answer's own effect is not an alternative to it
         if !(fw.rank == answer_rank && fs.rank == answer_rank) {
-            push(c.effect.id().to_string(), single, fs);
+            push(id.clone(), single, fs);
         }
-        if chosen.is_some() && fw.rank > answer_rank {
-            push(format!("answer+{}", c.effect.id()), with, fw);
+        // a nuisance family is an alternative to the answer, never added to a named one
+        if chosen.is_some() && fw.rank > answer_rank && !shape {
+            push(format!("answer+{id}"), with, fw);
         }
     }
     // prior: half the mass on the answer's model (the diagnosis chose it), the other half
-    // shared by the alternatives
-    let k = (models.len() - 1).max(1) as f64;
+    // shared by the alternatives, the nuisance families together counting as one
+    let is_shape = |id: &str| nuisance.iter().any(|f| f.id == id);
+    let m = models.iter().filter(|x| is_shape(&x.0)).count();
+    for x in models.iter_mut().filter(|x| is_shape(&x.0)) {
+        x.2 += 2.0 * (m as f64).ln();
+    }
+    let k = (models.len() - 1 - m + usize::from(m > 0)).max(1) as f64;
     models[0].2 -= 2.0 * k.ln();
     let best = models.iter().map(|m| m.2).fold(f64::INFINITY, f64::min);
     let raw: Vec<f64> = models.iter().map(|m| (-0.5 * (m.2 - best)).exp()).collect();
@@ -240,6 +259,7 @@ mod tests {
             &y,
             &used,
             std::slice::from_ref(&c),
+            &[],
             Answer::default(),
             0.01,
             Threads::ONE,
@@ -255,6 +275,7 @@ mod tests {
             &y,
             &used,
             std::slice::from_ref(&c),
+            &[],
             Answer {
                 chosen: Some(&c.signature.matrix),
                 whitener: None,
@@ -263,6 +284,52 @@ mod tests {
             Threads::ONE,
         );
         assert!(s.std["c"] < 0.01, "{:?}", s.std);
+    }
+
+    /// A shape no candidate names (a [`Nuisance`] family) moves the location errors as a hidden
+    /// candidate does: the family's model takes the weight and the spread is the move (the
+    /// intercept's, about 0.1 + 0.2·0.125 as in the test above). On noise alone its weight is
+    /// below its prior (½ here, the one alternative; about 1/40 among a machine's candidates)
+    /// and the spread is of the order of the intercept's own std, not of the shape's move
+    /// (measured: weight 0.33, spread 1.10 std, against 0.1 / 0.00255 = 39 std with the shape).
+    #[test]
+    fn a_shape_no_candidate_names_widens_what_it_moves() {
+        let n = 60;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();
+        let a = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { t[i] });
+        let e: Vec<f64> = t
+            .iter()
+            .map(|x| 0.5 + (-(x - 0.5f64).powi(2) / 0.005).exp())
+            .collect();
+        let shape = Nuisance {
+            id: "probing".into(),
+            columns: DMatrix::from_column_slice(n, 1, &e),
+        };
+        let mut rng = Sampler::new(1);
+        let noise: Vec<f64> = (0..n).map(|_| 0.01 * rng.normal()).collect();
+        let used: Vec<usize> = (0..n).collect();
+        let names = ["c".to_string(), "m".to_string()];
+        let spread = |y: &[f64]| {
+            model_spread(
+                &a,
+                &names,
+                y,
+                &used,
+                &[],
+                std::slice::from_ref(&shape),
+                Answer::default(),
+                0.01,
+                Threads::ONE,
+            )
+        };
+        let y: Vec<f64> = e.iter().zip(&noise).map(|(v, z)| 0.2 * v + z).collect();
+        let s = spread(&y);
+        assert!(s.weights["probing"] > 0.99, "{:?}", s.weights);
+        assert!(s.std["c"] > 0.09, "{:?}", s.std);
+        let s = spread(&noise);
+        let own = 0.01 * Factor::new(&a, None).cov[(0, 0)].sqrt();
+        assert!(s.weights["probing"] < 0.5, "{:?}", s.weights);
+        assert!(s.std["c"] < 1.5 * own, "{:?} against {own}", s);
     }
 
     /// A named effect that is half the part's (a tool's wear with a run-in: a wear and a radius
@@ -300,6 +367,7 @@ mod tests {
             &y,
             &used,
             &c,
+            &[],
             Answer {
                 chosen: Some(&chosen),
                 whitener: None,
