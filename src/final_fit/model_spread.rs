@@ -226,18 +226,24 @@ mod tests {
     use crate::numerics::random::Sampler;
     use crate::parameter::{Effect, ParamId};
 
+    /// A line `[1, t]` on `n` points of `[0, 1)` as the location errors' columns, and a shape
+    /// they partly absorb: half a constant plus a bump the line cannot follow.
+    fn line_and_bump(n: usize) -> (DMatrix<f64>, Vec<f64>) {
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();
+        let a = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { t[i] });
+        let e = t
+            .iter()
+            .map(|x| 0.5 + (-(x - 0.5f64).powi(2) / 0.005).exp())
+            .collect();
+        (a, e)
+    }
+
     /// An effect the baseline cannot see apart from a location error moves that error; the
     /// model it is fitted in has the weight, and the spread is the move.
     #[test]
     fn a_hidden_effect_widens_what_it_moves() {
         let n = 60;
-        let t: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();
-        let a = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { t[i] });
-        // the effect: half a constant (absorbed) plus a bump the baseline cannot follow
-        let e: Vec<f64> = t
-            .iter()
-            .map(|x| 0.5 + (-(x - 0.5f64).powi(2) / 0.005).exp())
-            .collect();
+        let (a, e) = line_and_bump(n);
         let mut rng = Sampler::new(1);
         let y: Vec<f64> = e.iter().map(|v| 0.2 * v + 0.01 * rng.normal()).collect();
         let used: Vec<usize> = (0..n).collect();
@@ -295,12 +301,7 @@ mod tests {
     #[test]
     fn a_shape_no_candidate_names_widens_what_it_moves() {
         let n = 60;
-        let t: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();
-        let a = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { t[i] });
-        let e: Vec<f64> = t
-            .iter()
-            .map(|x| 0.5 + (-(x - 0.5f64).powi(2) / 0.005).exp())
-            .collect();
+        let (a, e) = line_and_bump(n);
         let shape = Nuisance {
             id: "probing".into(),
             columns: DMatrix::from_column_slice(n, 1, &e),
