@@ -278,8 +278,9 @@ fn widen_by_model_spread(
             .collect();
         correction.notes.push(format!(
             "The std include what the choice of model can move each location error by (the \
-             fits with each candidate effect and with shapes no candidate names, a probe's \
-             lobing and the part drifting on the CMM, weighted by their evidence: {}).",
+             fits with each candidate effect and with shapes no candidate names: a probe's \
+             lobing, the part drifting on the CMM, the axes' error motions; weighted by their \
+             evidence: {}).",
             models.join(", ")
         ));
     }

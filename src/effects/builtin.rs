@@ -268,7 +268,8 @@ pub(crate) fn every_candidate_model(
                 .map(|d| d.deviation)
                 .collect();
             let scale = scale_signatures(part, points, q, opts)?;
-            Ok((sens, eps, envelope, scale))
+            let motions = crate::effects::machine::motion_families(part, points, q, opts)?;
+            Ok((sens, eps, envelope, scale, motions))
         },
         || -> Result<_, GapError> {
             // the gains (∂x/∂q)·N of every axis of the chain, once: the servo signatures read
@@ -283,7 +284,7 @@ pub(crate) fn every_candidate_model(
             Ok((chain_axes, all_gains, servo, spots))
         },
     );
-    let (sens, eps, envelope, scale) = first?;
+    let (sens, eps, envelope, scale, motions) = first?;
     let (chain_axes, all_gains, servo, spots) = second?;
     let baseline = NamedColumns::try_new(
         sens.errors.iter().map(|e| ParamId::Machine(*e)).collect(),
@@ -324,10 +325,9 @@ pub(crate) fn every_candidate_model(
         .into_iter()
         .map(|e| candidate(e, &model))
         .collect::<Result<Vec<_>, _>>()?;
-    let nuisance = vec![
-        crate::effects::nuisance::probing(&model.points),
-        crate::effects::nuisance::drift(&model.points),
-    ];
+    let mut nuisance = motions;
+    nuisance.push(crate::effects::nuisance::probing(&model.points));
+    nuisance.push(crate::effects::nuisance::drift(&model.points));
     Ok(PartModel {
         points: point_meta(points, &model.points),
         baseline,

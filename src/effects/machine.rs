@@ -20,6 +20,7 @@
 use nalgebra::{Rotation3, Vector3};
 
 use crate::effects::data::Reversal;
+use crate::effects::nuisance::Nuisance;
 use crate::effects::GapError;
 use crate::machine::direct::{jacobian, jacobian_body_point};
 use crate::machine::inverse::inverse;
@@ -52,6 +53,43 @@ pub fn scale_signatures(
         .iter()
         .enumerate()
         .map(|(j, &a)| (a, m.column(j).iter().copied().collect()))
+        .collect())
+}
+
+/// The error motions of the linear axes as [`Nuisance`] families
+/// ([`crate::effects::nuisance`]): `motion_E{c}{q}` for each linear axis `q` and translation
+/// `c`, the coefficients of `q^2`, `q^3` (and `q^1` for `c = q`) of `E{c}{q}` (power `k`: mm per
+/// mm^k), evaluated by [`jacobian_rows`] like the scale columns, at the points of axis values `q`.
+pub fn motion_families(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    q: &[AxisValues],
+    opts: &SensitivityOptions,
+) -> Result<Vec<Nuisance>, GapError> {
+    let mut params = Vec::new();
+    let mut fams = Vec::new();
+    for &axis in &SCALE_AXES {
+        for &component in &SCALE_AXES {
+            let lo = if component == axis { 1 } else { 2 };
+            let start = params.len();
+            for power in lo..=3 {
+                params.push(ErrorParam::Motion {
+                    component,
+                    axis,
+                    power,
+                });
+            }
+            fams.push((format!("motion_E{component}{axis}"), start, params.len()));
+        }
+    }
+    let m = jacobian_rows(part, points, q, opts, &params)?;
+    Ok(fams
+        .into_iter()
+        .map(|(id, a, b)| Nuisance {
+            id,
+            columns: m.columns(a, b - a).into_owned(),
+            pooled: true,
+        })
         .collect())
 }
 

@@ -8,6 +8,15 @@
 //! families share the prior of one candidate (the spread's weights), and a family is never added
 //! to a named answer's model: it is an alternative to the answer, not a second effect of it.
 //! The families:
+//! - **error motions of the linear axes** (ISO 230-1; paper 004 eq. S2), `E_{c,q}(q)` for each
+//!   linear axis `q` and translation `c` as a cubic in `q`
+//!   ([`crate::effects::machine::motion_families`]): powers 2 and 3 across the axis (a
+//!   straightness: its linear term is a squareness, a location error), 1 to 3 along it (a
+//!   positioning error: its linear term is the scale candidate). A ballscrew's pitch error, a
+//!   guideway's bow, a long cyclic error. Nearly collinear with the location errors, they are not
+//!   alternatives of their own (noise alone would move the errors far in them): they are
+//!   *pooled* into one random effect whose amplitude the part's residual says
+//!   ([`crate::final_fit::pooled`]).
 //! - **probing** ([`probing`]): a touch probe's pre-travel varying with the probing direction,
 //!   the terms of order 2 and 3 of its Fourier series in the azimuth `φ` of the probing direction
 //!   `−N` (order 0 is the tool radius, order 1 a shift of the part; a kinematic three-point probe
@@ -23,9 +32,13 @@ use crate::effects::EffectPoint;
 /// One family of [`crate::effects::nuisance`] shapes: its id and its columns.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Nuisance {
-    /// `probing` or `part_drift`.
+    /// `probing`, `part_drift`, or `motion_E{c}{q}` (an error motion, ISO 230-1's name).
     pub id: String,
     pub columns: DMatrix<f64>,
+    /// Pooled with the other pooled families into one random effect
+    /// ([`crate::final_fit::pooled`]; the error motions), rather than fitted as an alternative
+    /// of its own.
+    pub pooled: bool,
 }
 
 /// The probing family: `cos 2φ`, `sin 2φ`, `cos 3φ`, `sin 3φ` (mm per mm of each coefficient),
@@ -35,6 +48,7 @@ pub fn probing(points: &[EffectPoint]) -> Nuisance {
     let n = points.len();
     Nuisance {
         id: "probing".into(),
+        pooled: false,
         columns: DMatrix::from_fn(n, 4, |i, j| {
             let k = (2 + j / 2) as f64;
             if j % 2 == 0 {
@@ -59,6 +73,7 @@ pub fn drift(points: &[EffectPoint]) -> Nuisance {
     };
     Nuisance {
         id: "part_drift".into(),
+        pooled: false,
         columns: DMatrix::from_fn(n, 3, |i, j| {
             let p = &points[i];
             x(i) * match j {

@@ -17,7 +17,10 @@
 //! named answer, `[A | S_0 | S_c]` (the named effect with another: a tool's wear with a run-in is
 //! a radius change and a wear), and `[A | N_f]` for every family `f` of
 //! [`crate::effects::nuisance`] (shapes no candidate names: a probe's lobing, the part drifting
-//! on the CMM), each fitted by least squares on the points used. `β̂_0` is the
+//! on the CMM), each fitted by least squares on the points used, and, for a baseline answer, the
+//! linear axes' error motions pooled into one random effect ([`crate::final_fit::pooled`]:
+//! its estimate by generalised least squares, its score its likelihood's gain plus `ln n`, and
+//! its own covariance beyond the baseline's added at its weight). `β̂_0` is the
 //! answer's own linear estimate: by generalised least squares in the whitened problem when the
 //! answer has the structure as a correlated error (`unexplained`), so that the spread is about
 //! the value reported. The weights are BIC's (Schwarz 1978): `w_c ∝ π_c exp(−½ (RSS_c/σ² +
@@ -35,9 +38,13 @@ use serde::Serialize;
 
 use crate::effects::data::Candidate;
 use crate::effects::nuisance::Nuisance;
+use crate::final_fit::pooled::pooled_fit;
 use crate::identify::correlated::Whitener;
 use crate::identify::solve::{hstack, Factor};
 use crate::numerics::parallel::{map, Threads};
+
+/// The id of the pooled error motions' model among the spread's weights.
+pub const POOLED_ID: &str = "error_motions";
 
 /// The model spread of each location error.
 #[derive(Debug, Clone, Serialize, Default)]
@@ -102,6 +109,8 @@ pub fn model_spread(
     threads: Threads,
 ) -> ModelSpread {
     let Answer { chosen, whitener } = answer;
+    let (pooled, nuisance): (Vec<&Nuisance>, Vec<&Nuisance>) =
+        nuisance.iter().partition(|f| f.pooled);
     let p = a.ncols();
     let n = used.len();
     if n <= p || sigma <= 0.0 || !sigma.is_finite() {
@@ -126,6 +135,7 @@ pub fn model_spread(
     // each model's columns factorised once: its estimate, RSS and rank from the same fit
     let base = fit(&au, &yu, p);
     let base_rank = base.rank;
+    let base_score = base.rss / (sigma * sigma);
     // (id, estimate, BIC) of every model; the answer's own first
     let mut models: Vec<(String, DVector<f64>, f64)> = Vec::new();
     // a model of `cols` columns on the `n` rows
@@ -183,6 +193,14 @@ pub fn model_spread(
             push(format!("answer+{id}"), with, fw);
         }
     }
+    // the error motions, pooled into one random effect, as one more alternative of a baseline
+    // answer (a named or `unexplained` answer's residual is its effect's or its structure's)
+    let random = (chosen.is_none() && whitener.is_none())
+        .then(|| pooled_fit(&au, &yu, &pooled, used, sigma))
+        .flatten();
+    if let Some(r) = &random {
+        models.push((POOLED_ID.into(), r.beta.clone(), base_score + r.score));
+    }
     // prior: half the mass on the answer's model (the diagnosis chose it), the other half
     // shared by the alternatives, the nuisance families together counting as one
     let is_shape = |id: &str| nuisance.iter().any(|f| f.id == id);
@@ -204,6 +222,19 @@ pub fn model_spread(
         for i in 0..p {
             for j in 0..p {
                 out.covariance[i][j] += w / total * d[i] * d[j];
+            }
+        }
+    }
+    // the pooled model's own covariance beyond the baseline's, at its weight
+    if let Some(r) = &random {
+        let w = models
+            .iter()
+            .zip(&raw)
+            .find(|(x, _)| x.0 == POOLED_ID)
+            .map_or(0.0, |(_, w)| w / total);
+        for (i, row) in out.covariance.iter_mut().enumerate() {
+            for (j, c) in row.iter_mut().enumerate() {
+                *c += w * r.extra[(i, j)];
             }
         }
     }
@@ -304,6 +335,7 @@ mod tests {
         let (a, e) = line_and_bump(n);
         let shape = Nuisance {
             id: "probing".into(),
+            pooled: false,
             columns: DMatrix::from_column_slice(n, 1, &e),
         };
         let mut rng = Sampler::new(1);
