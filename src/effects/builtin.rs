@@ -251,7 +251,7 @@ pub(crate) fn every_candidate_model(
     threads: Threads,
 ) -> Result<PartModel, GapError> {
     use crate::effects::machine::{
-        c_table_sign, index_signatures, machine_z_columns, scale_signatures,
+        c_table_sign, index_signatures, machine_z_columns, scale_and_motions,
     };
     // two halves of about the same cost, side by side when `threads` allows (issue 31): the
     // design's columns, the envelope, the path lengths and the scale columns; the axes' gains
@@ -267,8 +267,7 @@ pub(crate) fn every_candidate_model(
                 .iter()
                 .map(|d| d.deviation)
                 .collect();
-            let scale = scale_signatures(part, points, q, opts)?;
-            let motions = crate::effects::machine::motion_families(part, points, q, opts)?;
+            let (scale, motions) = scale_and_motions(part, points, q, opts)?;
             Ok((sens, eps, envelope, scale, motions))
         },
         || -> Result<_, GapError> {

@@ -1,6 +1,6 @@
 //! Signatures that need the machine's axis path (kinematics stage, [`crate::sensitivity`]):
-//! `scale_x/y/z`, the index columns
-//! of `a_index` (and of `c_index` where the C axis is not the table next to the part), machine Z
+//! `scale_x/y/z` with the error motions of the linear axes ([`crate::effects::nuisance`]), the
+//! index columns of `a_index` (and of `c_index` where the C axis is not the table next to the part), machine Z
 //! in the part frame for `thermal_drift`, and the axis reversals along the path.
 //!
 //! Index (zero offset, `q_real = q_cmd + dq`): the constant positioning error motion of the axis
@@ -33,45 +33,31 @@ use crate::sensitivity::defect::jacobian_rows;
 use crate::sensitivity::reversal::{grid_u, Pass};
 use crate::sensitivity::SensitivityOptions;
 
-/// `scale_<axis>.k` columns (mm/mm), axes of [`SCALE_AXES`], at the points of axis values `q`.
-pub fn scale_signatures(
-    part: &SShape,
-    points: &[MeasurementPoint],
-    q: &[AxisValues],
-    opts: &SensitivityOptions,
-) -> Result<Vec<(AxisName, Vec<f64>)>, GapError> {
-    let params: Vec<ErrorParam> = SCALE_AXES
-        .iter()
-        .map(|&a| ErrorParam::Motion {
-            component: a,
-            axis: a,
-            power: 1,
-        })
-        .collect();
-    let m = jacobian_rows(part, points, q, opts, &params)?;
-    Ok(SCALE_AXES
-        .iter()
-        .enumerate()
-        .map(|(j, &a)| (a, m.column(j).iter().copied().collect()))
-        .collect())
-}
+/// One column per axis: the axis and its values at the points.
+pub type AxisColumns = Vec<(AxisName, Vec<f64>)>;
 
-/// The error motions of the linear axes as [`Nuisance`] families
-/// ([`crate::effects::nuisance`]): `motion_E{c}{q}` for each linear axis `q` and translation
-/// `c`, the coefficients of `q^2`, `q^3` (and `q^1` for `c = q`) of `E{c}{q}` (power `k`: mm per
-/// mm^k), evaluated by [`jacobian_rows`] like the scale columns, at the points of axis values `q`.
-pub fn motion_families(
+/// The linear axes' error motions at the points of axis values `q`, evaluated by
+/// [`jacobian_rows`] like the location errors: the `scale_<axis>.k` columns (mm/mm), axes of
+/// [`SCALE_AXES`], and the [`Nuisance`] families of [`crate::effects::nuisance`]
+/// `motion_E{c}{q}` for each linear axis `q` and translation `c`, the coefficients of `q^2`,
+/// `q^3` (and `q^1`, the scale's, for `c = q`) of `E{c}{q}` (power `k`: mm per mm^k). One
+/// evaluation for both: the scale's column is the own-axis family's first.
+pub fn scale_and_motions(
     part: &SShape,
     points: &[MeasurementPoint],
     q: &[AxisValues],
     opts: &SensitivityOptions,
-) -> Result<Vec<Nuisance>, GapError> {
+) -> Result<(AxisColumns, Vec<Nuisance>), GapError> {
     let mut params = Vec::new();
     let mut fams = Vec::new();
+    let mut scale = Vec::new();
     for &axis in &SCALE_AXES {
         for &component in &SCALE_AXES {
             let lo = if component == axis { 1 } else { 2 };
             let start = params.len();
+            if component == axis {
+                scale.push((axis, start));
+            }
             for power in lo..=3 {
                 params.push(ErrorParam::Motion {
                     component,
@@ -83,14 +69,19 @@ pub fn motion_families(
         }
     }
     let m = jacobian_rows(part, points, q, opts, &params)?;
-    Ok(fams
+    let scale = scale
+        .into_iter()
+        .map(|(a, j)| (a, m.column(j).iter().copied().collect()))
+        .collect();
+    let motions = fams
         .into_iter()
         .map(|(id, a, b)| Nuisance {
             id,
             columns: m.columns(a, b - a).into_owned(),
             pooled: true,
         })
-        .collect())
+        .collect();
+    Ok((scale, motions))
 }
 
 /// Where each axis of `axes` reverses along the passes (A then B): tool-tip path length from the

@@ -10,7 +10,7 @@
 //! The families:
 //! - **error motions of the linear axes** (ISO 230-1; paper 004 eq. S2), `E_{c,q}(q)` for each
 //!   linear axis `q` and translation `c` as a cubic in `q`
-//!   ([`crate::effects::machine::motion_families`]): powers 2 and 3 across the axis (a
+//!   ([`crate::effects::machine::scale_and_motions`]): powers 2 and 3 across the axis (a
 //!   straightness: its linear term is a squareness, a location error), 1 to 3 along it (a
 //!   positioning error: its linear term is the scale candidate). A ballscrew's pitch error, a
 //!   guideway's bow, a long cyclic error. Nearly collinear with the location errors, they are not
