@@ -52,9 +52,11 @@ pub struct ModelSpread {
     /// `√v_j` per parameter (its unit).
     pub std: BTreeMap<String, f64>,
     /// The weight of each model whose weight is at least 1 % (`baseline`, `answer` (the named
-    /// answer's model), an effect id, or `answer+<id>`: the answer's effect with another).
+    /// answer's model), an effect id, `answer+<id>`: the answer's effect with another, a
+    /// nuisance family's id, or [`POOLED_ID`]: the error motions pooled).
     pub weights: BTreeMap<String, f64>,
-    /// The whole second moment `Σ_c w_c (β̂_c − β̂_0)(β̂_c − β̂_0)ᵀ` (units² of the
+    /// The whole second moment `Σ_c w_c (β̂_c − β̂_0)(β̂_c − β̂_0)ᵀ`, with the pooled model's own
+    /// covariance beyond the baseline's at its weight (units² of the
     /// parameters), rows and columns in the order of the names given; `std` is the root of its
     /// diagonal.
     #[serde(skip)]
