@@ -11,9 +11,10 @@
 //!
 //! `−2 ln L(τ²) + 2 ln L(0) = Σ_k [ln(1 + τ² s_k²/σ²) + z_k²/(σ² + τ² s_k²) − z_k²/σ²]`,
 //!
-//! minimised over `ln τ²` by golden section. A minimum at or above 0 means no error motion the
-//! data can see: no model. Otherwise the model's estimate and covariance are those of generalised
-//! least squares, in closed form (Henderson's mixed-model equations; the block inverse of
+//! minimised over `ln τ²` by golden section (the envelope's `golden_min`). A minimum at or above
+//! 0 means no error motion the data can see: no model. Otherwise the model's estimate and
+//! covariance are those of generalised least squares, in closed form (Henderson's mixed-model
+//! equations; the block inverse of
 //! `[A U]ᵀ[A U] + diag(0, λI)`, `λ = σ²/τ²`):
 //!
 //! `β̂ = β̂_OLS − H (BᵀB + λI)⁻¹ Bᵀr`, `Cov β̂ = σ²(AᵀA)⁻¹ + σ² H (BᵀB + λI)⁻¹ Hᵀ`,
@@ -27,6 +28,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::effects::nuisance::Nuisance;
 use crate::identify::solve::{tr_mul, Factor};
+use crate::toolpath::envelope::golden_min;
 
 /// The pooled random effect's fit.
 #[derive(Debug, Clone)]
@@ -41,8 +43,9 @@ pub struct PooledFit {
     pub tau: f64,
 }
 
-/// Golden-section steps over `ln τ²` in `[ln 1e-6 σ², ln 1e2 σ²]`.
-const STEPS: usize = 60;
+/// The bracket of the golden-section search over `ln τ²` in `[ln 1e-6 σ², ln 1e2 σ²]` at its
+/// end (about what 60 steps leave of the 18.4 it starts from).
+const LN_TAU2_TOL: f64 = 1e-11;
 
 /// The pooled random effect of the `families` (their rows `used`) beside the location errors'
 /// columns `au` for the deviations `yu` on those rows, with the noise `sigma` (mm); `None` when
@@ -90,19 +93,13 @@ pub fn pooled_fit(
             })
             .sum()
     };
-    let (mut lo, mut hi) = (libm::log(1e-6 * sg2), libm::log(1e2 * sg2));
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..STEPS {
-        let c = hi - g * (hi - lo);
-        let d = lo + g * (hi - lo);
-        if gain(libm::exp(c)) < gain(libm::exp(d)) {
-            hi = d;
-        } else {
-            lo = c;
-        }
-    }
-    let t = libm::exp(0.5 * (lo + hi));
-    let best = gain(t);
+    let (lt, best) = golden_min(
+        &|lt: f64| gain(libm::exp(lt)),
+        libm::log(1e-6 * sg2),
+        libm::log(1e2 * sg2),
+        LN_TAU2_TOL,
+    );
+    let t = libm::exp(lt);
     if best.is_nan() || best >= 0.0 {
         return None;
     }
