@@ -80,10 +80,20 @@ struct Fit {
     rank: usize,
 }
 
+/// `x` factorised with its columns measured against their norms (the rank decided on them).
+fn factor(x: &DMatrix<f64>) -> Factor {
+    let scale: Vec<f64> = x.column_iter().map(|c| c.norm().max(1e-300)).collect();
+    Factor::new(x, Some(&scale))
+}
+
 /// The least-squares [`Fit`] of `x` on `y`, its first `p` coefficients kept.
 fn fit(x: &DMatrix<f64>, y: &DVector<f64>, p: usize) -> Fit {
-    let scale: Vec<f64> = x.column_iter().map(|c| c.norm().max(1e-300)).collect();
-    let f = Factor::new(x, Some(&scale));
+    fit_on(&factor(x), y, p)
+}
+
+/// The least-squares [`Fit`] on `y` of the columns factorised in `f`, its first `p`
+/// coefficients kept.
+fn fit_on(f: &Factor, y: &DVector<f64>, p: usize) -> Fit {
     let beta = f.solve(y);
     let rss = f.unabsorbed_vec(y).norm_squared();
     Fit {
@@ -135,7 +145,9 @@ pub fn model_spread(
     let yu = DVector::from_iterator(n, used.iter().map(|&i| y[i]));
     let ln_n = (n as f64).ln();
     // each model's columns factorised once: its estimate, RSS and rank from the same fit
-    let base = fit(&au, &yu, p);
+    // the baseline's factorisation, kept for the pooled error motions
+    let base_factor = factor(&au);
+    let base = fit_on(&base_factor, &yu, p);
     let base_rank = base.rank;
     let base_score = base.rss / (sigma * sigma);
     // (id, estimate, BIC) of every model; the answer's own first
@@ -198,7 +210,7 @@ pub fn model_spread(
     // the error motions, pooled into one random effect, as one more alternative of a baseline
     // answer (a named or `unexplained` answer's residual is its effect's or its structure's)
     let random = (chosen.is_none() && whitener.is_none())
-        .then(|| pooled_fit(&au, &yu, &pooled, used, sigma))
+        .then(|| pooled_fit(&base_factor, &yu, &pooled, used, sigma))
         .flatten();
     if let Some(r) = &random {
         models.push((POOLED_ID.into(), r.beta.clone(), base_score + r.score));

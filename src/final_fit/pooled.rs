@@ -48,16 +48,17 @@ pub struct PooledFit {
 const LN_TAU2_TOL: f64 = 1e-11;
 
 /// The pooled random effect of the `families` (their rows `used`) beside the location errors'
-/// columns `au` for the deviations `yu` on those rows, with the noise `sigma` (mm); `None` when
-/// the likelihood does not rise with `τ` or there is nothing to pool.
+/// columns, factorised in `fa` (on those rows), for the deviations `yu` on those rows, with the
+/// noise `sigma` (mm); `None` when the likelihood does not rise with `τ` or there is nothing to
+/// pool.
 pub fn pooled_fit(
-    au: &DMatrix<f64>,
+    fa: &Factor,
     yu: &DVector<f64>,
     families: &[&Nuisance],
     used: &[usize],
     sigma: f64,
 ) -> Option<PooledFit> {
-    let n = au.nrows();
+    let n = yu.len();
     let cols: Vec<DVector<f64>> = families
         .iter()
         .flat_map(|f| {
@@ -67,11 +68,10 @@ pub fn pooled_fit(
                 .collect::<Vec<_>>()
         })
         .collect();
-    if cols.is_empty() || n <= au.ncols() {
+    if cols.is_empty() || n <= fa.cov.nrows() {
         return None;
     }
     let u = DMatrix::from_columns(&cols);
-    let fa = Factor::new(au, None);
     let b = fa.unabsorbed(&u);
     let r = fa.unabsorbed_vec(yu);
     let eig = nalgebra::SymmetricEigen::new(tr_mul(&b, &b));
@@ -161,7 +161,8 @@ mod tests {
         });
         let used: Vec<usize> = (0..n).collect();
         let f = family(u.clone());
-        let fit = pooled_fit(&a, &y, &[&f], &used, 0.001).expect("a motion the data see");
+        let fit = pooled_fit(&Factor::new(&a, None), &y, &[&f], &used, 0.001)
+            .expect("a motion the data see");
         let q = Factor::new(&u, None).basis * (n as f64).sqrt();
         let lambda = (0.001 / fit.tau).powi(2);
         let m = q.ncols();
@@ -205,7 +206,8 @@ mod tests {
         });
         let used: Vec<usize> = (0..n).collect();
         let f = family(u);
-        let fit = pooled_fit(&a, &y, &[&f], &used, 0.001).expect("a motion the data see");
+        let fit = pooled_fit(&Factor::new(&a, None), &y, &[&f], &used, 0.001)
+            .expect("a motion the data see");
         let base = Factor::new(&a, None);
         let ols = base.solve(&y);
         for j in 0..2 {
@@ -230,7 +232,7 @@ mod tests {
         let y = DVector::from_fn(n, |_, _| 0.001 * rng.normal());
         let used: Vec<usize> = (0..n).collect();
         let f = family(u);
-        if let Some(fit) = pooled_fit(&a, &y, &[&f], &used, 0.001) {
+        if let Some(fit) = pooled_fit(&Factor::new(&a, None), &y, &[&f], &used, 0.001) {
             assert!(fit.score > 0.0, "{fit:?}");
         }
     }
