@@ -118,3 +118,61 @@ fn servo_structure_does_not_raise_sigma() {
         assert_eq!(none, 0, "{name}: {none}/10 called noise");
     }
 }
+
+/// The pooled σ̂ (ruling pairs with the variogram nugget) has the spread its degrees of freedom
+/// say, so the one-sided test against the plausibility ceiling has its size: 300 clean parts
+/// at σ = 2.5 µm (white Gaussian), the CMM's share given as 0.25 µm (a 0.5 µm repeatability
+/// over 4 repeats), so the ceiling is √(2.5² + 0.25²) = 2.51 µm, just above σ.
+/// Measured: the spread of σ̂/σ 0.105 against `1/√(2ν)` = 0.106 (ν = 44.3); 15 parts (5.0 %)
+/// implausible. With ν counted as if the two were independent (70.6, spread 0.084), 32 (10.7 %).
+/// Bounds: the spread within 12 % of `1/√(2ν)` (its own standard error over 300 parts is 4 %),
+/// at most 8 % implausible (5 % + 2.4 binomial standard errors).
+#[test]
+fn the_pooled_sigma_has_the_spread_of_its_dof() {
+    let sigma = 0.0025;
+    let part = SShape::iso();
+    let mut model = ValidationModel::at(&part, &builtin_points(&part))
+        .unwrap()
+        .without_shapes();
+    model.settings.noise_sigma = Some(0.00025);
+    let n = model.points.len();
+    let exact = exact_machine_part(&model.baseline.params).unwrap();
+    let ids: Vec<String> = model.measured.iter().map(|p| p.id.to_string()).collect();
+    let opts = ValidateOptions::default();
+    let mut rng = Sampler::new(99);
+    let (mut ratios, mut dofs, mut implausible) = (Vec::new(), Vec::new(), 0);
+    for _ in 0..300 {
+        let xi = machine_errors(&model.baseline.params, &opts, &mut rng);
+        let noise = DVector::from_iterator(n, (0..n).map(|_| sigma * rng.normal()));
+        let y = exact(&xi).unwrap() + noise;
+        let fit = fit_points(
+            &model.prepared,
+            &model.at,
+            y.as_slice(),
+            &ids,
+            &model.settings,
+        )
+        .unwrap();
+        let Diagnosis::Made { report, .. } = &fit.diagnosis else {
+            panic!("not diagnosed")
+        };
+        let ne = &report.structure.noise;
+        if ne.estimator == testpiece::measurement::noise::Estimator::Pooled {
+            ratios.push(ne.estimated / sigma);
+            dofs.push(ne.dof);
+        }
+        implausible += usize::from(ne.implausible);
+    }
+    let m = ratios.len() as f64;
+    let mean = ratios.iter().sum::<f64>() / m;
+    let spread = (ratios.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (m - 1.0)).sqrt();
+    let dof = dofs.iter().sum::<f64>() / m;
+    let nominal = 1.0 / (2.0 * dof).sqrt();
+    println!("{m} pooled: spread {spread:.4}, 1/√(2ν) {nominal:.4} (ν {dof:.1}); {implausible} implausible");
+    assert!(m >= 280.0, "{m} pooled");
+    assert!(
+        (spread / nominal - 1.0).abs() < 0.12,
+        "spread {spread} against {nominal}"
+    );
+    assert!(implausible <= 24, "{implausible}/300 implausible");
+}

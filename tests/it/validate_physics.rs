@@ -399,9 +399,10 @@ fn the_report_is_the_same_on_any_number_of_threads() {
 /// on): `none` never when the visible structure exceeds twice the limit; clean parts and repeats
 /// of a scattered part `none` at least 95 %; the final location errors within 2 std of the truth
 /// in at least 90 % in every group of the report but the mixed 1-2x one (measured with the
-/// nuisance families of the model spread, `effects::nuisance`, the error motions pooled: min
-/// 92.3 %, the named verdicts; 94.5 % clean, 95.6 % below the limit, 93.9 % in-catalogue above
-/// 2x, 98.2 % out-of-catalogue above 2x, 95.2 % wrong verdicts, 96.6 % `unexplained` verdicts);
+/// nuisance families of the model spread, `effects::nuisance`, the error motions pooled, the
+/// pooled σ̂'s correlated dof: min 92.3 %, the named verdicts; 94.5 % clean, 95.8 % below the
+/// limit, 93.9 % in-catalogue above 2x, 98.2 % out-of-catalogue above 2x, 96.1 % wrong
+/// verdicts, 97.5 % `unexplained` verdicts);
 /// and the std not inflated
 /// where the model can be right: median final std over the true model's fit's <= 2 on clean
 /// parts and on in-catalogue parts above 2x the limit (measured 1.06 and 1.09).
