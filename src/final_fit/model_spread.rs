@@ -17,10 +17,12 @@
 //! named answer, `[A | S_0 | S_c]` (the named effect with another: a tool's wear with a run-in is
 //! a radius change and a wear), and `[A | N_f]` for every family `f` of
 //! [`crate::effects::nuisance`] (shapes no candidate names: a probe's lobing, the part drifting
-//! on the CMM), each fitted by least squares on the points used, and, for a baseline answer, the
-//! linear axes' error motions pooled into one random effect ([`crate::final_fit::pooled`]:
-//! its estimate by generalised least squares, its score its likelihood's gain plus `ln n`, and
-//! its own covariance beyond the baseline's added at its weight). `β̂_0` is the
+//! on the CMM), each fitted by least squares on the points used, and, beside the answer's model
+//! (not `unexplained`'s, whose residual is the structure's), the linear axes' error motions
+//! pooled into one random effect ([`crate::final_fit::pooled`]: its estimate by generalised
+//! least squares, its score its likelihood's gain plus `ln n` over the answer's, and its own
+//! covariance beyond the answer's model's added at its weight: a pitch error named as its axis's
+//! scale leaves its curvature). `β̂_0` is the
 //! answer's own linear estimate: by generalised least squares in the whitened problem when the
 //! answer has the structure as a correlated error (`unexplained`), so that the spread is about
 //! the value reported. The weights are BIC's (Schwarz 1978): `w_c ∝ π_c exp(−½ (RSS_c/σ² +
@@ -56,7 +58,7 @@ pub struct ModelSpread {
     /// nuisance family's id, or [`POOLED_ID`]: the error motions pooled).
     pub weights: BTreeMap<String, f64>,
     /// The whole second moment `Σ_c w_c (β̂_c − β̂_0)(β̂_c − β̂_0)ᵀ`, with the pooled model's own
-    /// covariance beyond the baseline's at its weight (units² of the
+    /// covariance beyond the answer's model's at its weight (units² of the
     /// parameters), rows and columns in the order of the names given; `std` is the root of its
     /// diagonal.
     #[serde(skip)]
@@ -145,7 +147,7 @@ pub fn model_spread(
     let yu = DVector::from_iterator(n, used.iter().map(|&i| y[i]));
     let ln_n = (n as f64).ln();
     // each model's columns factorised once: its estimate, RSS and rank from the same fit
-    // the baseline's factorisation, kept for the pooled error motions
+    // the baseline's factorisation, kept for the pooled error motions beside a baseline answer
     let base_factor = factor(&au);
     let base = fit_on(&base_factor, &yu, p);
     let base_rank = base.rank;
@@ -161,12 +163,17 @@ pub fn model_spread(
         models.push((id, f.beta, f.rss / (sigma * sigma) + added as f64 * ln_n));
     };
     let answer = chosen.map_or_else(|| au.clone(), |s| hstack(&au, &s.select_rows(used)));
+    // a named answer's factorisation, kept for the pooled error motions beside it
+    let (mut answer_factor, mut answer_score) = (None, base_score);
     let answer_rank = match chosen {
         Some(_) => {
-            let f = fit(&answer, &yu, p);
+            let fa = factor(&answer);
+            let f = fit_on(&fa, &yu, p);
             let rank = f.rank;
+            answer_score = f.rss / (sigma * sigma) + rank.saturating_sub(base_rank) as f64 * ln_n;
             push("answer".into(), answer.ncols(), f);
             push("baseline".into(), p, base);
+            answer_factor = Some(fa);
             rank
         }
         None => {
@@ -207,13 +214,29 @@ pub fn model_spread(
             push(format!("answer+{id}"), with, fw);
         }
     }
-    // the error motions, pooled into one random effect, as one more alternative of a baseline
-    // answer (a named or `unexplained` answer's residual is its effect's or its structure's)
-    let random = (chosen.is_none() && whitener.is_none())
-        .then(|| pooled_fit(&base_factor, &yu, &pooled, used, sigma))
-        .flatten();
+    // the error motions, pooled into one random effect beside the answer's model, as one more
+    // alternative (not with `unexplained`: its residual is the structure's, whitened): what a
+    // named effect leaves of an axis's error motion (a pitch error named as its scale) moves the
+    // location errors too
+    let random = whitener
+        .is_none()
+        .then(|| {
+            pooled_fit(
+                answer_factor.as_ref().unwrap_or(&base_factor),
+                &yu,
+                &pooled,
+                used,
+                sigma,
+            )
+        })
+        .flatten()
+        .map(|mut r| {
+            r.beta = r.beta.rows(0, p).into_owned();
+            r.extra = r.extra.view((0, 0), (p, p)).into_owned();
+            r
+        });
     if let Some(r) = &random {
-        models.push((POOLED_ID.into(), r.beta.clone(), base_score + r.score));
+        models.push((POOLED_ID.into(), r.beta.clone(), answer_score + r.score));
     }
     // prior: half the mass on the answer's model (the diagnosis chose it), the other half
     // shared by the alternatives, the nuisance families together counting as one
@@ -239,7 +262,7 @@ pub fn model_spread(
             }
         }
     }
-    // the pooled model's own covariance beyond the baseline's, at its weight
+    // the pooled model's own covariance beyond the answer's model's, at its weight
     if let Some(r) = &random {
         let w = models
             .iter()

@@ -35,9 +35,9 @@ use crate::toolpath::envelope::golden_min;
 pub struct PooledFit {
     /// Its estimate of the location errors.
     pub beta: DVector<f64>,
-    /// `σ² H (BᵀB + λI)⁻¹ Hᵀ`: its covariance beyond the baseline's (units² of the parameters).
+    /// `σ² H (BᵀB + λI)⁻¹ Hᵀ`: its covariance beyond that of the columns in `fa` (units² of the parameters).
     pub extra: DMatrix<f64>,
-    /// `−2 ln` of its likelihood over the baseline's, plus `ln n` for `τ` (negative: better).
+    /// `−2 ln` of its likelihood over that of the columns in `fa`, plus `ln n` for `τ` (negative: better).
     pub score: f64,
     /// `τ` (mm).
     pub tau: f64,
@@ -47,10 +47,11 @@ pub struct PooledFit {
 /// end (about what 60 steps leave of the 18.4 it starts from).
 const LN_TAU2_TOL: f64 = 1e-11;
 
-/// The pooled random effect of the `families` (their rows `used`) beside the location errors'
-/// columns, factorised in `fa` (on those rows), for the deviations `yu` on those rows, with the
-/// noise `sigma` (mm); `None` when the likelihood does not rise with `τ` or there is nothing to
-/// pool.
+/// The pooled random effect of the `families` (their rows `used`) beside the columns factorised
+/// in `fa` (on those rows: the location errors', or theirs with a named effect's, whose
+/// coefficients follow theirs in `beta` and `extra`), for the deviations `yu` on those rows,
+/// with the noise `sigma` (mm); `None` when the likelihood does not rise with `τ` or there is
+/// nothing to pool.
 pub fn pooled_fit(
     fa: &Factor,
     yu: &DVector<f64>,
