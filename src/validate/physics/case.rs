@@ -6,7 +6,9 @@
 //! - clean parts: nothing else ([`Kind::Clean`]), the part's surface scatter
 //!   ([`Kind::CleanScatter`]), or a scattered part measured 2-5 times ([`Kind::Repeats`]);
 //! - one effect made by the physics of this folder, at a random shape (lag, response, time
-//!   constant, wavelength, ...).
+//!   constant, wavelength, ...); the linear axes' error motions (straightness, cyclic and pitch
+//!   errors) measured from their ISO 230-1 reference ([`PositionError::from_reference`]), so
+//!   that no location error is carried under their name.
 //!
 //! **Sizes.** Each effect's amplitude is set so that its visible structure (the RMS of what the
 //! location errors cannot absorb, given by the caller: the generator knows nothing of the fit) is
@@ -243,10 +245,7 @@ impl Physics {
             tx: x.tx * f,
             ty: x.ty * f,
         };
-        let m = |x: &PositionError| PositionError {
-            law: x.law.scaled(f),
-            ..*x
-        };
+        let m = |x: &PositionError| x.scaled(f);
         match self {
             Physics::None | Physics::Overcut => self.clone(),
             Physics::Backlash { axis, lost } => Physics::Backlash {
@@ -387,11 +386,10 @@ impl Physics {
                 m.radius_error = *d_r0;
                 m.taper = *g;
             }
-            Physics::Scale { axis, k } => m.motions.push(PositionError {
-                component: *axis,
-                axis: *axis,
-                law: Law::Linear { k: *k },
-            }),
+            Physics::Scale { axis, k } => {
+                m.motions
+                    .push(PositionError::new(*axis, *axis, Law::Linear { k: *k }))
+            }
             Physics::CIndex { d_c } => m.c_offset = *d_c,
             Physics::PivotLength { d_l0 } => m.pivot_error = *d_l0,
             Physics::Setup { placement } => meas.placement = Some(*placement),
@@ -681,33 +679,32 @@ impl<'a> Generator<'a> {
                     (0..3).filter(|&i| i != axis).map(|i| linear[i]).collect();
                 let (lo, hi) = self.ranges[axis];
                 Physics::Straightness {
-                    motion: PositionError {
-                        component: across[pick(rng, 2)],
-                        axis: linear[axis],
-                        law: Law::Bow {
+                    motion: PositionError::from_reference(
+                        across[pick(rng, 2)],
+                        linear[axis],
+                        Law::Bow {
                             a: 0.005 * rng.sign(),
                             center: rng.uniform(lo, hi),
                             half_width: BOW_HALF_WIDTH_MM,
                         },
-                    },
+                        (lo, hi),
+                    ),
                 }
             }
             Kind::Cyclic | Kind::Pitch => {
-                let axis = linear[pick(rng, 2)];
+                let i = pick(rng, 2);
+                let axis = linear[i];
                 let wavelength = if kind == Kind::Cyclic {
                     rng.log_uniform(25.0, 100.0)
                 } else {
                     rng.log_uniform(150.0, 600.0)
                 };
-                let motion = PositionError {
-                    component: axis,
-                    axis,
-                    law: Law::Sine {
-                        a: 0.003,
-                        wavelength,
-                        phase: rng.uniform(0.0, 2.0 * PI),
-                    },
+                let law = Law::Sine {
+                    a: 0.003,
+                    wavelength,
+                    phase: rng.uniform(0.0, 2.0 * PI),
                 };
+                let motion = PositionError::from_reference(axis, axis, law, self.ranges[i]);
                 if kind == Kind::Cyclic {
                     Physics::Cyclic { motion }
                 } else {
