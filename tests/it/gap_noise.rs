@@ -16,6 +16,7 @@ use nalgebra::DVector;
 use testpiece::analysis::{fit_points, Diagnosis};
 use testpiece::gap::verdict::VerdictId;
 use testpiece::identify::solve::Factor;
+use testpiece::measurement::noise::{Estimator, NoiseEstimate};
 use testpiece::numerics::random::Sampler;
 use testpiece::part::{builtin_points, SShape};
 use testpiece::validate::{exact_machine_part, machine_errors, ValidateOptions, ValidationModel};
@@ -42,12 +43,20 @@ fn servo_column(name: &str, ids: &[u32]) -> DVector<f64> {
     )
 }
 
-/// `(σ̂/σ, verdict)` of `parts` simulated parts carrying `effect`.
-fn analyse(effect: &DVector<f64>, parts: usize, seed: u64) -> Vec<(f64, VerdictId)> {
+/// The noise estimate and the verdict of `parts` simulated parts carrying `effect`, with white
+/// Gaussian noise `sigma` and the CMM's share `floor` given (or not).
+fn noise_reports(
+    effect: &DVector<f64>,
+    parts: usize,
+    seed: u64,
+    sigma: f64,
+    floor: Option<f64>,
+) -> Vec<(NoiseEstimate, VerdictId)> {
     let part = SShape::iso();
-    let model = ValidationModel::at(&part, &builtin_points(&part))
+    let mut model = ValidationModel::at(&part, &builtin_points(&part))
         .unwrap()
         .without_shapes();
+    model.settings.noise_sigma = floor;
     let n = model.points.len();
     let exact = exact_machine_part(&model.baseline.params).unwrap();
     let ids: Vec<String> = model.measured.iter().map(|p| p.id.to_string()).collect();
@@ -56,7 +65,7 @@ fn analyse(effect: &DVector<f64>, parts: usize, seed: u64) -> Vec<(f64, VerdictI
     (0..parts)
         .map(|_| {
             let xi = machine_errors(&model.baseline.params, &opts, &mut rng);
-            let noise = DVector::from_iterator(n, (0..n).map(|_| SIGMA * rng.normal()));
+            let noise = DVector::from_iterator(n, (0..n).map(|_| sigma * rng.normal()));
             let y = exact(&xi).unwrap() + effect + noise;
             let fit = fit_points(
                 &model.prepared,
@@ -69,8 +78,16 @@ fn analyse(effect: &DVector<f64>, parts: usize, seed: u64) -> Vec<(f64, VerdictI
             let Diagnosis::Made { report, .. } = &fit.diagnosis else {
                 panic!("not diagnosed")
             };
-            (report.structure.noise.used / SIGMA, report.verdict.id())
+            (report.structure.noise.clone(), report.verdict.id())
         })
+        .collect()
+}
+
+/// `(σ̂/σ, verdict)` of `parts` simulated parts carrying `effect` (σ = 1.5 µm, no CMM figure).
+fn analyse(effect: &DVector<f64>, parts: usize, seed: u64) -> Vec<(f64, VerdictId)> {
+    noise_reports(effect, parts, seed, SIGMA, None)
+        .into_iter()
+        .map(|(n, v)| (n.used / SIGMA, v))
         .collect()
 }
 
@@ -130,39 +147,16 @@ fn servo_structure_does_not_raise_sigma() {
 #[test]
 fn the_pooled_sigma_has_the_spread_of_its_dof() {
     let sigma = 0.0025;
-    let part = SShape::iso();
-    let mut model = ValidationModel::at(&part, &builtin_points(&part))
-        .unwrap()
-        .without_shapes();
-    model.settings.noise_sigma = Some(0.00025);
-    let n = model.points.len();
-    let exact = exact_machine_part(&model.baseline.params).unwrap();
-    let ids: Vec<String> = model.measured.iter().map(|p| p.id.to_string()).collect();
-    let opts = ValidateOptions::default();
-    let mut rng = Sampler::new(99);
-    let (mut ratios, mut dofs, mut implausible) = (Vec::new(), Vec::new(), 0);
-    for _ in 0..300 {
-        let xi = machine_errors(&model.baseline.params, &opts, &mut rng);
-        let noise = DVector::from_iterator(n, (0..n).map(|_| sigma * rng.normal()));
-        let y = exact(&xi).unwrap() + noise;
-        let fit = fit_points(
-            &model.prepared,
-            &model.at,
-            y.as_slice(),
-            &ids,
-            &model.settings,
-        )
-        .unwrap();
-        let Diagnosis::Made { report, .. } = &fit.diagnosis else {
-            panic!("not diagnosed")
-        };
-        let ne = &report.structure.noise;
-        if ne.estimator == testpiece::measurement::noise::Estimator::Pooled {
-            ratios.push(ne.estimated / sigma);
-            dofs.push(ne.dof);
-        }
-        implausible += usize::from(ne.implausible);
-    }
+    let n = ids().len();
+    let r = noise_reports(&DVector::zeros(n), 300, 99, sigma, Some(0.00025));
+    let pooled: Vec<&NoiseEstimate> = r
+        .iter()
+        .map(|(e, _)| e)
+        .filter(|e| e.estimator == Estimator::Pooled)
+        .collect();
+    let ratios: Vec<f64> = pooled.iter().map(|e| e.estimated / sigma).collect();
+    let dofs: Vec<f64> = pooled.iter().map(|e| e.dof).collect();
+    let implausible = r.iter().filter(|(e, _)| e.implausible).count();
     let m = ratios.len() as f64;
     let mean = ratios.iter().sum::<f64>() / m;
     let spread = (ratios.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (m - 1.0)).sqrt();
