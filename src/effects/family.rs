@@ -18,7 +18,7 @@ use nalgebra::DMatrix;
 use crate::effects::effect::warm_up_paused;
 use crate::machine::AxisName;
 use crate::parameter::Shape;
-use crate::sensitivity::reversal::{lagged_column_at, GridSpot, Lag};
+use crate::sensitivity::reversal::{lagged_column_at, GridSpots, Lag};
 
 /// The signatures of a family: the diagnosis fits the amplitude linearly at each member and
 /// keeps the best shape.
@@ -51,7 +51,7 @@ pub enum Members {
 pub struct LagMembers {
     pub lags: Arc<Vec<[Lag; 2]>>,
     pub axis: AxisName,
-    pub spots: Arc<Vec<GridSpot>>,
+    pub spots: Arc<GridSpots>,
     pub gain: Vec<f64>,
 }
 
@@ -61,7 +61,7 @@ pub struct LagMembers {
 #[derive(Debug, Clone, PartialEq)]
 pub struct LagBasis {
     pub lags: Arc<Vec<[Lag; 2]>>,
-    pub spots: Arc<Vec<GridSpot>>,
+    pub spots: Arc<GridSpots>,
     pub gains: Vec<(AxisName, Vec<f64>)>,
 }
 
@@ -93,7 +93,7 @@ impl LagMembers {
         Self {
             lags: self.lags.clone(),
             axis: self.axis,
-            spots: Arc::new(rows.iter().map(|&i| self.spots[i]).collect()),
+            spots: Arc::new(self.spots.select_rows(rows)),
             gain: rows.iter().map(|&i| self.gain[i]).collect(),
         }
     }

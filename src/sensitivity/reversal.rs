@@ -26,6 +26,8 @@
 //! rigid tool motion evaluated where the tool touches the wall), `N` the normal of the mode
 //! ([`super`]). Units: mm, rad.
 
+use std::collections::HashMap;
+
 use crate::machine::direct::jacobian_body_point;
 use crate::machine::inverse::RotaryPair;
 use crate::machine::rates::axis_rates;
@@ -776,43 +778,113 @@ pub fn lagged_columns(
     lagged_columns_at(lags, &grid_spots(lags, part, points), gains)
 }
 
-/// Where a point falls on the reversal grid of its surface's pass: `k` the first sample at or
-/// after its `u`, `t` its fraction between samples `k − 1` and `k`, `s` their tool-tip path
-/// lengths (mm). The same for every lag of the passes (their lengths are the passes').
+/// Where a point falls on the reversal grid of its surface's pass: `t` its fraction between the
+/// samples `k − 1` and `k` around it (`k` the first sample at or after its `u`); the places a lag
+/// is evaluated at for it, indices into [`GridSpots`]' sites: a first-order lag at the samples
+/// `k − 1` and `k` (`linear`), a ringing one at the point's own path length on step `k`
+/// (`ringing`). The same for every lag of the passes (their lengths are the passes').
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GridSpot {
     /// The point's surface: 0 for A, 1 for B.
     surface: usize,
-    k: usize,
     t: f64,
-    s: [f64; 2],
+    linear: [usize; 2],
+    ringing: usize,
 }
 
-/// The [`GridSpot`] of each point on the passes of `lags` (one arc-length evaluation pair a
+/// A place a lag is evaluated at: the surface's pass, the grid step `k` whose segment holds it,
+/// and the tool-tip path length `s` (mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Site {
+    surface: usize,
+    k: usize,
+    s: f64,
+}
+
+/// The [`GridSpot`] of each point and the distinct [`Site`]s they need: a scan's heights share
+/// their rulings' `u`, so 20,000 points of 40 heights need about 1,000 sites.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct GridSpots {
+    spots: Vec<GridSpot>,
+    linear: Vec<Site>,
+    ringing: Vec<Site>,
+}
+
+impl GridSpots {
+    /// The number of points.
+    pub fn len(&self) -> usize {
+        self.spots.len()
+    }
+
+    /// Whether there is no point.
+    pub fn is_empty(&self) -> bool {
+        self.spots.is_empty()
+    }
+
+    /// The points `rows` (in that order), with every site kept.
+    pub fn select_rows(&self, rows: &[usize]) -> Self {
+        Self {
+            spots: rows.iter().map(|&i| self.spots[i]).collect(),
+            linear: self.linear.clone(),
+            ringing: self.ringing.clone(),
+        }
+    }
+}
+
+/// The index of `site` in `sites`, pushed when new (`seen`: the sites so far by their bits).
+fn site_index(
+    sites: &mut Vec<Site>,
+    seen: &mut HashMap<(usize, usize, u64), usize>,
+    site: Site,
+) -> usize {
+    *seen
+        .entry((site.surface, site.k, site.s.to_bits()))
+        .or_insert_with(|| {
+            sites.push(site);
+            sites.len() - 1
+        })
+}
+
+/// The [`GridSpots`] of the points on the passes of `lags` (one arc-length evaluation pair a
 /// point, shared by every lag of a family).
-pub fn grid_spots(lags: &[Lag; 2], part: &SShape, points: &[MeasurementPoint]) -> Vec<GridSpot> {
-    points
-        .iter()
-        .map(|pt| {
-            let surface = if pt.surface == Surface::A { 0 } else { 1 };
-            let p = &lags[surface];
-            // Linear interpolation in u between the grid samples around the point (the
-            // reference's convention; the exact lag from sample k-1 differs by < 1e-4
-            // relative): k the first sample at or after u.
-            let k = grid_after(pt.u);
-            let (u0, u1) = (grid_u(k - 1), grid_u(k));
-            GridSpot {
+pub fn grid_spots(lags: &[Lag; 2], part: &SShape, points: &[MeasurementPoint]) -> GridSpots {
+    let mut out = GridSpots::default();
+    let (mut seen_linear, mut seen_ringing) = (HashMap::new(), HashMap::new());
+    for pt in points {
+        let surface = if pt.surface == Surface::A { 0 } else { 1 };
+        let p = &lags[surface];
+        // Linear interpolation in u between the grid samples around the point (the
+        // reference's convention; the exact lag from sample k-1 differs by < 1e-4
+        // relative): k the first sample at or after u.
+        let k = grid_after(pt.u);
+        let (u0, u1) = (grid_u(k - 1), grid_u(k));
+        let t = (pt.u - u0) / (u1 - u0);
+        let s = [p.length.at(part, u0), p.length.at(part, u1)];
+        let mut linear = |k: usize, s: f64| {
+            site_index(&mut out.linear, &mut seen_linear, Site { surface, k, s })
+        };
+        let linear = [linear(k - 1, s[0]), linear(k, s[1])];
+        let ringing = site_index(
+            &mut out.ringing,
+            &mut seen_ringing,
+            Site {
                 surface,
                 k,
-                t: (pt.u - u0) / (u1 - u0),
-                s: [p.length.at(part, u0), p.length.at(part, u1)],
-            }
-        })
-        .collect()
+                s: s[0] * (1.0 - t) + s[1] * t,
+            },
+        );
+        out.spots.push(GridSpot {
+            surface,
+            t,
+            linear,
+            ringing,
+        });
+    }
+    out
 }
 
 /// [`lagged_columns`] at the points' [`grid_spots`] on these passes.
-pub fn lagged_columns_at(lags: &[Lag; 2], spots: &[GridSpot], gains: &[Vec<f64>]) -> Vec<Vec<f64>> {
+pub fn lagged_columns_at(lags: &[Lag; 2], spots: &GridSpots, gains: &[Vec<f64>]) -> Vec<Vec<f64>> {
     (0..lags[0].axes.len())
         .map(|a| lagged_column_at(lags, a, spots, &gains[a]))
         .collect()
@@ -822,16 +894,32 @@ pub fn lagged_columns_at(lags: &[Lag; 2], spots: &[GridSpot], gains: &[Vec<f64>]
 /// ([`Lag::zeta`]) is evaluated once a point, at the point's path length on its step (the step's
 /// segment: a turn at step `k` starts at sample `k − 1`), not interpolated between the samples:
 /// its closed form costs a sine and a cosine (at a scan's 20,000 points, 54 members a family),
-/// and the two agree to the curvature of the settling over one grid step (~0.014 mm).
-pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &[GridSpot], gain: &[f64]) -> Vec<f64> {
+/// and the two agree to the curvature of the settling over one grid step (~0.014 mm). Each
+/// distinct site of [`GridSpots`] is evaluated once (the heights of a scan share them).
+pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &GridSpots, gain: &[f64]) -> Vec<f64> {
+    // the offsets at the sites of the surfaces whose lag is of that kind
+    let at = |sites: &[Site], ringing: bool| -> Vec<f64> {
+        sites
+            .iter()
+            .map(|x| {
+                let p = &lags[x.surface];
+                if p.zeta.is_some() == ringing {
+                    p.offset(a, x.k, x.s)
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    };
+    let (linear, ringing) = (at(&spots.linear, false), at(&spots.ringing, true));
     spots
+        .spots
         .iter()
         .zip(gain)
         .map(|(g, &gain)| {
-            let p = &lags[g.surface];
-            let e_pt = match p.zeta {
-                None => p.offset(a, g.k - 1, g.s[0]) * (1.0 - g.t) + p.offset(a, g.k, g.s[1]) * g.t,
-                Some(_) => p.offset(a, g.k, g.s[0] * (1.0 - g.t) + g.s[1] * g.t),
+            let e_pt = match lags[g.surface].zeta {
+                None => linear[g.linear[0]] * (1.0 - g.t) + linear[g.linear[1]] * g.t,
+                Some(_) => ringing[g.ringing],
             };
             e_pt * gain
         })
@@ -948,6 +1036,47 @@ mod tests {
         let t = hermite_root(0.0, 0.4, -0.6, 1.4).unwrap();
         assert!((t - 0.3).abs() < 1e-12, "{t}");
         assert!(hermite_root(0.0, 1.0, 1.0, 1.0).is_none());
+    }
+
+    /// Points that share their grid samples (the built-in 100 twice, as a scan's heights share
+    /// their rulings) share their sites: the sites of one copy serve both, and each point's value,
+    /// first-order and ringing, is the lag evaluated at that point alone (exactly: the same
+    /// arithmetic).
+    #[test]
+    fn points_on_the_same_samples_share_their_sites() {
+        let part = SShape::iso();
+        let opts = SensitivityOptions::default();
+        let axes = [AxisName::X, AxisName::C];
+        let points = crate::part::builtin_points(&part);
+        let twice: Vec<MeasurementPoint> = points.iter().chain(&points).cloned().collect();
+        let p = passes(&part, &opts).unwrap();
+        for zeta in [None, Some(0.4)] {
+            let lags = [
+                Lag::with_settling(&part, &p[0], &axes, 3.0, zeta),
+                Lag::with_settling(&part, &p[1], &axes, 3.0, zeta),
+            ];
+            let one = grid_spots(&lags, &part, &points);
+            let two = grid_spots(&lags, &part, &twice);
+            assert_eq!(
+                (two.linear.len(), two.ringing.len()),
+                (one.linear.len(), one.ringing.len())
+            );
+            assert!(one.ringing.len() <= points.len() && one.linear.len() <= 2 * points.len());
+            let gain = vec![1.0; twice.len()];
+            let col = lagged_column_at(&lags, 1, &two, &gain);
+            for (i, pt) in twice.iter().enumerate() {
+                let l = &lags[usize::from(pt.surface != Surface::A)];
+                let k = grid_after(pt.u);
+                let (u0, u1) = (grid_u(k - 1), grid_u(k));
+                let t = (pt.u - u0) / (u1 - u0);
+                let (s0, s1) = (l.length.at(&part, u0), l.length.at(&part, u1));
+                let want = match zeta {
+                    None => l.offset(1, k - 1, s0) * (1.0 - t) + l.offset(1, k, s1) * t,
+                    Some(_) => l.offset(1, k, s0 * (1.0 - t) + s1 * t),
+                };
+                assert_eq!(col[i], want, "point {i}");
+            }
+        }
     }
 
     #[test]
