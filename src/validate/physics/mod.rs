@@ -20,9 +20,10 @@
 //! (`tests/it/validate_physics.rs` reads these files and checks it). How much of a deviation the
 //! location errors absorb is given by the caller ([`case::Visible`]).
 //!
-//! **Seeds.** Seeds 1-3 are the DEVELOPMENT seeds: every decision constant of the product may be
-//! tuned on them. Seeds 101-103 are HELD OUT: they are scored only once every constant is frozen,
-//! and their figures are the ones that count.
+//! **Seeds.** Seeds 1-6 are the DEVELOPMENT seeds: every decision constant of the product may be
+//! tuned on them. Every other seed is HELD OUT: it is scored only once every constant is frozen,
+//! once, and its figures are the ones that count (101-103 first; each later round on fresh
+//! seeds, BENCHMARKS.md).
 //!
 //! Units: mm, rad, seconds (the loops), minutes (the warm-up), mm/min (feeds).
 
