@@ -151,7 +151,9 @@ pub fn model_spread(
     let base_factor = factor(&au);
     let base = fit_on(&base_factor, &yu, p);
     let base_rank = base.rank;
-    let base_score = base.rss / (sigma * sigma);
+    // a model's BIC: its RSS over σ², `ln n` for each column it adds to the location errors'
+    let bic = |f: &Fit| f.rss / (sigma * sigma) + f.rank.saturating_sub(base_rank) as f64 * ln_n;
+    let mut answer_score = bic(&base);
     // (id, estimate, BIC) of every model; the answer's own first
     let mut models: Vec<(String, DVector<f64>, f64)> = Vec::new();
     // a model of `cols` columns on the `n` rows
@@ -159,18 +161,18 @@ pub fn model_spread(
         if n <= cols {
             return;
         }
-        let added = f.rank.saturating_sub(base_rank);
-        models.push((id, f.beta, f.rss / (sigma * sigma) + added as f64 * ln_n));
+        let score = bic(&f);
+        models.push((id, f.beta, score));
     };
     let answer = chosen.map_or_else(|| au.clone(), |s| hstack(&au, &s.select_rows(used)));
     // a named answer's factorisation, kept for the pooled error motions beside it
-    let (mut answer_factor, mut answer_score) = (None, base_score);
+    let mut answer_factor = None;
     let answer_rank = match chosen {
         Some(_) => {
             let fa = factor(&answer);
             let f = fit_on(&fa, &yu, p);
             let rank = f.rank;
-            answer_score = f.rss / (sigma * sigma) + rank.saturating_sub(base_rank) as f64 * ln_n;
+            answer_score = bic(&f);
             push("answer".into(), answer.ncols(), f);
             push("baseline".into(), p, base);
             answer_factor = Some(fa);

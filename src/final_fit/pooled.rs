@@ -20,7 +20,8 @@
 //! `β̂ = β̂_OLS − H (BᵀB + λI)⁻¹ Bᵀr`, `Cov β̂ = σ²(AᵀA)⁻¹ + σ² H (BᵀB + λI)⁻¹ Hᵀ`,
 //! `H = (AᵀA)⁻¹AᵀU`,
 //!
-//! and its BIC-like score against the baseline is the likelihood's gain plus `ln n` for `τ`.
+//! and its BIC-like score against the model of `A` alone is the likelihood's gain plus `ln n`
+//! for `τ`. `A` is the location errors' columns, or theirs with a named effect's.
 //! The second term of the covariance is what an error motion of the size the part shows could
 //! move the location errors by, seen or not: the spread adds it, weighted.
 
@@ -35,9 +36,11 @@ use crate::toolpath::envelope::golden_min;
 pub struct PooledFit {
     /// Its estimate of the location errors.
     pub beta: DVector<f64>,
-    /// `σ² H (BᵀB + λI)⁻¹ Hᵀ`: its covariance beyond that of the columns in `fa` (units² of the parameters).
+    /// `σ² H (BᵀB + λI)⁻¹ Hᵀ`: its covariance beyond that of the columns in `fa` (units² of the
+    /// parameters).
     pub extra: DMatrix<f64>,
-    /// `−2 ln` of its likelihood over that of the columns in `fa`, plus `ln n` for `τ` (negative: better).
+    /// `−2 ln` of its likelihood over that of the columns in `fa`, plus `ln n` for `τ`
+    /// (negative: better).
     pub score: f64,
     /// `τ` (mm).
     pub tau: f64,

@@ -128,10 +128,11 @@ impl PositionError {
             let q: Vec<f64> = (0..REFERENCE_SAMPLES)
                 .map(|i| lo + (hi - lo) * i as f64 / (m - 1.0))
                 .collect();
+            let v: Vec<f64> = q.iter().map(|&x| law.at(x)).collect();
             let qm = q.iter().sum::<f64>() / m;
-            let vm = q.iter().map(|&x| law.at(x)).sum::<f64>() / m;
+            let vm = v.iter().sum::<f64>() / m;
             let sqq: f64 = q.iter().map(|x| (x - qm).powi(2)).sum();
-            let sqv: f64 = q.iter().map(|&x| (x - qm) * (law.at(x) - vm)).sum();
+            let sqv: f64 = q.iter().zip(&v).map(|(x, y)| (x - qm) * (y - vm)).sum();
             let c1 = if sqq > 0.0 { sqv / sqq } else { 0.0 };
             [vm - c1 * qm, c1]
         };
