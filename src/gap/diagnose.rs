@@ -19,7 +19,7 @@ use crate::identify::solve::{max_abs, rms, Factor};
 use crate::measurement::layout::curve_degree;
 use crate::measurement::noise::NoiseInputs;
 use crate::measurement::noise::{
-    periodogram_sigma, projected_whiteness, second_difference_sigma, sinusoid_free_sigma_on,
+    periodogram_sigma_on, projected_whiteness_on, second_difference_sigma, sinusoid_free_sigma_on,
     SmoothResidual, LJUNG_BOX_LAGS, NOT_WHITE_P,
 };
 use crate::measurement::ruling_pairs::pair_sigma;
@@ -122,14 +122,24 @@ pub fn diagnose_with_smooth(
         .zip(&smooth_seqs)
         .map(|(idx, x)| (idx.iter().map(|&i| s_path[i]).collect(), x.clone()))
         .collect();
-    let whiteness_p = projected_whiteness(&curves, &sfactor.basis, &sresid, LJUNG_BOX_LAGS)
-        .map_or(1.0, |w| w.p_value);
+    let whiteness_p = projected_whiteness_on(
+        &curves,
+        &sfactor.basis,
+        &sresid,
+        LJUNG_BOX_LAGS,
+        opts.threads,
+    )
+    .map_or(1.0, |w| w.p_value);
     let smooth_residual = SmoothResidual {
         sigma: sm,
         robust: sm_robust,
         second_difference: second_difference_sigma(&smooth_seqs) * (nf / sdof as f64).sqrt(),
         // the frequencies the curve's smooth basis (degree d: d + 1 columns) removed
-        periodogram: periodogram_sigma(&smooth_at, |m| (curve_degree(m, SMOOTH_DEGREE) + 2) / 2),
+        periodogram: periodogram_sigma_on(
+            &smooth_at,
+            |m| (curve_degree(m, SMOOTH_DEGREE) + 2) / 2,
+            opts.threads,
+        ),
         // only read when the residual is not white (the frequency search costs a few ms)
         sinusoid_free: (whiteness_p < NOT_WHITE_P)
             .then(|| {

@@ -390,79 +390,97 @@ pub const PHASE_REFRESH: usize = 64;
 /// sequence removed (they are deflated). `None` with fewer than 5 ordinates.
 pub fn periodogram_sigma(
     seqs: &[(Vec<f64>, Vec<f64>)],
-    skip: impl Fn(usize) -> usize,
+    skip: impl Fn(usize) -> usize + Sync,
 ) -> Option<f64> {
-    use std::f64::consts::PI;
-    let mut ords = Vec::new();
-    for (t, x) in seqs {
-        let m = x.len();
-        if m < 4 {
-            continue;
-        }
-        let (t0, t1) = t
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
-        let span = t1 - t0;
-        if span <= 0.0 {
-            continue;
-        }
-        // half a mean spacing beyond each end, so the end points keep some weight
-        let pad = 0.5 * span / (m - 1) as f64;
-        let w: Vec<f64> = t
-            .iter()
-            .map(|&v| 0.5 - 0.5 * (2.0 * PI * (v - t0 + pad) / (span + 2.0 * pad)).cos())
-            .collect();
-        // The phases `k θ_j` (θ_j = 2π(t_j − t₀ + pad)/(T + 2 pad): the ordinates do not depend
-        // on the origin of `t`, `τ` takes it up) by rotation from one frequency to the next,
-        // `e^{i(k+1)θ} = e^{ikθ}·e^{iθ}`, set afresh every [`PHASE_REFRESH`] frequencies: one
-        // complex product a point instead of three sines and cosines (20,000 points: 0.1 s of
-        // the diagnosis, issue 31; the ordinates equal the direct sums to ~1e-13 relative).
-        let period = span + 2.0 * pad;
-        let theta: Vec<f64> = t
-            .iter()
-            .map(|&v| 2.0 * PI * (v - t0 + pad) / period)
-            .collect();
-        let step: Vec<(f64, f64)> = theta.iter().map(|th| th.sin_cos()).collect();
-        let mut rot: Vec<(f64, f64)> = Vec::new();
-        let w2: Vec<f64> = w.iter().map(|v| v * v).collect();
-        let first = skip(m) + 1;
-        for k in first..m.div_ceil(2) {
-            if (k - first) % PHASE_REFRESH == 0 {
-                rot = theta.iter().map(|th| (k as f64 * th).sin_cos()).collect();
-            } else {
-                for (r, (s1, c1)) in rot.iter_mut().zip(&step) {
-                    *r = (r.0 * c1 + r.1 * s1, r.1 * c1 - r.0 * s1);
-                }
-            }
-            let (mut s2, mut c2) = (0.0, 0.0);
-            for ((sn, cs), wj2) in rot.iter().zip(&w2) {
-                s2 += wj2 * 2.0 * sn * cs;
-                c2 += wj2 * (cs * cs - sn * sn);
-            }
-            // ω τ, and the rotation of every phase by it
-            let (sp, cp) = (0.5 * s2.atan2(c2)).sin_cos();
-            let (mut xc, mut xs, mut cc, mut ss) = (0.0, 0.0, 0.0, 0.0);
-            for (((s0, c0), wj), xj) in rot.iter().zip(&w).zip(x) {
-                let cs = c0 * cp + s0 * sp;
-                let sn = s0 * cp - c0 * sp;
-                xc += wj * xj * cs;
-                xs += wj * xj * sn;
-                cc += wj * wj * cs * cs;
-                ss += wj * wj * sn * sn;
-            }
-            if cc > 0.0 && ss > 0.0 {
-                ords.push(0.5 * (xc * xc / cc + xs * xs / ss));
-            }
-        }
-    }
+    periodogram_sigma_on(seqs, skip, Threads::ONE)
+}
+
+/// [`periodogram_sigma`], the sequences side by side on `threads` threads: the same number (the
+/// ordinates are sorted before their quantile is read).
+pub fn periodogram_sigma_on(
+    seqs: &[(Vec<f64>, Vec<f64>)],
+    skip: impl Fn(usize) -> usize + Sync,
+    threads: Threads,
+) -> Option<f64> {
+    let mut ords: Vec<f64> = map(threads, seqs, |(t, x)| ordinates(t, x, &skip))
+        .into_iter()
+        .flatten()
+        .collect();
     if ords.len() < 5 {
         return None;
     }
     ords.sort_by(f64::total_cmp);
     let q = quantile_sorted(&ords, PERIODOGRAM_QUANTILE);
     Some((q / -(1.0 - PERIODOGRAM_QUANTILE).ln()).sqrt())
+}
+
+/// The ordinates of one sequence of [`periodogram_sigma`] (none below 4 values or on a zero
+/// span).
+fn ordinates(t: &[f64], x: &[f64], skip: &impl Fn(usize) -> usize) -> Vec<f64> {
+    use std::f64::consts::PI;
+    let mut ords = Vec::new();
+    let m = x.len();
+    if m < 4 {
+        return ords;
+    }
+    let (t0, t1) = t
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let span = t1 - t0;
+    if span <= 0.0 {
+        return ords;
+    }
+    // half a mean spacing beyond each end, so the end points keep some weight
+    let pad = 0.5 * span / (m - 1) as f64;
+    let w: Vec<f64> = t
+        .iter()
+        .map(|&v| 0.5 - 0.5 * (2.0 * PI * (v - t0 + pad) / (span + 2.0 * pad)).cos())
+        .collect();
+    // The phases `k θ_j` (θ_j = 2π(t_j − t₀ + pad)/(T + 2 pad): the ordinates do not depend
+    // on the origin of `t`, `τ` takes it up) by rotation from one frequency to the next,
+    // `e^{i(k+1)θ} = e^{ikθ}·e^{iθ}`, set afresh every [`PHASE_REFRESH`] frequencies: one
+    // complex product a point instead of three sines and cosines (20,000 points: 0.1 s of
+    // the diagnosis, issue 31; the ordinates equal the direct sums to ~1e-13 relative).
+    let period = span + 2.0 * pad;
+    let theta: Vec<f64> = t
+        .iter()
+        .map(|&v| 2.0 * PI * (v - t0 + pad) / period)
+        .collect();
+    let step: Vec<(f64, f64)> = theta.iter().map(|th| th.sin_cos()).collect();
+    let mut rot: Vec<(f64, f64)> = Vec::new();
+    let w2: Vec<f64> = w.iter().map(|v| v * v).collect();
+    let first = skip(m) + 1;
+    for k in first..m.div_ceil(2) {
+        if (k - first) % PHASE_REFRESH == 0 {
+            rot = theta.iter().map(|th| (k as f64 * th).sin_cos()).collect();
+        } else {
+            for (r, (s1, c1)) in rot.iter_mut().zip(&step) {
+                *r = (r.0 * c1 + r.1 * s1, r.1 * c1 - r.0 * s1);
+            }
+        }
+        let (mut s2, mut c2) = (0.0, 0.0);
+        for ((sn, cs), wj2) in rot.iter().zip(&w2) {
+            s2 += wj2 * 2.0 * sn * cs;
+            c2 += wj2 * (cs * cs - sn * sn);
+        }
+        // ω τ, and the rotation of every phase by it
+        let (sp, cp) = (0.5 * s2.atan2(c2)).sin_cos();
+        let (mut xc, mut xs, mut cc, mut ss) = (0.0, 0.0, 0.0, 0.0);
+        for (((s0, c0), wj), xj) in rot.iter().zip(&w).zip(x) {
+            let cs = c0 * cp + s0 * sp;
+            let sn = s0 * cp - c0 * sp;
+            xc += wj * xj * cs;
+            xs += wj * xj * sn;
+            cc += wj * wj * cs * cs;
+            ss += wj * wj * sn * sn;
+        }
+        if cc > 0.0 && ss > 0.0 {
+            ords.push(0.5 * (xc * xc / cc + xs * xs / ss));
+        }
+    }
+    ords
 }
 
 /// Noise σ of a least-squares residual once the strongest sinusoid along each curve is added to
@@ -794,6 +812,24 @@ pub fn projected_whiteness(
     r: &nalgebra::DVector<f64>,
     lags: usize,
 ) -> Option<ProjectedWhiteness> {
+    projected_whiteness_on(curves, basis, r, lags, Threads::ONE)
+}
+
+/// Columns of `A_k B` formed at a time in [`projected_whiteness_on`]: 16 columns of a
+/// 200,000-point scan are 26 MB, where the whole `A_k B` of its 64 would be 100 MB a lag.
+const WHITENESS_BLOCK: usize = 16;
+
+/// [`projected_whiteness`], the lags side by side on `threads` threads: the same numbers (each
+/// lag's sums are taken in the same order whatever the threads). `A_k B` is formed
+/// [`WHITENESS_BLOCK`] columns at a time; `Bᵀ A_k B` a block of columns at a time is the same
+/// blocked product, column for column.
+pub fn projected_whiteness_on(
+    curves: &[Vec<usize>],
+    basis: &nalgebra::DMatrix<f64>,
+    r: &nalgebra::DVector<f64>,
+    lags: usize,
+    threads: Threads,
+) -> Option<ProjectedWhiteness> {
     let n = r.len();
     let p = basis.ncols();
     let tr_m = n as f64 - p as f64;
@@ -815,33 +851,52 @@ pub fn projected_whiteness(
             }
         }
     };
-    let mut z = Vec::with_capacity(lags);
-    let mut col = vec![0.0; n];
+    // Bᵀ in place on B's column-major storage (entry (j, i) at i + j·n): no 100 MB copy at
+    // 200,000 points; the product reads it through its strides as it read the copy
+    let bt = nalgebra::DMatrixView::from_slice_with_strides(basis.as_slice(), p, n, n, 1);
     let rv: Vec<f64> = r.iter().copied().collect();
-    for k in 1..=lags {
+    // lag k's z, `None` past the curves' length or where its variance vanishes
+    let z_of = |&k: &usize| -> Option<f64> {
         let pairs: usize = curves.iter().map(|c| c.len().saturating_sub(k)).sum();
         if pairs == 0 {
-            break;
+            return None;
         }
-        // A_k B, column by column
-        let mut akb = nalgebra::DMatrix::zeros(n, p);
-        for c in 0..p {
-            let b: Vec<f64> = basis.column(c).iter().copied().collect();
-            shift(&b, k, &mut col);
-            akb.column_mut(c).copy_from_slice(&col);
+        // A_k B a block of columns at a time; Bᵀ A_k B and ‖A_k B‖_F² from the blocks
+        let mut col = vec![0.0; n];
+        let mut bt_akb = nalgebra::DMatrix::zeros(p, p);
+        let mut akb_norm2 = 0.0;
+        let mut start = 0;
+        while start < p {
+            // a last block of at least 6 columns: the blocked product's path (matrixmultiply
+            // above 5 rows and columns, nalgebra's own below), as for the whole `Bᵀ A_k B`
+            let w = if p - start <= WHITENESS_BLOCK + 5 {
+                p - start
+            } else {
+                WHITENESS_BLOCK
+            };
+            let mut akb = nalgebra::DMatrix::zeros(n, w);
+            for c in 0..w {
+                let b: Vec<f64> = basis.column(start + c).iter().copied().collect();
+                shift(&b, k, &mut col);
+                akb.column_mut(c).copy_from_slice(&col);
+                akb_norm2 += akb.column(c).norm_squared();
+            }
+            bt_akb.columns_mut(start, w).gemm(1.0, &bt, &akb, 0.0);
+            start += w;
         }
         // tr(A_k M) = −tr(Bᵀ A_k B); ‖A_k‖_F² = pairs/2
-        let bt_akb = basis.transpose() * &akb;
         let tr_am = -bt_akb.trace();
-        let tr_amam = 0.5 * pairs as f64 - 2.0 * akb.norm_squared() + bt_akb.norm_squared();
+        let tr_amam = 0.5 * pairs as f64 - 2.0 * akb_norm2 + bt_akb.norm_squared();
         shift(&rv, k, &mut col);
         let c_k: f64 = rv.iter().zip(&col).map(|(a, b)| a * b).sum();
         let var = 2.0 * s2 * s2 * tr_amam;
-        if var <= 0.0 {
-            continue;
-        }
-        z.push((c_k - s2 * tr_am) / var.sqrt());
-    }
+        (var > 0.0).then(|| (c_k - s2 * tr_am) / var.sqrt())
+    };
+    // the lags up to the first without any pair (the curves' length is a lag's only bound)
+    let within: Vec<usize> = (1..=lags)
+        .take_while(|&k| curves.iter().any(|c| c.len() > k))
+        .collect();
+    let z: Vec<f64> = map(threads, &within, z_of).into_iter().flatten().collect();
     if z.is_empty() {
         return None;
     }
@@ -1158,6 +1213,68 @@ mod tests {
         let f = crate::identify::solve::Factor::new(&x, None);
         let r = f.unabsorbed_vec(&DVector::from_column_slice(y));
         (f.basis, r)
+    }
+
+    /// The lags' sums of [`projected_whiteness_on`], `A_k B` formed 16 columns at a time and the
+    /// lags shared out, equal to the whole products bit for bit: 4 curves of 25 points, a basis
+    /// of 36 columns (blocks of 16 and 20, the last kept above 5 columns), on 1 and 2 threads.
+    #[test]
+    fn the_whiteness_sums_in_blocks_are_the_whole_products() {
+        let (curves, t) = uneven(3);
+        let mut rng = crate::numerics::random::Sampler::new(4);
+        let y: Vec<f64> = t.iter().map(|_| rng.normal()).collect();
+        let (b, r) = project(&curves, &t, 8, &y);
+        assert_eq!(b.ncols(), 36);
+        let (n, p) = b.shape();
+        let s2 = r.norm_squared() / (n - p) as f64;
+        // the sums of the whole n × p product A_k B, lag by lag
+        let whole: Vec<f64> = (1..=LJUNG_BOX_LAGS)
+            .map(|k| {
+                let mut akb = DMatrix::zeros(n, p);
+                let mut ar = vec![0.0; n];
+                for idx in &curves {
+                    for w in idx.windows(k + 1) {
+                        let (i, j) = (w[0], w[k]);
+                        for c in 0..p {
+                            akb[(i, c)] += 0.5 * b[(j, c)];
+                            akb[(j, c)] += 0.5 * b[(i, c)];
+                        }
+                        ar[i] += 0.5 * r[j];
+                        ar[j] += 0.5 * r[i];
+                    }
+                }
+                let pairs: usize = curves.iter().map(|c| c.len() - k).sum();
+                let bt_akb = b.transpose() * &akb;
+                let tr_am = -bt_akb.trace();
+                let tr_amam = 0.5 * pairs as f64 - 2.0 * akb.norm_squared() + bt_akb.norm_squared();
+                let c_k: f64 = r.iter().zip(&ar).map(|(a, b)| a * b).sum();
+                (c_k - s2 * tr_am) / (2.0 * s2 * s2 * tr_amam).sqrt()
+            })
+            .collect();
+        for threads in [Threads::ONE, Threads::new(2)] {
+            let w = projected_whiteness_on(&curves, &b, &r, LJUNG_BOX_LAGS, threads).unwrap();
+            let bits = |z: &[f64]| z.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&w.z), bits(&whole), "{threads:?}");
+        }
+    }
+
+    /// The periodogram's σ on 2 threads is the one on 1, bit for bit (its ordinates are sorted
+    /// before the quantile).
+    #[test]
+    fn the_periodogram_is_the_same_on_two_threads() {
+        let (curves, t) = uneven(5);
+        let mut rng = crate::numerics::random::Sampler::new(6);
+        let seqs: Vec<(Vec<f64>, Vec<f64>)> = curves
+            .iter()
+            .map(|idx| {
+                let ts: Vec<f64> = idx.iter().map(|&i| t[i]).collect();
+                let x = ts.iter().map(|v| (v / 40.0).sin() + rng.normal()).collect();
+                (ts, x)
+            })
+            .collect();
+        let one = periodogram_sigma_on(&seqs, |_| 3, Threads::ONE).unwrap();
+        let two = periodogram_sigma_on(&seqs, |_| 3, Threads::new(2)).unwrap();
+        assert_eq!(one.to_bits(), two.to_bits());
     }
 
     #[test]
