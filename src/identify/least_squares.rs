@@ -609,24 +609,25 @@ fn per_curve_statistics(
     fitted: &[f64],
     mape_floor: f64,
 ) -> Vec<CurveStats> {
-    let mut curves: Vec<String> = Vec::new();
+    // the used points of each curve, the curves in the order they first appear (one pass: a
+    // scan has hundreds of lines)
+    let mut order: Vec<(&str, Vec<usize>)> = Vec::new();
+    let mut at: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
     for &i in used {
-        if !curves.contains(&obs.curves[i]) {
-            curves.push(obs.curves[i].clone());
-        }
+        let c = obs.curves[i].as_str();
+        let k = *at.entry(c).or_insert_with(|| {
+            order.push((c, Vec::new()));
+            order.len() - 1
+        });
+        order[k].1.push(i);
     }
-    curves
+    order
         .into_iter()
-        .map(|c| {
-            let idx: Vec<usize> = used
-                .iter()
-                .copied()
-                .filter(|&i| obs.curves[i] == c)
-                .collect();
+        .map(|(c, idx)| {
             let m: Vec<f64> = idx.iter().map(|&i| obs.deviation[i]).collect();
             let ft: Vec<f64> = idx.iter().map(|&i| fitted[i]).collect();
             CurveStats {
-                curve: c,
+                curve: c.to_string(),
                 stats: ResidualStats::of(&m, &ft, mape_floor),
             }
         })
