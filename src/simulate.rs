@@ -17,6 +17,7 @@ use nalgebra::DMatrix;
 use crate::identify::refine::ModelError;
 use crate::identify::{Design, IdentifyError};
 use crate::machine::{AxisValues, Branch, ErrorParam, MachineErrors};
+use crate::numerics::parallel::{map, Threads};
 use crate::parameter::ParamId;
 use crate::part::{builtin_points, MeasurementPoint, SShape};
 use crate::sensitivity::defect::{axis_values, DefectPoses};
@@ -96,6 +97,8 @@ pub struct ExactDefectModel {
     points: usize,
     params: Vec<ExactColumn>,
     steps: Vec<f64>,
+    /// The threads the Jacobian's columns are computed on ([`ExactDefectModel::on`]).
+    threads: Threads,
 }
 
 /// How one design column enters the exact model.
@@ -127,6 +130,20 @@ impl ExactDefectModel {
         q: &[AxisValues],
         opts: &SensitivityOptions,
     ) -> Result<Self, SimulateError> {
+        Self::at_points_on(design, part, points, q, opts, Threads::ONE)
+    }
+
+    /// [`ExactDefectModel::at_points`], evaluated on `threads` threads: the points of each
+    /// evaluation in blocks ([`DefectPoses::on`]), the Jacobian's columns side by side (each
+    /// column is its own two evaluations of eq. 12). The same numbers.
+    pub fn at_points_on(
+        design: &Design,
+        part: &SShape,
+        points: &[MeasurementPoint],
+        q: &[AxisValues],
+        opts: &SensitivityOptions,
+        threads: Threads,
+    ) -> Result<Self, SimulateError> {
         let mut params = Vec::new();
         for (j, p) in design.parameters().iter().enumerate() {
             params.push(match p.id {
@@ -143,18 +160,20 @@ impl ExactDefectModel {
                 _ => 1e-5,
             })
             .collect();
-        let poses = DefectPoses::new(part, points, q, opts);
+        let poses = DefectPoses::on(part, points, q, opts, threads);
         Ok(ExactDefectModel {
             poses,
             points: points.len(),
             params,
             steps,
+            threads,
         })
     }
-}
 
-impl crate::identify::refine::ExactModel for ExactDefectModel {
-    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, ModelError> {
+    /// [`ExactModel::deviation`] with the points on `threads` threads.
+    ///
+    /// [`ExactModel::deviation`]: crate::identify::refine::ExactModel::deviation
+    fn deviation_on(&self, x: &[f64], threads: Threads) -> Result<Vec<f64>, ModelError> {
         let mut e = MachineErrors::none();
         let mut linear = vec![0.0; self.points];
         for (p, v) in self.params.iter().zip(x) {
@@ -167,25 +186,43 @@ impl crate::identify::refine::ExactModel for ExactDefectModel {
                 }
             }
         }
-        let d = self.poses.as_ref().map_err(Clone::clone)?.defect(&e)?;
+        let d = self
+            .poses
+            .as_ref()
+            .map_err(Clone::clone)?
+            .defect_on(&e, threads)?;
         Ok(d.into_iter().zip(linear).map(|(v, l)| v + l).collect())
+    }
+}
+
+impl crate::identify::refine::ExactModel for ExactDefectModel {
+    fn deviation(&self, x: &[f64]) -> Result<Vec<f64>, ModelError> {
+        self.deviation_on(x, self.threads)
     }
 
     fn jacobian(&self, x: &[f64]) -> Result<DMatrix<f64>, ModelError> {
-        let mut j = DMatrix::zeros(self.points, x.len());
-        for c in 0..x.len() {
+        // each column on its own: a linear term's is its column, a location error's the
+        // central difference of eq. 12
+        let column = |&c: &usize| -> Result<Vec<f64>, ModelError> {
             if let ExactColumn::Linear(col) = &self.params[c] {
-                for (i, v) in col.iter().enumerate() {
-                    j[(i, c)] = *v;
-                }
-                continue;
+                return Ok(col.clone());
             }
             let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
             xp[c] += self.steps[c];
             xm[c] -= self.steps[c];
-            let (fp, fm) = (self.deviation(&xp)?, self.deviation(&xm)?);
-            for i in 0..fp.len().min(fm.len()) {
-                j[(i, c)] = (fp[i] - fm[i]) / (2.0 * self.steps[c]);
+            let one = Threads::ONE;
+            let (fp, fm) = (self.deviation_on(&xp, one)?, self.deviation_on(&xm, one)?);
+            Ok(fp
+                .iter()
+                .zip(&fm)
+                .map(|(p, m)| (p - m) / (2.0 * self.steps[c]))
+                .collect())
+        };
+        let cols: Vec<usize> = (0..x.len()).collect();
+        let mut j = DMatrix::zeros(self.points, x.len());
+        for (c, col) in map(self.threads, &cols, column).into_iter().enumerate() {
+            for (i, v) in col?.into_iter().enumerate().take(self.points) {
+                j[(i, c)] = v;
             }
         }
         Ok(j)

@@ -30,12 +30,13 @@ pub(super) fn refine_with(
     iopts: &IdentifyOptions,
     whitener: Option<&Whitener>,
 ) -> Result<RefineReport, AnalysisError> {
-    let model = ExactDefectModel::at_points(
+    let model = ExactDefectModel::at_points_on(
         design,
         prepared.part(),
         at.points(),
         at.axis_values()?,
         prepared.options(),
+        at.threads(),
     )?;
     let r = match whitener {
         None => refine(design, obs, linear, model, &RefineOptions::default(), iopts),

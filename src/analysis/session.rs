@@ -44,7 +44,7 @@ pub fn prepare(opts: &AnalysisOptions) -> Result<Prepared, AnalysisError> {
     if !(opts.l0.is_finite() && opts.l0 > 0.0) {
         return Err(AnalysisError::BadL0(opts.l0));
     }
-    Prepared::new(SShape::iso(), sensitivity_options(opts)).map_err(|e| match e {
+    Prepared::on(SShape::iso(), sensitivity_options(opts), opts.threads).map_err(|e| match e {
         GapError::Sensitivity(s) => AnalysisError::Sensitivity(s),
         other => AnalysisError::Correction(other),
     })
@@ -89,6 +89,8 @@ pub struct PointsModel {
     /// The points read as a scan, when they are one ([`read_scan`]).
     scan: Option<ScanReading>,
     decompositions: Decompositions,
+    /// The threads its computations run on (the part model's, the exact model's Jacobian).
+    threads: Threads,
 }
 
 impl PointsModel {
@@ -101,7 +103,7 @@ impl PointsModel {
 
     /// [`PointsModel::new`] with the part model computed on `threads` threads: the same numbers.
     pub fn on(prepared: &Prepared, points: &[MeasurementPoint], threads: Threads) -> Self {
-        let axis_values = prepared.axis_values(points);
+        let axis_values = prepared.axis_values_on(points, threads);
         let scan = read_scan(points);
         let part_model = match &axis_values {
             Ok(q) => prepared.part_model_on(points, q, threads).map(|mut m| {
@@ -120,6 +122,7 @@ impl PointsModel {
             part_model,
             scan,
             decompositions: Decompositions::default(),
+            threads,
         }
     }
 
@@ -153,6 +156,11 @@ impl PointsModel {
     /// Their part model ([`Prepared::part_model`]).
     pub fn part_model(&self) -> Result<&PartModel, GapError> {
         self.part_model.as_ref().map_err(Clone::clone)
+    }
+
+    /// The threads its computations run on.
+    pub fn threads(&self) -> Threads {
+        self.threads
     }
 
     /// The final fit's decompositions kept for these points.

@@ -13,6 +13,7 @@ use crate::effects::data::Reversal;
 use crate::effects::machine::reversals;
 use crate::effects::GapError;
 use crate::machine::AxisName;
+use crate::numerics::parallel::{map, Threads};
 use std::sync::Arc;
 
 use crate::parameter::effect::{damping_of_overshoot, OVERSHOOT_GRID};
@@ -48,29 +49,41 @@ impl PathModel {
     /// Computes the path model of `part` on the chain and branch of `opts` (its mode is not
     /// used: the passes follow the tool, not a displaced point).
     pub fn new(part: &SShape, opts: &SensitivityOptions) -> Result<Self, GapError> {
+        Self::on(part, opts, Threads::ONE)
+    }
+
+    /// [`PathModel::new`], the family's lags and the passes' travels each side by side on
+    /// `threads` threads: the same model.
+    pub fn on(
+        part: &SShape,
+        opts: &SensitivityOptions,
+        threads: Threads,
+    ) -> Result<Self, GapError> {
         let passes = passes(part, opts)?;
         let axes = backlash_axes(&opts.chain);
         let grid = Effect::Backlash(AxisName::X)
             .shape()
             .map_or_else(Vec::new, |s| s.grid);
-        let mut settling = Vec::with_capacity(grid.len() * OVERSHOOT_GRID.len());
-        for &tau in &grid {
-            for &m in &OVERSHOOT_GRID {
-                let zeta = damping_of_overshoot(m);
-                settling
-                    .push([0, 1].map(|i| Lag::with_settling(part, &passes[i], &axes, tau, zeta)));
-            }
-        }
+        let members: Vec<(f64, Option<f64>)> = grid
+            .iter()
+            .flat_map(|&tau| OVERSHOOT_GRID.map(|m| (tau, damping_of_overshoot(m))))
+            .collect();
+        let settling = map(threads, &members, |&(tau, zeta)| {
+            [0, 1].map(|i| Lag::with_settling(part, &passes[i], &axes, tau, zeta))
+        });
+        let travel = map(threads, &[0, 1], |&i| {
+            travels(part, &passes[i], &axes, opts)
+        });
+        let [a, b]: [Result<_, _>; 2] = travel
+            .try_into()
+            .unwrap_or_else(|_| unreachable!("two passes, two travels"));
         Ok(Self {
             lags: [
                 Lag::of(part, &passes[0], &axes),
                 Lag::of(part, &passes[1], &axes),
             ],
             settling: Arc::new(settling),
-            travel: [
-                travels(part, &passes[0], &axes, opts)?,
-                travels(part, &passes[1], &axes, opts)?,
-            ],
+            travel: [a?, b?],
             reversals: reversals(part, &passes, &axes),
             pose_tables: [pose_table(part, Surface::A), pose_table(part, Surface::B)],
         })

@@ -28,7 +28,8 @@ use crate::parameter::Effect;
 use crate::part::{builtin_points, MeasurementPoint, SShape};
 use crate::sensitivity::error_set::{error_set, ErrorSet};
 use crate::sensitivity::{
-    axis_values, sensitivity_matrix, Mode, SensitivityError, SensitivityMatrix, SensitivityOptions,
+    axis_values, axis_values_on, sensitivity_matrix, Mode, SensitivityError, SensitivityMatrix,
+    SensitivityOptions,
 };
 
 /// The settings-only models of one part design on one machine (module docs).
@@ -48,14 +49,24 @@ impl Prepared {
     /// effects.md defines the baseline; `options.mode` is the mode of
     /// [`Prepared::sensitivity_matrix`]).
     pub fn new(part: SShape, options: SensitivityOptions) -> Result<Self, GapError> {
+        Self::on(part, options, Threads::ONE)
+    }
+
+    /// [`Prepared::new`], its path model and built-in model computed on `threads` threads: the
+    /// same settings.
+    pub fn on(
+        part: SShape,
+        options: SensitivityOptions,
+        threads: Threads,
+    ) -> Result<Self, GapError> {
         let physical = options.clone().with_mode(Mode::Physical);
         let error_set = error_set(&options.chain, options.branch)?;
-        let path = PathModel::new(&part, &physical)?;
+        let path = PathModel::on(&part, &physical, threads)?;
         let errors = error_set.params();
         let points = builtin_points(&part);
         let q = axis_values(&part, &points, &physical)?;
         let builtin =
-            every_candidate_model(&part, &points, &q, &physical, &errors, &path, Threads::ONE)?;
+            every_candidate_model(&part, &points, &q, &physical, &errors, &path, threads)?;
         let typical: Vec<f64> = errors.iter().map(ErrorParam::typical).collect();
         let location_equivalents =
             location_equivalents(&builtin.baseline, &typical, &builtin.candidates);
@@ -124,6 +135,15 @@ impl Prepared {
         points: &[MeasurementPoint],
     ) -> Result<Vec<AxisValues>, SensitivityError> {
         axis_values(&self.part, points, &self.options)
+    }
+
+    /// [`Prepared::axis_values`] on `threads` threads: the same values.
+    pub fn axis_values_on(
+        &self,
+        points: &[MeasurementPoint],
+        threads: Threads,
+    ) -> Result<Vec<AxisValues>, SensitivityError> {
+        axis_values_on(&self.part, points, &self.options, threads)
     }
 
     /// The sensitivity matrix at `points` (axis values `q` from [`Prepared::axis_values`]) in the

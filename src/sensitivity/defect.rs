@@ -16,7 +16,8 @@ use serde::{Deserialize, Serialize};
 use crate::machine::chain::PAPER000_L0;
 use crate::machine::direct::{jacobian, tool_point};
 use crate::machine::inverse::inverse;
-use crate::machine::{AxisValues, Branch, Chain, ErrorParam, MachineErrors};
+use crate::machine::{AxisValues, Branch, Chain, ErrorParam, MachineErrors, PathSample};
+use crate::numerics::parallel::{map, Threads};
 use crate::part::{MeasurementPoint, SShape, Surface};
 
 use super::path::machine_path;
@@ -245,19 +246,34 @@ pub fn axis_values(
     points: &[MeasurementPoint],
     opts: &SensitivityOptions,
 ) -> Result<Vec<AxisValues>, SensitivityError> {
+    axis_values_on(part, points, opts, Threads::ONE)
+}
+
+/// [`axis_values`], the two surfaces' paths side by side on `threads` threads: the same values.
+pub fn axis_values_on(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    opts: &SensitivityOptions,
+    threads: Threads,
+) -> Result<Vec<AxisValues>, SensitivityError> {
     if let Some(p) = points.iter().find(|p| !(0.0..=1.0).contains(&p.u)) {
         return Err(SensitivityError::BadPoint { id: p.id, u: p.u });
     }
-    let mut out = vec![AxisValues::default(); points.len()];
-    for s in Surface::BOTH {
+    // each surface's points and their path samples
+    let path_of = |&s: &Surface| -> Result<(Vec<usize>, Vec<PathSample>), SensitivityError> {
         let idx: Vec<usize> = (0..points.len())
             .filter(|&i| points[i].surface == s)
             .collect();
         if idx.is_empty() {
-            continue;
+            return Ok((idx, Vec::new()));
         }
         let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
         let path = machine_path(part, &opts.chain, s, opts.branch, &us)?;
+        Ok((idx, path))
+    };
+    let mut out = vec![AxisValues::default(); points.len()];
+    for surface in map(threads, &Surface::BOTH, path_of) {
+        let (idx, path) = surface?;
         for (&i, sample) in idx.iter().zip(path) {
             out[i] = sample.values;
         }
@@ -291,6 +307,8 @@ pub struct DefectPoses {
     q_ref: AxisValues,
     /// `p(q_ref, 0, 0)` (mm).
     nominal_ref: Vector3<f64>,
+    /// The threads the points are evaluated on ([`DefectPoses::on`]).
+    threads: Threads,
 }
 
 impl DefectPoses {
@@ -302,39 +320,80 @@ impl DefectPoses {
         q: &[AxisValues],
         opts: &SensitivityOptions,
     ) -> Result<Self, SensitivityError> {
+        Self::on(part, points, q, opts, Threads::ONE)
+    }
+
+    /// [`DefectPoses::new`], the points' tool points (here and in every [`DefectPoses::defect`])
+    /// computed on `threads` threads, the points shared out in blocks: the same values.
+    pub fn on(
+        part: &SShape,
+        points: &[MeasurementPoint],
+        q: &[AxisValues],
+        opts: &SensitivityOptions,
+        threads: Threads,
+    ) -> Result<Self, SensitivityError> {
         let poses = point_poses(part, points, q, opts)?;
         let none = MachineErrors::none();
         let c = &opts.chain;
         let q_ref = reference_pose(opts)?;
         let nominal_ref = tool_point(c, &q_ref, 0.0, &none)?.point;
-        let nominal = poses
-            .iter()
-            .map(|pp| Ok(tool_point(c, &pp.q, pp.h, &none)?.point))
-            .collect::<Result<Vec<_>, SensitivityError>>()?;
+        let nominal = in_blocks(threads, &poses, |pp| {
+            Ok(tool_point(c, &pp.q, pp.h, &none)?.point)
+        })?;
         Ok(Self {
             chain: c.clone(),
             poses,
             nominal,
             q_ref,
             nominal_ref,
+            threads,
         })
     }
 
     /// Exact machined defect (eq. 12, mm) at the points for `errors` (validated against the
     /// chain).
     pub fn defect(&self, errors: &MachineErrors) -> Result<Vec<f64>, SensitivityError> {
+        self.defect_on(errors, self.threads)
+    }
+
+    /// [`DefectPoses::defect`] on `threads` threads (one, inside work already shared out).
+    pub fn defect_on(
+        &self,
+        errors: &MachineErrors,
+        threads: Threads,
+    ) -> Result<Vec<f64>, SensitivityError> {
         errors.validate(&self.chain)?;
         let c = &self.chain;
         let d_ref = tool_point(c, &self.q_ref, 0.0, errors)?.point - self.nominal_ref;
-        self.poses
-            .iter()
-            .zip(&self.nominal)
-            .map(|(pp, p0)| {
-                let d = tool_point(c, &pp.q, pp.h, errors)?.point - p0;
-                Ok((d - d_ref).dot(&pp.n))
-            })
-            .collect()
+        let at: Vec<(&PointPose, &Vector3<f64>)> = self.poses.iter().zip(&self.nominal).collect();
+        in_blocks(threads, &at, |(pp, p0)| {
+            let d = tool_point(c, &pp.q, pp.h, errors)?.point - *p0;
+            Ok((d - d_ref).dot(&pp.n))
+        })
     }
+}
+
+/// Points a block of [`in_blocks`]: a few hundred microseconds of tool points.
+const POINT_BLOCK: usize = 2048;
+
+/// `items.iter().map(f).collect()`, the items shared out between `threads` threads in blocks of
+/// [`POINT_BLOCK`] (the first error in the items' order when any).
+fn in_blocks<T: Sync, R: Send>(
+    threads: Threads,
+    items: &[T],
+    f: impl Fn(&T) -> Result<R, SensitivityError> + Sync,
+) -> Result<Vec<R>, SensitivityError> {
+    if threads.get() <= 1 || items.len() <= POINT_BLOCK {
+        return items.iter().map(f).collect();
+    }
+    let blocks: Vec<&[T]> = items.chunks(POINT_BLOCK).collect();
+    let mut out = Vec::with_capacity(items.len());
+    for block in map(threads, &blocks, |b| {
+        b.iter().map(&f).collect::<Result<Vec<R>, _>>()
+    }) {
+        out.extend(block?);
+    }
+    Ok(out)
 }
 
 /// Linearised machined defect (eq. 14, mm): the Jacobian at ξ = 0 times the error values.

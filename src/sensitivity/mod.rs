@@ -24,8 +24,8 @@ pub mod servo;
 pub mod take_up;
 
 pub use defect::{
-    axis_values, defect, defect_xi, linear_defect, sensitivity_matrix, Mode, SensitivityMatrix,
-    SensitivityOptions,
+    axis_values, axis_values_on, defect, defect_xi, linear_defect, sensitivity_matrix, Mode,
+    SensitivityMatrix, SensitivityOptions,
 };
 pub use path::{machine_path, PATH_GRID};
 

@@ -189,8 +189,9 @@ fn the_analysis_of_a_scan_carries_its_separability() {
         .contains("Separability"));
 }
 
-/// The analysis on 1 and on 3 threads (the reading, the part model, the outlier test's and the
-/// diagnosis's candidates shared out, [`testpiece::numerics::parallel`]) gives the same result
+/// The analysis on 1 and on 3 threads (the reading, the axis values, the part model, the outlier
+/// test's and the diagnosis's candidates, the whiteness test's lags, the periodogram's lines and
+/// the exact model's columns shared out, [`testpiece::numerics::parallel`]) gives the same result
 /// bit for bit: the JSON of both is the same text (a scan with a C backlash, so the families'
 /// scans, a verdict and a final fit with the effect all run).
 #[test]

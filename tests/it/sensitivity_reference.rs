@@ -190,3 +190,42 @@ fn exact_and_linear_defect_agree_to_first_order_in_both_modes() {
     )
     .is_err());
 }
+
+/// Eq. 12 at 3,000 points (the built-in 100, thirty times: two blocks of 2,048 and more) and
+/// their axis values are the same bit for bit on 1 and on 2 threads: the points are shared out
+/// in blocks, each point computed by the same code (issue 31).
+#[test]
+fn the_exact_defect_is_the_same_on_two_threads() {
+    use testpiece::numerics::parallel::Threads;
+    use testpiece::sensitivity::axis_values_on;
+    use testpiece::sensitivity::defect::DefectPoses;
+    let part = SShape::iso();
+    let pts: Vec<_> = (0..30).flat_map(|_| builtin_points(&part)).collect();
+    let opts = SensitivityOptions::default();
+    let q = axis_values_on(&part, &pts, &opts, Threads::ONE).unwrap();
+    assert_eq!(
+        q,
+        axis_values_on(&part, &pts, &opts, Threads::new(2)).unwrap()
+    );
+    let e = MachineErrors::none()
+        .with(
+            ErrorParam::Location(LocationError::parse("EX0B").unwrap()),
+            0.0294,
+        )
+        .with(
+            ErrorParam::Location(LocationError::parse("EA0B").unwrap()),
+            3.2419e-4,
+        );
+    let bits = |threads| -> Vec<u64> {
+        DefectPoses::on(&part, &pts, &q, &opts, threads)
+            .unwrap()
+            .defect(&e)
+            .unwrap()
+            .iter()
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let one = bits(Threads::ONE);
+    assert_eq!(one.len(), 3000);
+    assert_eq!(one, bits(Threads::new(2)));
+}
