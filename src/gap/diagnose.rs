@@ -108,10 +108,8 @@ pub fn diagnose_with_smooth(
         None => smooth_factor(smooth_basis(&input.points, SMOOTH_DEGREE), a, &y),
     };
     let (sm, sm_robust, sdof) = smooth_sigmas(&sfactor, &sresid);
-    let curves: Vec<Vec<usize>> = curve_sequences(&input.points)
-        .into_iter()
-        .map(|(_, idx)| idx)
-        .collect();
+    let sequences = curve_sequences(&input.points);
+    let curves: Vec<Vec<usize>> = sequences.iter().map(|(_, idx)| idx.clone()).collect();
     let s_path: Vec<f64> = input.points.iter().map(|p| p.s).collect();
     let smooth_seqs: Vec<Vec<f64>> = curves
         .iter()
@@ -194,6 +192,7 @@ pub fn diagnose_with_smooth(
         y: &y,
         a,
         points: &input.points,
+        sequences: &sequences,
         baseline: &baseline,
         folds: &folds,
         // the part's σ for every candidate with a CMM floor; else each candidate's own
@@ -238,7 +237,7 @@ pub fn diagnose_with_smooth(
         rms_before: (rss / nf).sqrt(),
         max_before: max_abs(&r0),
         cv_rms_before: baseline.cv.mse().sqrt(),
-        baseline_per_curve: per_curve(&input.points, &r0, &r0, &baseline.cv, &baseline.cv),
+        baseline_per_curve: per_curve(&sequences, &r0, &r0, &baseline.cv, &baseline.cv),
     });
     // (d') a pair, when no single candidate is named.
     // (d'') or a second effect on top of the named one: the single-candidate rule measures the

@@ -25,7 +25,6 @@ use std::collections::BTreeMap;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use crate::effects::data::curve_sequences;
 use crate::effects::data::{Candidate, PointMeta};
 use crate::gap::folds::FoldFactor;
 use crate::gap::shape::{fit_shape, scan_family, FamilyScan, ShapeFit, Unabsorbed};
@@ -219,6 +218,8 @@ pub struct Context<'a> {
     pub y: &'a DVector<f64>,
     pub a: &'a DMatrix<f64>,
     pub points: &'a [PointMeta],
+    /// The points' curves (their indices in increasing `u`, [`crate::effects::data::curve_sequences`]), found once.
+    pub sequences: &'a [(String, Vec<usize>)],
     pub baseline: &'a BaselineFit,
     pub folds: &'a [FoldFactor],
     /// CMM repeatability when given (mm).
@@ -246,25 +247,25 @@ pub fn cv_score(mse: f64, q: usize, n: usize) -> f64 {
 
 /// Per-curve before/after figures.
 pub fn per_curve(
-    points: &[PointMeta],
+    sequences: &[(String, Vec<usize>)],
     before: &[f64],
     after: &[f64],
     cv_before: &CvResult,
     cv_after: &CvResult,
 ) -> Vec<CurveShrink> {
-    curve_sequences(points)
-        .into_iter()
+    sequences
+        .iter()
         .map(|(curve, idx)| {
             let b: Vec<f64> = idx.iter().map(|&i| before[i]).collect();
             let a: Vec<f64> = idx.iter().map(|&i| after[i]).collect();
             CurveShrink {
-                curve,
+                curve: curve.clone(),
                 rms_before: rms(&b),
                 rms_after: rms(&a),
                 max_before: max_abs(&b),
                 max_after: max_abs(&a),
-                cv_rms_before: cv_before.rms_of(&idx),
-                cv_rms_after: cv_after.rms_of(&idx),
+                cv_rms_before: cv_before.rms_of(idx),
+                cv_rms_after: cv_after.rms_of(idx),
             }
         })
         .collect()
@@ -486,8 +487,9 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
     let cv_mse = cv.mse();
     let score = cv_score(cv_mse, q, n);
     let residual: Vec<f64> = r1.iter().copied().collect();
-    let seqs: Vec<Vec<f64>> = curve_sequences(ctx.points)
-        .into_iter()
+    let seqs: Vec<Vec<f64>> = ctx
+        .sequences
+        .iter()
         .map(|(_, idx)| idx.iter().map(|&i| residual[i]).collect())
         .collect();
     let rnd = crate::measurement::noise::randomness_pooled(&seqs);
@@ -530,7 +532,7 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
             runs_p_after: rnd.runs_p,
             lag1_after: rnd.lag1,
         },
-        per_curve: per_curve(ctx.points, &before, &residual, &ctx.baseline.cv, &cv),
+        per_curve: per_curve(ctx.sequences, &before, &residual, &ctx.baseline.cv, &cv),
         cv_score: score,
         residual,
         unabsorbed_effect,
