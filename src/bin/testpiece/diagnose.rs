@@ -95,8 +95,8 @@ pub struct Args {
     /// leave out the rows the reader rejects instead of refusing the file
     #[arg(long)]
     exclude_bad_rows: bool,
-    /// threads the reading, the part model and the diagnosis use (default: the machine's
-    /// cores); the results are the same, bit for bit, on any count
+    /// threads the reading, the part model, the diagnosis and the exact-model refinement use
+    /// (default: the machine's cores); the results are the same, bit for bit, on any count
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     threads: Option<u16>,
     /// the report as JSON (shared/spec/cli.md); default: the plain-language summary

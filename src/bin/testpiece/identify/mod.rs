@@ -130,8 +130,8 @@ pub struct Args {
     /// refines it when the linearisation error exceeds 0.1 σ (reported under "refinement")
     #[arg(long, verbatim_doc_comment)]
     no_refine: bool,
-    /// threads the reading, the part model and the diagnosis use (default: the machine's
-    /// cores); the results are the same, bit for bit, on any count
+    /// threads the reading, the part model, the diagnosis and the exact-model refinement use
+    /// (default: the machine's cores); the results are the same, bit for bit, on any count
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
     threads: Option<u16>,
     /// adds a Monte Carlo check of N runs
