@@ -516,18 +516,17 @@ mod tests {
         assert!(value_at(&grid, &coords, last as f64).is_infinite());
     }
 
-    /// A family of exponential steps `exp(−x/τ)` on 200 points with a constant baseline: data
-    /// made at τ = 3.1 (between grid values 2.6 and 3.38) with noise 0.01 are fitted to within
-    /// the interval, the interval holds the truth, and `m_eff` lies between 1 and the grid's size.
-    #[test]
-    fn the_shape_is_found_between_grid_values_and_its_interval_holds_it() {
-        let n = 200;
-        let x: Vec<f64> = (0..n).map(|i| i as f64 * 0.1).collect();
-        let grid: Vec<f64> = (-9..=8).map(|k| 2.0 * 1.3f64.powi(k)).collect();
-        let col = |tau: f64| DMatrix::from_iterator(n, 1, x.iter().map(|x| (-x / tau).exp()));
-        let a = DMatrix::from_element(n, 1, 1.0);
-        let factor = Factor::new(&a, None);
-        let mut rng = Sampler::new(7);
+    /// A thermal-drift candidate whose family is `col` at each τ of `grid` (its signature at
+    /// τ = 2), the constant baseline's factor, and its residual of data made at τ = 3.1
+    /// (amplitude 0.5, noise 0.01 drawn from `seed`).
+    fn drift_family(
+        col: impl Fn(f64) -> DMatrix<f64>,
+        grid: &[f64],
+        seed: u64,
+    ) -> (Factor, DVector<f64>, Candidate) {
+        let n = col(2.0).nrows();
+        let factor = Factor::new(&DMatrix::from_element(n, 1, 1.0), None);
+        let mut rng = Sampler::new(seed);
         let y = DVector::from_iterator(n, col(3.1).iter().map(|v| 0.5 * v + 0.01 * rng.normal()));
         let r0 = factor.unabsorbed_vec(&y);
         let c = Candidate {
@@ -539,11 +538,24 @@ mod tests {
                     name: "tau",
                     unit: Unit::Mm,
                     reference: 2.0,
-                    grid: grid.clone(),
+                    grid: grid.to_vec(),
                 },
                 grid.iter().map(|&t| col(t)).collect(),
             )),
         };
+        (factor, r0, c)
+    }
+
+    /// A family of exponential steps `exp(−x/τ)` on 200 points with a constant baseline: data
+    /// made at τ = 3.1 (between grid values 2.6 and 3.38) with noise 0.01 are fitted to within
+    /// the interval, the interval holds the truth, and `m_eff` lies between 1 and the grid's size.
+    #[test]
+    fn the_shape_is_found_between_grid_values_and_its_interval_holds_it() {
+        let n = 200;
+        let x: Vec<f64> = (0..n).map(|i| i as f64 * 0.1).collect();
+        let grid: Vec<f64> = (-9..=8).map(|k| 2.0 * 1.3f64.powi(k)).collect();
+        let col = |tau: f64| DMatrix::from_iterator(n, 1, x.iter().map(|x| (-x / tau).exp()));
+        let (factor, r0, c) = drift_family(col, &grid, 7);
         let m = scan_family(&factor, None, &c).effective_shapes;
         assert!(m > 1.0 && m < grid.len() as f64, "m_eff {m}");
         let fit = fit_shape(&factor, &r0, &c, 1, None, m, None).unwrap();
@@ -580,25 +592,7 @@ mod tests {
                 }
             })
             .collect();
-        let a = DMatrix::from_element(n, 1, 1.0);
-        let factor = Factor::new(&a, None);
-        let mut rng = Sampler::new(9);
-        let y = DVector::from_iterator(n, col(3.1).iter().map(|v| 0.5 * v + 0.01 * rng.normal()));
-        let r0 = factor.unabsorbed_vec(&y);
-        let c = Candidate {
-            effect: Effect::ThermalDrift,
-            signature: NamedColumns::try_new(Effect::ThermalDrift.parameter_ids(), col(2.0))
-                .unwrap(),
-            family: Some(Family::stored(
-                Shape {
-                    name: "tau",
-                    unit: Unit::Mm,
-                    reference: 2.0,
-                    grid: grid.clone(),
-                },
-                grid.iter().map(|&t| col(t)).collect(),
-            )),
-        };
+        let (factor, r0, c) = drift_family(col, &grid, 9);
         let one = scan_family_on(&factor, Some(&r0), &c, Threads::ONE);
         let two = scan_family_on(&factor, Some(&r0), &c, Threads::new(2));
         assert_eq!(

@@ -116,13 +116,9 @@ fn sensitivity_physical_positive() {
     );
 }
 
-#[test]
-fn table4_linear_and_exact() {
-    // Paper 000 Table 4 values EX0B = 0.0294 mm, EA0B = 3.2419e-4 rad, paper mode, signed B.
-    let part = SShape::iso();
-    let pts = builtin_points(&part);
-    let opts = SensitivityOptions::default().with_mode(Mode::Paper);
-    let e = MachineErrors::none()
+/// Paper 000 Table 4's errors: EX0B = 0.0294 mm, EA0B = 3.2419e-4 rad.
+fn table4_errors() -> MachineErrors {
+    MachineErrors::none()
         .with(
             ErrorParam::Location(LocationError::parse("EX0B").unwrap()),
             0.0294,
@@ -130,7 +126,16 @@ fn table4_linear_and_exact() {
         .with(
             ErrorParam::Location(LocationError::parse("EA0B").unwrap()),
             3.2419e-4,
-        );
+        )
+}
+
+#[test]
+fn table4_linear_and_exact() {
+    // Paper 000 Table 4 values EX0B = 0.0294 mm, EA0B = 3.2419e-4 rad, paper mode, signed B.
+    let part = SShape::iso();
+    let pts = builtin_points(&part);
+    let opts = SensitivityOptions::default().with_mode(Mode::Paper);
+    let e = table4_errors();
     let lin = linear_defect(&part, &pts, &e, &opts).unwrap();
     let exact = defect(&part, &pts, &e, &opts).unwrap();
     let (h, rows) = read("table4_paper.csv");
@@ -207,15 +212,7 @@ fn the_exact_defect_is_the_same_on_two_threads() {
         q,
         axis_values_on(&part, &pts, &opts, Threads::new(2)).unwrap()
     );
-    let e = MachineErrors::none()
-        .with(
-            ErrorParam::Location(LocationError::parse("EX0B").unwrap()),
-            0.0294,
-        )
-        .with(
-            ErrorParam::Location(LocationError::parse("EA0B").unwrap()),
-            3.2419e-4,
-        );
+    let e = table4_errors();
     let bits = |threads| -> Vec<u64> {
         DefectPoses::on(&part, &pts, &q, &opts, threads)
             .unwrap()
