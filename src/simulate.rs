@@ -97,7 +97,8 @@ pub struct ExactDefectModel {
     points: usize,
     params: Vec<ExactColumn>,
     steps: Vec<f64>,
-    /// The threads the Jacobian's columns are computed on ([`ExactDefectModel::on`]).
+    /// The threads an evaluation's points and the Jacobian's columns are computed on
+    /// ([`ExactDefectModel::at_points_on`]).
     threads: Threads,
 }
 

@@ -817,7 +817,7 @@ pub fn projected_whiteness(
 
 /// Columns of `A_k B` formed at a time in [`projected_whiteness_on`]: 16 columns of a
 /// 200,000-point scan are 26 MB, where the whole `A_k B` of its 64 would be 100 MB a lag.
-const WHITENESS_BLOCK: usize = 16;
+pub const WHITENESS_BLOCK: usize = 16;
 
 /// [`projected_whiteness`], the lags side by side on `threads` threads: the same numbers (each
 /// lag's sums are taken in the same order whatever the threads). `A_k B` is formed
