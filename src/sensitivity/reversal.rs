@@ -911,7 +911,16 @@ pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &GridSpots, gain: &[f6
             })
             .collect()
     };
-    let (linear, ringing) = (at(&spots.linear, false), at(&spots.ringing, true));
+    // a table only for a kind some surface's lag has (a point reads the kind of its surface)
+    let has = |ringing: bool| lags.iter().any(|p| p.zeta.is_some() == ringing);
+    let table = |sites: &[Site], ringing: bool| {
+        if has(ringing) {
+            at(sites, ringing)
+        } else {
+            Vec::new()
+        }
+    };
+    let (linear, ringing) = (table(&spots.linear, false), table(&spots.ringing, true));
     spots
         .spots
         .iter()
