@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::effects::GapError;
 use crate::machine::AxisName;
-use crate::numerics::order::sort_by_key_f64;
+use crate::numerics::order::{groups_in_order, sort_by_key_f64};
 use crate::parameter::{Effect, ParamId};
 use crate::part::Surface;
 
@@ -260,21 +260,18 @@ impl GapInput<'_> {
 
 /// Indices of the points of each curve, in increasing `u`, curves in order of first appearance.
 pub fn curve_sequences(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
-    let mut out: Vec<(String, Vec<usize>)> = Vec::new();
-    let mut at: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
-    for (i, p) in points.iter().enumerate() {
-        match at.get(p.curve.as_str()) {
-            Some(&k) => out[k].1.push(i),
-            None => {
-                at.insert(p.curve.as_str(), out.len());
-                out.push((p.curve.clone(), vec![i]));
-            }
-        }
-    }
-    for (_, v) in &mut out {
-        sort_by_key_f64(v, |&i| points[i].u);
-    }
-    out
+    groups_in_order(
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (i, p.curve.as_str())),
+    )
+    .into_iter()
+    .map(|(curve, mut v)| {
+        sort_by_key_f64(&mut v, |&i| points[i].u);
+        (curve.to_string(), v)
+    })
+    .collect()
 }
 
 /// Whether the points' groups are a scan's lines ([`crate::measurement::scan_lines`]): more

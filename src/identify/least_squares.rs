@@ -33,6 +33,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use crate::numerics::order::groups_in_order;
+
 use super::groups::{not_separable_groups, weak_groups, Group, GroupKind};
 use super::report::{
     ColumnCorrelation, CurveStats, ExcludedPoint, Identification, ParameterEstimate, ParameterMap,
@@ -609,19 +611,7 @@ fn per_curve_statistics(
     fitted: &[f64],
     mape_floor: f64,
 ) -> Vec<CurveStats> {
-    // the used points of each curve, the curves in the order they first appear (one pass: a
-    // scan has hundreds of lines)
-    let mut order: Vec<(&str, Vec<usize>)> = Vec::new();
-    let mut at: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
-    for &i in used {
-        let c = obs.curves[i].as_str();
-        let k = *at.entry(c).or_insert_with(|| {
-            order.push((c, Vec::new()));
-            order.len() - 1
-        });
-        order[k].1.push(i);
-    }
-    order
+    groups_in_order(used.iter().map(|&i| (i, obs.curves[i].as_str())))
         .into_iter()
         .map(|(c, idx)| {
             let m: Vec<f64> = idx.iter().map(|&i| obs.deviation[i]).collect();

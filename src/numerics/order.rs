@@ -1,4 +1,5 @@
-//! Sorting by a number, with one copy of the sort code.
+//! Sorting by a number, with one copy of the sort code; and grouping by a label in the order the
+//! labels first appear ([`groups_in_order`]).
 //!
 //! Every `sort_by` with its own closure is a separate instance of the standard library's stable
 //! sort (about 5 kB of wasm each); the stages sort by a floating-point key in many places, so
@@ -83,9 +84,36 @@ pub fn sort_by_index<T>(v: &mut Vec<T>, mut key: impl FnMut(&T) -> usize) {
     });
 }
 
+/// The indices of each label, the labels in the order they first appear and each group's
+/// indices in the order given (one pass: a scan's points on hundreds of lines).
+pub fn groups_in_order<'a>(
+    labelled: impl IntoIterator<Item = (usize, &'a str)>,
+) -> Vec<(&'a str, Vec<usize>)> {
+    let mut out: Vec<(&str, Vec<usize>)> = Vec::new();
+    let mut at: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+    for (i, label) in labelled {
+        let k = *at.entry(label).or_insert_with(|| {
+            out.push((label, Vec::new()));
+            out.len() - 1
+        });
+        out[k].1.push(i);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn groups_keep_the_first_appearance_order() {
+        let labels = ["b", "a", "b", "c", "a"];
+        let got = groups_in_order(labels.iter().copied().enumerate());
+        assert_eq!(
+            got,
+            vec![("b", vec![0, 2]), ("a", vec![1, 4]), ("c", vec![3])]
+        );
+    }
 
     #[test]
     fn sorts_like_the_standard_stable_sort() {
