@@ -21,15 +21,13 @@
 //!   `λ_k` of the correlation matrix of the family's unabsorbed signatures), not as one candidate:
 //!   1 for identical shapes, the grid's size for unrelated ones.
 
-use std::sync::Mutex;
-
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use serde::Serialize;
 
 use crate::effects::data::Candidate;
 use crate::identify::solve::{hstack, tr_mul, Factor};
 use crate::machine::Unit;
-use crate::numerics::parallel::{map, Threads};
+use crate::numerics::parallel::{map_mut, Threads};
 use crate::numerics::stats;
 use crate::toolpath::envelope::brent_min;
 
@@ -165,17 +163,17 @@ pub fn scan_family_on(
     let n = c.signature.matrix.nrows();
     // member j's direction in column j (zeros when absorbed), each block in its own columns
     let mut dirs = DMatrix::<f64>::zeros(n, family.len());
-    let blocks: Vec<(usize, Mutex<&mut [f64]>)> = dirs
+    let mut blocks: Vec<(usize, &mut [f64])> = dirs
         .as_mut_slice()
         .chunks_mut((n * SCAN_BLOCK).max(1))
         .enumerate()
-        .map(|(b, cols)| (b * SCAN_BLOCK, Mutex::new(cols)))
+        .map(|(b, cols)| (b * SCAN_BLOCK, cols))
         .collect();
     // each member's fit on the residual (when asked) and whether the baseline leaves it a
     // direction
     let scan_block =
-        |(start, cols): &(usize, Mutex<&mut [f64]>)| -> Vec<(Option<(f64, usize)>, bool)> {
-            let block: Vec<_> = (*start..family.len().min(start + SCAN_BLOCK))
+        |(start, cols): &mut (usize, &mut [f64])| -> Vec<(Option<(f64, usize)>, bool)> {
+            let block: Vec<_> = (*start..family.len().min(*start + SCAN_BLOCK))
                 .map(|j| family.member(j))
                 .collect();
             let width = block.iter().map(|s| s.ncols()).sum();
@@ -186,7 +184,6 @@ pub fn scan_family_on(
                 at += s.ncols();
             }
             let u_all = factor.unabsorbed(&s_all);
-            let mut cols = cols.lock().unwrap_or_else(|e| e.into_inner());
             let mut at = 0;
             block
                 .iter()
@@ -213,11 +210,10 @@ pub fn scan_family_on(
                 })
                 .collect()
         };
-    let scanned: Vec<_> = map(threads, &blocks, scan_block)
+    let scanned: Vec<_> = map_mut(threads, &mut blocks, scan_block)
         .into_iter()
         .flatten()
         .collect();
-    drop(blocks);
     let mut members = r0.map(|_| Vec::with_capacity(family.len()));
     // the kept directions moved to the front, in the members' order
     let mut k = 0;

@@ -8,6 +8,7 @@
 //! results keep the items' order, so the output is the same bit for bit on 1 or 8 threads.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, PoisonError};
 
 /// How many threads a stage may use (at least 1; 1 = the calling thread alone).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,6 +72,20 @@ where
     all.into_iter().map(|(_, r)| r).collect()
 }
 
+/// [`map`] over items `f` may change (each item is handed to one thread at a time): e.g. disjoint
+/// blocks of one output, each written by the item that owns it.
+pub fn map_mut<T, R, F>(threads: Threads, items: &mut [T], f: F) -> Vec<R>
+where
+    T: Send,
+    R: Send,
+    F: Fn(&mut T) -> R + Sync,
+{
+    let cells: Vec<Mutex<&mut T>> = items.iter_mut().map(Mutex::new).collect();
+    map(threads, &cells, |cell| {
+        f(&mut cell.lock().unwrap_or_else(PoisonError::into_inner))
+    })
+}
+
 /// `(a(), b())`, `b` on another thread when `threads` allows it (`a` on the calling thread:
 /// it may hold what cannot cross threads, a progress sink).
 pub fn join<A, B, RA, RB>(threads: Threads, a: A, b: B) -> (RA, RB)
@@ -107,5 +122,13 @@ mod tests {
         assert_eq!(map(Threads::new(7), &items, f), one);
         assert_eq!(map(Threads::new(3), &[] as &[u64], f), Vec::<u64>::new());
         assert_eq!(join(Threads::new(2), || 1, || 2), (1, 2));
+        // each item changed by its own call, the results in the items' order
+        let mut changed: Vec<u64> = items.clone();
+        let got = map_mut(Threads::new(3), &mut changed, |k| {
+            *k += 1;
+            f(k)
+        });
+        assert_eq!(changed, items.iter().map(|k| k + 1).collect::<Vec<_>>());
+        assert_eq!(got, changed.iter().map(f).collect::<Vec<_>>());
     }
 }
