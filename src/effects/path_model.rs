@@ -13,7 +13,7 @@ use crate::effects::data::Reversal;
 use crate::effects::machine::reversals;
 use crate::effects::GapError;
 use crate::machine::AxisName;
-use crate::numerics::parallel::{map, Threads};
+use crate::numerics::parallel::{join, map, Threads};
 use std::sync::Arc;
 
 use crate::parameter::effect::{damping_of_overshoot, OVERSHOOT_GRID};
@@ -71,12 +71,11 @@ impl PathModel {
         let settling = map(threads, &members, |&(tau, zeta)| {
             [0, 1].map(|i| Lag::with_settling(part, &passes[i], &axes, tau, zeta))
         });
-        let travel = map(threads, &[0, 1], |&i| {
-            travels(part, &passes[i], &axes, opts)
-        });
-        let [a, b]: [Result<_, _>; 2] = travel
-            .try_into()
-            .unwrap_or_else(|_| unreachable!("two passes, two travels"));
+        let (a, b) = join(
+            threads,
+            || travels(part, &passes[0], &axes, opts),
+            || travels(part, &passes[1], &axes, opts),
+        );
         Ok(Self {
             lags: [
                 Lag::of(part, &passes[0], &axes),

@@ -855,12 +855,9 @@ pub fn projected_whiteness_on(
     // 200,000 points; the product reads it through its strides as it read the copy
     let bt = nalgebra::DMatrixView::from_slice_with_strides(basis.as_slice(), p, n, n, 1);
     let rv: Vec<f64> = r.iter().copied().collect();
-    // lag k's z, `None` past the curves' length or where its variance vanishes
+    // lag k's z (`None` where its variance vanishes), at a lag some curve is longer than
     let z_of = |&k: &usize| -> Option<f64> {
         let pairs: usize = curves.iter().map(|c| c.len().saturating_sub(k)).sum();
-        if pairs == 0 {
-            return None;
-        }
         // A_k B a block of columns at a time; Bᵀ A_k B and ‖A_k B‖_F² from the blocks
         let mut col = vec![0.0; n];
         let mut bt_akb = nalgebra::DMatrix::zeros(p, p);
@@ -876,9 +873,11 @@ pub fn projected_whiteness_on(
             };
             let mut akb = nalgebra::DMatrix::zeros(n, w);
             for c in 0..w {
-                let b: Vec<f64> = basis.column(start + c).iter().copied().collect();
-                shift(&b, k, &mut col);
-                akb.column_mut(c).copy_from_slice(&col);
+                shift(
+                    basis.column(start + c).as_slice(),
+                    k,
+                    akb.column_mut(c).as_mut_slice(),
+                );
                 akb_norm2 += akb.column(c).norm_squared();
             }
             bt_akb.columns_mut(start, w).gemm(1.0, &bt, &akb, 0.0);

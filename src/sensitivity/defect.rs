@@ -337,8 +337,8 @@ impl DefectPoses {
         let c = &opts.chain;
         let q_ref = reference_pose(opts)?;
         let nominal_ref = tool_point(c, &q_ref, 0.0, &none)?.point;
-        let nominal = in_blocks(threads, &poses, |pp| {
-            Ok(tool_point(c, &pp.q, pp.h, &none)?.point)
+        let nominal = in_blocks(threads, poses.len(), |i| {
+            Ok(tool_point(c, &poses[i].q, poses[i].h, &none)?.point)
         })?;
         Ok(Self {
             chain: c.clone(),
@@ -365,9 +365,9 @@ impl DefectPoses {
         errors.validate(&self.chain)?;
         let c = &self.chain;
         let d_ref = tool_point(c, &self.q_ref, 0.0, errors)?.point - self.nominal_ref;
-        let at: Vec<(&PointPose, &Vector3<f64>)> = self.poses.iter().zip(&self.nominal).collect();
-        in_blocks(threads, &at, |(pp, p0)| {
-            let d = tool_point(c, &pp.q, pp.h, errors)?.point - *p0;
+        in_blocks(threads, self.poses.len(), |i| {
+            let pp = &self.poses[i];
+            let d = tool_point(c, &pp.q, pp.h, errors)?.point - self.nominal[i];
             Ok((d - d_ref).dot(&pp.n))
         })
     }
@@ -376,20 +376,22 @@ impl DefectPoses {
 /// Points a block of [`in_blocks`]: a few hundred microseconds of tool points.
 const POINT_BLOCK: usize = 2048;
 
-/// `items.iter().map(f).collect()`, the items shared out between `threads` threads in blocks of
-/// [`POINT_BLOCK`] (the first error in the items' order when any).
-fn in_blocks<T: Sync, R: Send>(
+/// `(0..len).map(f).collect()`, the indices shared out between `threads` threads in blocks of
+/// [`POINT_BLOCK`] (the first error in the indices' order when any).
+fn in_blocks<R: Send>(
     threads: Threads,
-    items: &[T],
-    f: impl Fn(&T) -> Result<R, SensitivityError> + Sync,
+    len: usize,
+    f: impl Fn(usize) -> Result<R, SensitivityError> + Sync,
 ) -> Result<Vec<R>, SensitivityError> {
-    if threads.get() <= 1 || items.len() <= POINT_BLOCK {
-        return items.iter().map(f).collect();
+    if threads.get() <= 1 || len <= POINT_BLOCK {
+        return (0..len).map(f).collect();
     }
-    let blocks: Vec<&[T]> = items.chunks(POINT_BLOCK).collect();
-    let mut out = Vec::with_capacity(items.len());
-    for block in map(threads, &blocks, |b| {
-        b.iter().map(&f).collect::<Result<Vec<R>, _>>()
+    let starts: Vec<usize> = (0..len).step_by(POINT_BLOCK).collect();
+    let mut out = Vec::with_capacity(len);
+    for block in map(threads, &starts, |&a| {
+        (a..len.min(a + POINT_BLOCK))
+            .map(&f)
+            .collect::<Result<Vec<R>, _>>()
     }) {
         out.extend(block?);
     }

@@ -897,8 +897,12 @@ pub fn lagged_columns_at(lags: &[Lag; 2], spots: &GridSpots, gains: &[Vec<f64>])
 /// and the two agree to the curvature of the settling over one grid step (~0.014 mm). Each
 /// distinct site of [`GridSpots`] is evaluated once (the heights of a scan share them).
 pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &GridSpots, gain: &[f64]) -> Vec<f64> {
-    // the offsets at the sites of the surfaces whose lag is of that kind
+    // the offsets at the sites of the surfaces whose lag is of that kind; no table when no
+    // surface's lag is (a point reads the kind of its surface)
     let at = |sites: &[Site], ringing: bool| -> Vec<f64> {
+        if !lags.iter().any(|p| p.zeta.is_some() == ringing) {
+            return Vec::new();
+        }
         sites
             .iter()
             .map(|x| {
@@ -911,16 +915,7 @@ pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &GridSpots, gain: &[f6
             })
             .collect()
     };
-    // a table only for a kind some surface's lag has (a point reads the kind of its surface)
-    let has = |ringing: bool| lags.iter().any(|p| p.zeta.is_some() == ringing);
-    let table = |sites: &[Site], ringing: bool| {
-        if has(ringing) {
-            at(sites, ringing)
-        } else {
-            Vec::new()
-        }
-    };
-    let (linear, ringing) = (table(&spots.linear, false), table(&spots.ringing, true));
+    let (linear, ringing) = (at(&spots.linear, false), at(&spots.ringing, true));
     spots
         .spots
         .iter()
