@@ -82,8 +82,8 @@ pub fn diagnose_with_smooth(
     let y = DVector::from_column_slice(&input.deviations);
     let a = &input.baseline.matrix;
 
-    // (a) baseline fit and residual.
-    let factor = Factor::new(a, None);
+    // (a) baseline fit and residual (a scan's row blocks side by side).
+    let factor = Factor::of_on(a.clone(), None, opts.threads);
     let residual = factor.unabsorbed_vec(&y);
     let rss = residual.norm_squared();
     let p = factor.rank;
@@ -105,7 +105,12 @@ pub fn diagnose_with_smooth(
     // the smooth basis only for its factor (dropped at once: 77 MB at 200,000 points)
     let (sfactor, sresid) = match smooth {
         Some(s) => (s.factor, s.residual),
-        None => smooth_factor(smooth_basis(&input.points, SMOOTH_DEGREE), a, &y),
+        None => smooth_factor(
+            smooth_basis(&input.points, SMOOTH_DEGREE),
+            a,
+            &y,
+            opts.threads,
+        ),
     };
     let (sm, sm_robust, sdof) = smooth_sigmas(&sfactor, &sresid);
     let sequences = curve_sequences(&input.points);

@@ -137,10 +137,16 @@ pub fn t_two_sided_quantile(p: f64, nu: f64) -> f64 {
 }
 
 /// Residual, leverage and rank of the fit of `y` by `x` restricted to the rows `keep`
-/// (the other rows get residual and leverage 0).
-fn fit(x: &DMatrix<f64>, y: &DVector<f64>, keep: &[usize]) -> (Vec<f64>, Vec<f64>, usize) {
+/// (the other rows get residual and leverage 0), a tall `x`'s row blocks factorised side by side
+/// on `threads` threads ([`Factor::of_on`]).
+fn fit(
+    x: &DMatrix<f64>,
+    y: &DVector<f64>,
+    keep: &[usize],
+    threads: Threads,
+) -> (Vec<f64>, Vec<f64>, usize) {
     let ys = DVector::from_iterator(keep.len(), keep.iter().map(|&i| y[i]));
-    let f = Factor::of(x.select_rows(keep), None);
+    let f = Factor::of_on(x.select_rows(keep), None, threads);
     let e = f.unabsorbed_vec(&ys);
     let (r, h) = spread(x.nrows(), keep, &e, &f.basis);
     (r, h, f.rank)
@@ -163,9 +169,9 @@ struct Base<'a> {
 }
 
 impl<'a> Base<'a> {
-    fn new(x: &DMatrix<f64>, y: &DVector<f64>, keep: &'a [usize]) -> Self {
+    fn new(x: &DMatrix<f64>, y: &DVector<f64>, keep: &'a [usize], threads: Threads) -> Self {
         let ys = DVector::from_iterator(keep.len(), keep.iter().map(|&i| y[i]));
-        let factor = Factor::of(x.select_rows(keep), None);
+        let factor = Factor::of_on(x.select_rows(keep), None, threads);
         let e = factor.unabsorbed_vec(&ys);
         let (r, h) = spread(x.nrows(), keep, &e, &factor.basis);
         Self {
@@ -218,7 +224,8 @@ fn fit_added(
     if base.keep.len() > UPDATE_ROWS {
         base.with(c)
     } else {
-        fit(&hstack(x, c), y, base.keep)
+        // called side by side for the candidates: one thread each
+        fit(&hstack(x, c), y, base.keep, Threads::ONE)
     }
 }
 
@@ -439,6 +446,7 @@ pub fn find_outliers_with_fit_on(
             &nb,
             &mut first,
             &mut structured,
+            threads,
         );
         if round == 0 && plain {
             plain_fit = Some(SmoothFit {
@@ -494,6 +502,7 @@ fn round_outlier(
     nb: &Neighbours,
     first: &mut Option<(f64, f64)>,
     structured: &mut Vec<String>,
+    threads: Threads,
 ) -> Option<Outlier> {
     let (r, h, rank) = (&base.r, &base.h, base.factor.rank);
     let dof = keep.len().saturating_sub(rank);
@@ -517,8 +526,15 @@ fn round_outlier(
         .collect();
     sort_by_key_f64_descending(&mut over, |&i| t[i].abs());
     let i = over.into_iter().find(|&i| {
-        let ok = isolated(x, y, keep, i, &nb.of(i), r[i] / (1.0 - h[i]).max(1e-12))
-            && !explained(input, base, x, y, i, sigma, crit);
+        let ok = isolated(
+            x,
+            y,
+            keep,
+            i,
+            &nb.of(i),
+            r[i] / (1.0 - h[i]).max(1e-12),
+            threads,
+        ) && !explained(input, base, x, y, i, sigma, crit);
         if !ok {
             let id = input.points[i].id.to_string();
             if !structured.contains(&id) {
@@ -546,7 +562,7 @@ fn with_best_candidate<'a, 'x>(
     keep: &'a [usize],
     threads: Threads,
 ) -> (Cow<'x, DMatrix<f64>>, Base<'a>, bool) {
-    let base = Base::new(x, y, keep);
+    let base = Base::new(x, y, keep, threads);
     let plain = robust_sigma(&base.r, &base.h, keep);
     let mut best = (CANDIDATE_GAIN * plain, None);
     // each candidate's σ on its own thread's turn, the least taken in the candidates' order
@@ -562,7 +578,7 @@ fn with_best_candidate<'a, 'x>(
     match best.1 {
         Some(c) => {
             let x = hstack(x, &c.signature.matrix);
-            let base = Base::new(&x, y, keep);
+            let base = Base::new(&x, y, keep, threads);
             (Cow::Owned(x), base, false)
         }
         None => (Cow::Borrowed(x), base, true),
@@ -578,9 +594,10 @@ fn isolated(
     i: usize,
     nb: &[usize],
     d: f64,
+    threads: Threads,
 ) -> bool {
     let without: Vec<usize> = keep.iter().copied().filter(|&k| k != i).collect();
-    let (r, h, _) = fit(x, y, &without);
+    let (r, h, _) = fit(x, y, &without, threads);
     nb.iter().filter(|j| without.contains(j)).all(|&j| {
         // The neighbour's own deleted residual: a point of high leverage (a curve's end) is
         // followed by the smooth basis, its plain residual would hide what it shares.

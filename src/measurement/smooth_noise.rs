@@ -16,6 +16,7 @@ use crate::effects::data::PointMeta;
 use crate::effects::data::{curve_sequences, is_scan};
 use crate::identify::solve::{hstack, Factor};
 use crate::measurement::layout::curve_degree;
+use crate::numerics::parallel::Threads;
 use crate::part::Surface;
 
 /// Degree of the per-curve Legendre basis.
@@ -122,7 +123,7 @@ pub fn surface_basis(points: &[PointMeta], degree: usize, height_degree: usize) 
 
 /// `(σ, σ_robust, dof)` from the residual of `[A | smooth basis]`.
 pub fn smooth_noise(points: &[PointMeta], a: &DMatrix<f64>, y: &DVector<f64>) -> (f64, f64, usize) {
-    let (f, r) = smooth_factor(smooth_basis(points, SMOOTH_DEGREE), a, y);
+    let (f, r) = smooth_factor(smooth_basis(points, SMOOTH_DEGREE), a, y, Threads::ONE);
     smooth_sigmas(&f, &r)
 }
 
@@ -138,11 +139,12 @@ pub fn smooth_factor(
     b: DMatrix<f64>,
     a: &DMatrix<f64>,
     y: &DVector<f64>,
+    threads: Threads,
 ) -> (Factor, DVector<f64>) {
     // `[A | b]` factorised in place, `b` dropped first (a dense scan's peak memory, issue 31)
     let x = hstack(a, &b);
     drop(b);
-    let f = Factor::of(x, None);
+    let f = Factor::of_on(x, None, threads);
     let r = f.unabsorbed_vec(y);
     (f, r)
 }
