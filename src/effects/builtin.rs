@@ -2,6 +2,7 @@
 
 use crate::effects::data::{Candidate, Family, NamedColumns, PointMeta};
 use crate::effects::effect::{warm_up_basis, SignatureModel};
+use nalgebra::DMatrix;
 use std::sync::Arc;
 
 use crate::effects::family::{LagBasis, Members};
@@ -10,11 +11,14 @@ use crate::effects::EffectPoint;
 use crate::effects::GapError;
 use crate::machine::{AxisName, AxisValues, ErrorParam};
 use crate::numerics::order::argsort;
-use crate::numerics::parallel::{join, Threads};
+use crate::numerics::parallel::{map, Threads};
 use crate::parameter::{Effect, ParamId, Shape};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
-use crate::sensitivity::reversal::{backlash_gains, grid_spots, lagged_columns_at, Lag};
+use crate::sensitivity::reversal::{
+    backlash_gains, grid_places, lagged_columns_at, GridPlace, GridSpots, Lag,
+};
+use crate::sensitivity::servo::ServoColumns;
 use crate::sensitivity::SensitivityOptions;
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
 use crate::toolpath::tip_length::TipLength;
@@ -253,38 +257,83 @@ pub(crate) fn every_candidate_model(
     use crate::effects::machine::{
         c_table_sign, index_signatures, machine_z_columns, scale_and_motions,
     };
-    // two halves of about the same cost, side by side when `threads` allows (issue 31): the
-    // design's columns, the envelope, the path lengths and the scale columns; the axes' gains
-    // with the servo signatures and the points' places on the reversal grid
-    let (first, second) = join(
-        threads,
-        || -> Result<_, GapError> {
-            let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
-            let eps = effect_points_on(part, points, path.lengths());
-            let flank =
-                |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
-            let envelope: Vec<f64> = points_deviation_on(&[flank(0), flank(1)], points, 0.0)?
-                .iter()
-                .map(|d| d.deviation)
-                .collect();
-            let (scale, motions) = scale_and_motions(part, points, q, opts)?;
-            Ok((sens, eps, envelope, scale, motions))
-        },
-        || -> Result<_, GapError> {
-            // the gains (∂x/∂q)·N of every axis of the chain, once: the servo signatures read
-            // them all, the backlash columns those of the lags' axes
-            let chain_axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
-            let all_gains = backlash_gains(part, points, q, &chain_axes, opts)?;
-            let servo =
-                crate::sensitivity::servo::servo_signatures_with(part, points, opts, &all_gains)?;
-            // where each point falls on the passes' grid, shared by every lag (the passes'
-            // lengths)
-            let spots = grid_spots(&path.lags, part, points);
-            Ok((chain_axes, all_gains, servo, spots))
-        },
-    );
-    let (sens, eps, envelope, scale, motions) = first?;
-    let (chain_axes, all_gains, servo, spots) = second?;
+    let chain_axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
+    // the point-wise work in blocks of points, shared out between the threads as each becomes
+    // free (issue 31: two fixed halves left one thread alone for a tenth of the model): every
+    // column is computed point by point, so the blocks change no number
+    let jobs = point_jobs(points.len(), threads);
+    let pieces = map(threads, &jobs, |job| -> Result<Piece, GapError> {
+        Ok(match job {
+            Job::Design(r) => {
+                let (points, q) = (&points[r.clone()], &q[r.clone()]);
+                let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
+                let eps = effect_points_on(part, points, path.lengths());
+                let flank =
+                    |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
+                let envelope = points_deviation_on(&[flank(0), flank(1)], points, 0.0)?
+                    .iter()
+                    .map(|d| d.deviation)
+                    .collect();
+                let (scale, motions) = scale_and_motions(part, points, q, opts)?;
+                Piece::Design(Design {
+                    sens,
+                    eps,
+                    envelope,
+                    scale,
+                    motions,
+                })
+            }
+            Job::Axes(r) => {
+                let (points, q) = (&points[r.clone()], &q[r.clone()]);
+                // the gains (∂x/∂q)·N of every axis of the chain, once: the servo signatures
+                // read them all, the backlash columns those of the lags' axes
+                let gains = backlash_gains(part, points, q, &chain_axes, opts)?;
+                let servo =
+                    crate::sensitivity::servo::servo_signatures_with(part, points, opts, &gains)?;
+                // where each point falls on the passes' grid, shared by every lag
+                Piece::Axes(gains, servo, grid_places(&path.lags, part, points))
+            }
+        })
+    });
+    let mut design: Option<Design> = None;
+    let mut axis_parts: Option<(Vec<Vec<f64>>, ServoColumns)> = None;
+    let mut places: Vec<GridPlace> = Vec::with_capacity(points.len());
+    for piece in pieces {
+        match piece? {
+            Piece::Design(d) => {
+                design = Some(match design {
+                    None => d,
+                    Some(mut all) => {
+                        all.append(d);
+                        all
+                    }
+                })
+            }
+            Piece::Axes(g, s, p) => {
+                places.extend(p);
+                axis_parts = Some(match axis_parts {
+                    None => (g, s),
+                    Some((mut all_g, mut all_s)) => {
+                        append_columns(&mut all_g, g);
+                        append_columns(&mut all_s.lag, s.lag);
+                        all_s.common.extend(s.common);
+                        (all_g, all_s)
+                    }
+                })
+            }
+        }
+    }
+    let (Some(design), Some((all_gains, servo))) = (design, axis_parts) else {
+        unreachable!("point_jobs has a job of each kind")
+    };
+    let spots = GridSpots::of(&places);
+    let Design {
+        sens,
+        eps,
+        envelope,
+        scale,
+        motions,
+    } = design;
     let baseline = NamedColumns::try_new(
         sens.errors.iter().map(|e| ParamId::Machine(*e)).collect(),
         sens.values.clone(),
@@ -335,4 +384,99 @@ pub(crate) fn every_candidate_model(
         backlash: basis,
         nuisance,
     })
+}
+
+/// Blocks of points per thread in [`every_candidate_model`]'s jobs: a block's design columns
+/// take about twice its axes' gains and servo columns, so with two blocks a thread the jobs end
+/// within about a block's axes of each other.
+const BLOCKS_PER_THREAD: usize = 2;
+
+/// One job of the point-wise work of [`every_candidate_model`]: a block of points' design
+/// columns, or its axis columns with its places on the reversal grid.
+#[derive(Debug, Clone)]
+enum Job {
+    Design(std::ops::Range<usize>),
+    Axes(std::ops::Range<usize>),
+}
+
+/// The jobs for `n` points on `threads` threads, the larger first (one block on one thread:
+/// the whole points at once).
+fn point_jobs(n: usize, threads: Threads) -> Vec<Job> {
+    let blocks = if threads.get() <= 1 {
+        1
+    } else {
+        (threads.get() * BLOCKS_PER_THREAD).min(n.max(1))
+    };
+    let ranges: Vec<std::ops::Range<usize>> = (0..blocks)
+        .map(|b| b * n / blocks..(b + 1) * n / blocks)
+        .collect();
+    let mut jobs: Vec<Job> = ranges.iter().cloned().map(Job::Design).collect();
+    jobs.extend(ranges.into_iter().map(Job::Axes));
+    jobs
+}
+
+/// A block's design columns: the location errors', the effect points, the envelope, the scale
+/// columns and the error motions' families.
+struct Design {
+    sens: crate::sensitivity::SensitivityMatrix,
+    eps: Vec<EffectPoint>,
+    envelope: Vec<f64>,
+    scale: crate::effects::machine::AxisColumns,
+    motions: Vec<crate::effects::nuisance::Nuisance>,
+}
+
+impl Design {
+    /// The rows of `next` (the block that follows) after these.
+    fn append(&mut self, next: Design) {
+        self.sens.ids.extend(next.sens.ids);
+        self.sens.curves.extend(next.sens.curves);
+        self.sens.values = stack_rows(&self.sens.values, &next.sens.values);
+        self.eps.extend(next.eps);
+        self.envelope.extend(next.envelope);
+        append_columns(&mut self.scale, next.scale);
+        for (m, n) in self.motions.iter_mut().zip(next.motions) {
+            m.columns = stack_rows(&m.columns, &n.columns);
+        }
+    }
+}
+
+/// What a job computes ([`Job`]).
+enum Piece {
+    Design(Design),
+    Axes(Vec<Vec<f64>>, ServoColumns, Vec<GridPlace>),
+}
+
+/// Each column of `next` (the rows that follow) appended to the same column of `all`.
+fn append_columns<K>(all: &mut [K], next: Vec<K>)
+where
+    K: ExtendColumn,
+{
+    for (a, b) in all.iter_mut().zip(next) {
+        a.extend_column(b);
+    }
+}
+
+/// A column, named or not, that the rows of the next block extend.
+trait ExtendColumn {
+    fn extend_column(&mut self, next: Self);
+}
+
+impl ExtendColumn for Vec<f64> {
+    fn extend_column(&mut self, next: Self) {
+        self.extend(next);
+    }
+}
+
+impl<N> ExtendColumn for (N, Vec<f64>) {
+    fn extend_column(&mut self, next: Self) {
+        self.1.extend(next.1);
+    }
+}
+
+/// The rows of `a`, then those of `b` (same columns).
+fn stack_rows(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    let mut out = DMatrix::zeros(a.nrows() + b.nrows(), a.ncols());
+    out.rows_mut(0, a.nrows()).copy_from(a);
+    out.rows_mut(a.nrows(), b.nrows()).copy_from(b);
+    out
 }
