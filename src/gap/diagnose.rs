@@ -96,7 +96,7 @@ pub fn diagnose_with_smooth(
         .map(|c| c.signature.ncols())
         .max()
         .unwrap_or(0);
-    let folds = build_folds(&input.points, a, &y, a.ncols() + max_q + 2);
+    let folds = build_folds(&input.points, a, &y, a.ncols() + max_q + 2, opts.threads);
     let base_cv = cross_validate(&folds, &nalgebra::DMatrix::zeros(n, 0), n);
     let base_cv_score = cv_score(base_cv.mse(), 0, n);
     let r0: Vec<f64> = residual.iter().copied().collect();

@@ -17,6 +17,7 @@ use crate::effects::data::{curve_sequences, is_scan};
 use crate::gap::regions::Region;
 use crate::identify::solve::Factor;
 use crate::numerics::order::sort_by_key_f64;
+use crate::numerics::parallel::{map, Threads};
 use crate::part::Surface;
 
 /// One fold: which points are fitted and which are withheld, with the baseline factorised on the
@@ -86,41 +87,43 @@ fn height_bands(points: &[PointMeta]) -> Vec<(String, Vec<usize>)> {
     out
 }
 
-/// Factorises the baseline on each fold's training set. Folds whose training set has fewer than
-/// `min_train` points, or that withhold every point, are skipped.
+/// Factorises the baseline on each fold's training set, the folds side by side on `threads`
+/// threads (the same factors). Folds whose training set has fewer than `min_train` points, or
+/// that withhold every point, are skipped.
 pub fn build_folds(
     points: &[PointMeta],
     a: &DMatrix<f64>,
     y: &DVector<f64>,
     min_train: usize,
+    threads: Threads,
 ) -> Vec<FoldFactor> {
     let n = points.len();
-    withheld_sets(points)
-        .into_iter()
-        .filter_map(|(name, test)| {
-            let mut is_test = vec![false; n];
-            for &i in &test {
-                is_test[i] = true;
-            }
-            let train: Vec<usize> = (0..n).filter(|&i| !is_test[i]).collect();
-            if train.len() < min_train || test.is_empty() {
-                return None;
-            }
-            let a_train = a.select_rows(&train);
-            let base = Factor::new(&a_train, None);
-            let y_train = DVector::from_iterator(train.len(), train.iter().map(|&i| y[i]));
-            let y_test = DVector::from_iterator(test.len(), test.iter().map(|&i| y[i]));
-            let r0_train = base.unabsorbed_vec(&y_train);
-            Some(FoldFactor {
-                name,
-                a_test: a.select_rows(&test),
-                train,
-                test,
-                base,
-                y_train,
-                y_test,
-                r0_train,
-            })
+    map(threads, &withheld_sets(points), |(name, test)| {
+        let mut is_test = vec![false; n];
+        for &i in test {
+            is_test[i] = true;
+        }
+        let train: Vec<usize> = (0..n).filter(|&i| !is_test[i]).collect();
+        if train.len() < min_train || test.is_empty() {
+            return None;
+        }
+        let a_train = a.select_rows(&train);
+        let base = Factor::new(&a_train, None);
+        let y_train = DVector::from_iterator(train.len(), train.iter().map(|&i| y[i]));
+        let y_test = DVector::from_iterator(test.len(), test.iter().map(|&i| y[i]));
+        let r0_train = base.unabsorbed_vec(&y_train);
+        Some(FoldFactor {
+            name: name.clone(),
+            a_test: a.select_rows(test),
+            train,
+            test: test.clone(),
+            base,
+            y_train,
+            y_test,
+            r0_train,
         })
-        .collect()
+    })
+    .into_iter()
+    .flatten()
+    .collect()
 }
