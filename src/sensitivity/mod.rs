@@ -20,6 +20,7 @@ pub mod error_set;
 pub mod frenet;
 pub mod path;
 pub mod reversal;
+pub mod ringing;
 pub mod servo;
 pub mod take_up;
 

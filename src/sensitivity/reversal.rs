@@ -39,6 +39,7 @@ use crate::toolpath::tip_length::TipLength;
 use super::defect::axis_values;
 use super::defect::{Mode, SensitivityOptions};
 use super::path::machine_path;
+use super::ringing::Settling;
 use super::take_up::{Ramp, TurnTravel};
 use super::SensitivityError;
 use crate::numerics::order::sort_by_index;
@@ -662,25 +663,18 @@ fn offset_on(segs: &[Segment], k: usize, s: f64, tau: f64) -> f64 {
 /// `e = e* + exp(−a·x)(A cos ωx + B sin ωx)` and
 /// `e' = exp(−a·x)(e'₀ cos ωx − (aB + ωA) sin ωx)`, `x = s − s₀`.
 fn ringing_on(segs: &[Segment], k: usize, s: f64, tau: f64, zeta: f64) -> (f64, f64) {
-    let g = &segs[segs.partition_point(|g| g.k <= k).max(1) - 1];
-    let a0 = g.from - g.target;
-    if a0 == 0.0 && g.rate == 0.0 {
-        return (g.target, 0.0);
-    }
-    let decay = zeta / tau;
-    let w = (1.0 - zeta * zeta).sqrt() / tau;
-    let b0 = (g.rate + decay * a0) / w;
-    let x = s - g.s0;
-    let ex = (-decay * x).exp();
-    if ex * (a0.abs() + b0.abs()) < 1e-17 {
-        // settled: below half an ulp of the offsets (±1/2), the sum would round to `e*`
-        return (g.target, 0.0);
-    }
-    let (sn, cs) = (w * x).sin_cos();
-    (
-        g.target + ex * (a0 * cs + b0 * sn),
-        ex * (g.rate * cs - (decay * b0 + w * a0) * sn),
-    )
+    let g = &segs[segment_of(segs, k)];
+    settling_of(g, tau, zeta).at(s - g.s0)
+}
+
+/// The index of the segment holding grid step `k`.
+fn segment_of(segs: &[Segment], k: usize) -> usize {
+    segs.partition_point(|g| g.k <= k).max(1) - 1
+}
+
+/// The second-order settling of segment `g` ([`Settling`]).
+fn settling_of(g: &Segment, tau: f64, zeta: f64) -> Settling {
+    Settling::new(g.target, g.from, g.rate, tau, zeta)
 }
 
 /// The signature of `backlash_<axis>` at the points per unit `b`: `e(s)·(∂p/∂q)·N`.
@@ -809,6 +803,9 @@ pub struct GridSpots {
     spots: Vec<GridSpot>,
     linear: Vec<Site>,
     ringing: Vec<Site>,
+    /// The indices of `ringing` in the order of their surface, step and path length: each
+    /// segment's sites together, in increasing length ([`ringing_offsets`]).
+    ringing_order: Vec<usize>,
 }
 
 impl GridSpots {
@@ -828,6 +825,7 @@ impl GridSpots {
             spots: rows.iter().map(|&i| self.spots[i]).collect(),
             linear: self.linear.clone(),
             ringing: self.ringing.clone(),
+            ringing_order: self.ringing_order.clone(),
         }
     }
 }
@@ -920,6 +918,14 @@ impl GridSpots {
                 ringing,
             });
         }
+        let mut order: Vec<usize> = (0..out.ringing.len()).collect();
+        order.sort_unstable_by(|&i, &j| {
+            let (x, y) = (&out.ringing[i], &out.ringing[j]);
+            (x.surface, x.k)
+                .cmp(&(y.surface, y.k))
+                .then(x.s.total_cmp(&y.s))
+        });
+        out.ringing_order = order;
         out
     }
 }
@@ -932,31 +938,31 @@ pub fn lagged_columns_at(lags: &[Lag; 2], spots: &GridSpots, gains: &[Vec<f64>])
 }
 
 /// The column of axis `axes[a]` of [`lagged_columns_at`], its gain `gain`. A lag that rings
-/// ([`Lag::zeta`]) is evaluated once a point, at the point's path length on its step (the step's
-/// segment: a turn at step `k` starts at sample `k − 1`), not interpolated between the samples:
-/// its closed form costs a sine and a cosine (at a scan's 20,000 points, 54 members a family),
-/// and the two agree to the curvature of the settling over one grid step (~0.014 mm). Each
-/// distinct site of [`GridSpots`] is evaluated once (the heights of a scan share them).
+/// ([`Lag::zeta`]) is evaluated at the point's own path length on its step (the step's
+/// segment: a turn at step `k` starts at sample `k − 1`), not interpolated linearly between the
+/// samples (the two differ by the curvature of the settling over one grid step, ~0.014 mm): in
+/// closed form, or from a segment's table of [`super::ringing`] on a dense scan (1e-9 of the
+/// amplitude). Each distinct site of [`GridSpots`] is evaluated once.
 pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &GridSpots, gain: &[f64]) -> Vec<f64> {
-    // the offsets at the sites of the surfaces whose lag is of that kind; no table when no
+    // the offsets at the sites of the surfaces whose lag is of that kind; none when no
     // surface's lag is (a point reads the kind of its surface)
-    let at = |sites: &[Site], ringing: bool| -> Vec<f64> {
-        if !lags.iter().any(|p| p.zeta.is_some() == ringing) {
-            return Vec::new();
-        }
-        sites
+    let linear: Vec<f64> = if lags.iter().any(|p| p.zeta.is_none()) {
+        spots
+            .linear
             .iter()
             .map(|x| {
                 let p = &lags[x.surface];
-                if p.zeta.is_some() == ringing {
+                if p.zeta.is_none() {
                     p.offset(a, x.k, x.s)
                 } else {
                     0.0
                 }
             })
             .collect()
+    } else {
+        Vec::new()
     };
-    let (linear, ringing) = (at(&spots.linear, false), at(&spots.ringing, true));
+    let ringing = ringing_offsets(lags, a, spots);
     spots
         .spots
         .iter()
@@ -969,6 +975,47 @@ pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &GridSpots, gain: &[f6
             e_pt * gain
         })
         .collect()
+}
+
+/// The offsets of axis `axes[a]` at the ringing sites of `spots` of the surfaces whose lag rings
+/// (0 at the others'), each segment's sites together, in increasing path length
+/// ([`Settling::offsets`]: from a table where a dense scan makes that cheaper, issue 31); empty
+/// when no surface's lag rings.
+fn ringing_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64> {
+    if lags.iter().all(|p| p.zeta.is_none()) {
+        return Vec::new();
+    }
+    let sites = &spots.ringing;
+    let mut out = vec![0.0; sites.len()];
+    // runs of the sorted sites on one surface's segment: the segment is the one the closed form
+    // finds by its step ([`segment_of`]), walked forward as the steps increase
+    let order = &spots.ringing_order;
+    let mut start = 0;
+    while start < order.len() {
+        let surface = sites[order[start]].surface;
+        let p = &lags[surface];
+        let segs = &p.segments[a];
+        let g = segment_of(segs, sites[order[start]].k);
+        let next_k = segs.get(g + 1).map_or(usize::MAX, |n| n.k);
+        let end = start
+            + order[start..]
+                .iter()
+                .take_while(|&&i| sites[i].surface == surface && sites[i].k < next_k)
+                .count();
+        if let Some(zeta) = p.zeta {
+            let seg = &segs[g];
+            let xs: Vec<f64> = order[start..end]
+                .iter()
+                .map(|&i| sites[i].s - seg.s0)
+                .collect();
+            let e = settling_of(seg, p.tau, zeta).offsets(p.tau, &xs);
+            for (&i, e) in order[start..end].iter().zip(e) {
+                out[i] = e;
+            }
+        }
+        start = end;
+    }
+    out
 }
 
 /// The first grid sample at or after `u`, within `1..=`[`REVERSAL_GRID`] (the partition point
