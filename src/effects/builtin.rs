@@ -18,7 +18,7 @@ use crate::part::{SShape, Surface};
 use crate::sensitivity::reversal::{
     backlash_gains, grid_places, lagged_columns_at, GridPlace, GridSpots, Lag,
 };
-use crate::sensitivity::servo::ServoColumns;
+use crate::sensitivity::servo::{RateTable, ServoColumns, RATE_TABLE_POINTS};
 use crate::sensitivity::SensitivityOptions;
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
 use crate::toolpath::tip_length::TipLength;
@@ -262,6 +262,12 @@ pub(crate) fn every_candidate_model(
     // free (issue 31: two fixed halves left one thread alone for a tenth of the model): every
     // column is computed point by point, so the blocks change no number
     let jobs = point_jobs(points.len(), threads);
+    // a dense scan's servo rates from a table of the paths, once for every block
+    let rate_table = if points.len() >= RATE_TABLE_POINTS {
+        Some(RateTable::new(part, opts, threads)?)
+    } else {
+        None
+    };
     let pieces = map(threads, &jobs, |job| -> Result<Piece, GapError> {
         Ok(match job {
             Job::Design(r) => {
@@ -288,8 +294,13 @@ pub(crate) fn every_candidate_model(
                 // the gains (∂x/∂q)·N of every axis of the chain, once: the servo signatures
                 // read them all, the backlash columns those of the lags' axes
                 let gains = backlash_gains(part, points, q, &chain_axes, opts)?;
-                let servo =
-                    crate::sensitivity::servo::servo_signatures_with(part, points, opts, &gains)?;
+                let servo = crate::sensitivity::servo::servo_signatures_with(
+                    part,
+                    points,
+                    opts,
+                    &gains,
+                    rate_table.as_ref(),
+                )?;
                 // where each point falls on the passes' grid, shared by every lag
                 Piece::Axes(gains, servo, grid_places(&path.lags, part, points))
             }

@@ -137,6 +137,141 @@ fn wrap(x: f64) -> f64 {
     x - t * (x / t).round()
 }
 
+/// Steps of a [`RateTable`] over `u ∈ [0, 1]` (≈ 0.12 mm of tool-tip path a step).
+pub const RATE_TABLE_STEPS: usize = 2600;
+
+/// A point within this many steps of a knot of its surface's curves, or of an end of the path, is
+/// solved at the point: the path is only C¹ at a knot (its tool axis follows the curves'
+/// tangents) and held at the ends, so the rates' finite differences bend within `2·`[`STEP_U`]
+/// of them, faster than a cubic through the nodes follows (3 % of the largest second rate at 1
+/// step; 1.2e-7 from 4 steps on).
+pub const RATE_TABLE_KNOT_MARGIN: f64 = 4.0;
+
+/// From this many points on, the servo columns read their rates from a [`RateTable`] (5,202
+/// nodes, each solved as a point is); below it each point's rates are solved at the point (the
+/// built-in 100 points).
+pub const RATE_TABLE_POINTS: usize = 4000;
+
+/// [`path_rates`] at the nodes `j/`[`RATE_TABLE_STEPS`] of each surface's path, for a dense
+/// scan (issue 31: 5 inverse kinematics and 5 tip speeds a point were a tenth of a
+/// 20,000-point scan's CPU). A point's rates are the cubic through the four nodes around it
+/// (Lagrange, the end intervals one-sided), or its own where it lies within
+/// [`RATE_TABLE_KNOT_MARGIN`] steps of a knot (the vertical zone's ends are knots): within 1e-8
+/// of each axis's largest first rate and 1.2e-7 of its largest second rate on paper 000's
+/// machine (test `the_rate_table_is_the_points_own_rates`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RateTable {
+    nodes: [Vec<PathRates>; 2],
+    /// The distinct knots of each surface's two curves, the ends among them (where the rates'
+    /// differences are held one-sided, [`path_rates`]).
+    knots: [Vec<f64>; 2],
+}
+
+impl RateTable {
+    /// The table of both surfaces' paths on the chain and branch of `opts`, its nodes solved in
+    /// blocks side by side on `threads` threads (the same rates).
+    pub fn new(
+        part: &SShape,
+        opts: &SensitivityOptions,
+        threads: crate::numerics::parallel::Threads,
+    ) -> Result<Self, SensitivityError> {
+        const BLOCK: usize = 650;
+        let jobs: Vec<(Surface, usize)> = Surface::BOTH
+            .into_iter()
+            .flat_map(|s| (0..=RATE_TABLE_STEPS).step_by(BLOCK).map(move |j| (s, j)))
+            .collect();
+        let parts = crate::numerics::parallel::map(threads, &jobs, |&(s, j0)| {
+            let us: Vec<f64> = (j0..(j0 + BLOCK).min(RATE_TABLE_STEPS + 1))
+                .map(|j| j as f64 / RATE_TABLE_STEPS as f64)
+                .collect();
+            path_rates(part, s, &us, opts)
+        });
+        let mut nodes = [Vec::new(), Vec::new()];
+        for (&(s, _), part) in jobs.iter().zip(parts) {
+            nodes[usize::from(s == Surface::B)].extend(part?);
+        }
+        let knots = Surface::BOTH.map(|s| {
+            let mut k: Vec<f64> = part
+                .curves(s)
+                .iter()
+                .flat_map(|c| c.knots().iter().copied())
+                .filter(|&k| (0.0..=1.0).contains(&k))
+                .collect();
+            k.sort_by(f64::total_cmp);
+            k.dedup();
+            k
+        });
+        Ok(Self { nodes, knots })
+    }
+
+    /// Whether a point at `u` on `surface` is solved at the point ([`RATE_TABLE_KNOT_MARGIN`]).
+    fn near_knot(&self, surface: Surface, u: f64) -> bool {
+        let margin = RATE_TABLE_KNOT_MARGIN / RATE_TABLE_STEPS as f64;
+        self.knots[usize::from(surface == Surface::B)]
+            .iter()
+            .any(|k| (u - k).abs() <= margin)
+    }
+
+    /// The rates at each of `us` on the path of `surface` of `part` (the table's), the chain's
+    /// `axes` (module doc of [`RateTable`]).
+    pub fn rates(
+        &self,
+        part: &SShape,
+        surface: Surface,
+        us: &[f64],
+        opts: &SensitivityOptions,
+        axes: &[AxisName],
+    ) -> Result<Vec<PathRates>, SensitivityError> {
+        let solved: Vec<usize> = (0..us.len())
+            .filter(|&i| self.near_knot(surface, us[i]))
+            .collect();
+        let own = path_rates(
+            part,
+            surface,
+            &solved.iter().map(|&i| us[i]).collect::<Vec<_>>(),
+            opts,
+        )?;
+        let mut out: Vec<PathRates> = us
+            .iter()
+            .map(|&u| self.interpolated(surface, u, axes))
+            .collect();
+        for (&i, r) in solved.iter().zip(own) {
+            out[i] = r;
+        }
+        Ok(out)
+    }
+
+    /// The cubic through the four nodes around `u`.
+    fn interpolated(&self, surface: Surface, u: f64, axes: &[AxisName]) -> PathRates {
+        let nodes = &self.nodes[usize::from(surface == Surface::B)];
+        let f = u.clamp(0.0, 1.0) * RATE_TABLE_STEPS as f64;
+        let j = (f.floor() as usize).min(RATE_TABLE_STEPS - 1);
+        let j0 = j.saturating_sub(1).min(RATE_TABLE_STEPS - 3);
+        let t = f - j0 as f64;
+        // Lagrange weights at t on the nodes j0 .. j0 + 3
+        let w = [
+            -(t - 1.0) * (t - 2.0) * (t - 3.0) / 6.0,
+            t * (t - 2.0) * (t - 3.0) / 2.0,
+            -t * (t - 1.0) * (t - 3.0) / 2.0,
+            t * (t - 1.0) * (t - 2.0) / 6.0,
+        ];
+        let mut out = PathRates {
+            first: AxisValues::default(),
+            second: AxisValues::default(),
+        };
+        for &a in axes {
+            let (mut d1, mut d2) = (0.0, 0.0);
+            for (k, wk) in w.iter().enumerate() {
+                d1 += wk * nodes[j0 + k].first.get(a);
+                d2 += wk * nodes[j0 + k].second.get(a);
+            }
+            out.first.set(a, d1);
+            out.second.set(a, d2);
+        }
+        out
+    }
+}
+
 /// The servo columns (module doc) at `points` of axis values `q` (solved with the same `opts`).
 pub fn servo_signatures(
     part: &SShape,
@@ -146,17 +281,19 @@ pub fn servo_signatures(
 ) -> Result<ServoColumns, SensitivityError> {
     let axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
     let gains = backlash_gains(part, points, q, &axes, opts)?;
-    servo_signatures_with(part, points, opts, &gains)
+    servo_signatures_with(part, points, opts, &gains, None)
 }
 
 /// [`servo_signatures`] from the gains `(∂x/∂q)·N` of every axis of the chain in its order
 /// ([`backlash_gains`] of those axes at the same points and axis values), computed once by a
-/// caller that also needs them.
+/// caller that also needs them; the rates from `table` when given ([`RateTable`], same `opts`),
+/// else solved at each point.
 pub fn servo_signatures_with(
     part: &SShape,
     points: &[MeasurementPoint],
     opts: &SensitivityOptions,
     gains: &[Vec<f64>],
+    table: Option<&RateTable>,
 ) -> Result<ServoColumns, SensitivityError> {
     let axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
     let n = points.len();
@@ -168,7 +305,10 @@ pub fn servo_signatures_with(
             continue;
         }
         let us: Vec<f64> = idx.iter().map(|&i| points[i].u).collect();
-        let rates = path_rates(part, surface, &us, opts)?;
+        let rates = match table {
+            Some(t) => t.rates(part, surface, &us, opts, &axes)?,
+            None => path_rates(part, surface, &us, opts)?,
+        };
         for (&i, r) in idx.iter().zip(&rates) {
             for (a, &axis) in axes.iter().enumerate() {
                 lag[a][i] = -r.first.get(axis) * gains[a][i];
