@@ -334,6 +334,18 @@ mod tests {
         crate::assert_near!(st.max_abs, 0.0025, 1e-15);
     }
 
+    /// `got` holds the values of `want` to 1e-12 relative, in any order, but its smallest, which
+    /// is below 1e-12 (a rank one short).
+    fn same_singular_values_but_one_zero(mut want: Vec<f64>, got: &DVector<f64>) {
+        let mut got: Vec<f64> = got.iter().copied().collect();
+        want.sort_by(f64::total_cmp);
+        got.sort_by(f64::total_cmp);
+        for (x, z) in want.iter().zip(&got).skip(1) {
+            assert!((x / z - 1.0).abs() < 1e-12, "{x} vs {z}");
+        }
+        assert!(got[0] < 1e-12, "{}", got[0]);
+    }
+
     /// The QR-first SVD of a tall design ([`QR_FIRST_ROWS`]) gives what the direct SVD gives: a
     /// 3,000 × 6 design whose last column is the sum of two others (rank 5) with an uneven
     /// scale: the same rank, singular values to 1e-12 relative, the same projection and
@@ -360,14 +372,8 @@ mod tests {
         let direct = scaled.clone().svd(true, true);
         let (_, sv, _) = svd_tall(scaled, Threads::ONE);
         assert_eq!(f.rank, 5);
-        let mut d: Vec<f64> = direct.singular_values.iter().copied().collect();
-        let mut q: Vec<f64> = sv.iter().copied().collect();
-        d.sort_by(f64::total_cmp);
-        q.sort_by(f64::total_cmp);
-        for (x, z) in d.iter().zip(&q).skip(1) {
-            assert!((x / z - 1.0).abs() < 1e-12, "{x} vs {z}");
-        }
-        assert!(q[0] < 1e-12, "{}", q[0]);
+        let d: Vec<f64> = direct.singular_values.iter().copied().collect();
+        same_singular_values_but_one_zero(d, &sv);
         // the direct SVD's projection and solution, from its own basis
         let u = direct.u.unwrap();
         let keep: Vec<usize> = (0..6)
@@ -389,9 +395,9 @@ mod tests {
     /// column the sum of two others, one scaled by 1e-5): the rank 8, singular values those of
     /// the Gram matrix's eigenvalues to 1e-12 relative (and their squares summing to the 9 unit
     /// columns' to 1e-13: nalgebra's direct SVD of this matrix is 0.5 % off on the largest, its
-    /// squares summing to 9.019, nalgebra issue 1172), an orthonormal `U` to 1e-13, the projection that of the 8
-    /// independent columns to 1e-10 of `‖y‖`; and the same bits on 1 and 3 threads (the blocks
-    /// do not depend on them).
+    /// squares summing to 9.019, nalgebra issue 1172), an orthonormal `U` to 1e-13, the
+    /// projection that of the 8 independent columns to 1e-10 of `‖y‖`; and the same bits on 1
+    /// and 3 threads (the blocks do not depend on them).
     #[test]
     fn the_blocked_tall_svd_is_exact_to_rounding() {
         let mut rng = crate::numerics::random::Sampler::new(5);
@@ -413,20 +419,14 @@ mod tests {
             c.scale_mut(1.0 / norm);
         }
         let (u, sv, _) = svd_tall(unit.clone(), Threads::new(2));
-        let mut want: Vec<f64> = unit
+        let want: Vec<f64> = unit
             .tr_mul(&unit)
             .symmetric_eigenvalues()
             .iter()
             .map(|l| l.max(0.0).sqrt())
             .collect();
-        let mut got: Vec<f64> = sv.iter().copied().collect();
-        want.sort_by(f64::total_cmp);
-        got.sort_by(f64::total_cmp);
-        for (x, z) in want.iter().zip(&got).skip(1) {
-            assert!((x / z - 1.0).abs() < 1e-12, "{x} vs {z}");
-        }
-        assert!(got[0] < 1e-12, "{}", got[0]);
-        let squares: f64 = got.iter().map(|s| s * s).sum();
+        same_singular_values_but_one_zero(want, &sv);
+        let squares: f64 = sv.iter().map(|s| s * s).sum();
         assert!((squares - 9.0).abs() < 1e-13, "{squares}");
         let gram = u.tr_mul(&u) - DMatrix::identity(9, 9);
         assert!(gram.amax() < 1e-13, "{}", gram.amax());

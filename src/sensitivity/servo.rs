@@ -144,7 +144,7 @@ pub const RATE_TABLE_STEPS: usize = 2600;
 /// solved at the point: the path is only C¹ at a knot (its tool axis follows the curves'
 /// tangents) and held at the ends, so the rates' finite differences bend within `2·`[`STEP_U`]
 /// of them, faster than a cubic through the nodes follows (3 % of the largest second rate at 1
-/// step; 1.2e-7 from 4 steps on).
+/// step; 7.1e-8 from 4 steps on).
 pub const RATE_TABLE_KNOT_MARGIN: f64 = 4.0;
 
 /// From this many points on, the servo columns read their rates from a [`RateTable`] (5,202
@@ -157,7 +157,7 @@ pub const RATE_TABLE_POINTS: usize = 4000;
 /// 20,000-point scan's CPU). A point's rates are the cubic through the four nodes around it
 /// (Lagrange, the end intervals one-sided), or its own where it lies within
 /// [`RATE_TABLE_KNOT_MARGIN`] steps of a knot (the vertical zone's ends are knots): within 1e-8
-/// of each axis's largest first rate and 1.2e-7 of its largest second rate on paper 000's
+/// of each axis's largest first rate and 7.1e-8 of its largest second rate on paper 000's
 /// machine (test `the_rate_table_is_the_points_own_rates`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct RateTable {
