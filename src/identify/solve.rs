@@ -178,19 +178,29 @@ pub const QR_FIRST_RATIO: usize = 4;
 /// 20,000 × 72 (issue 31).
 pub const TALL_QR_ROWS: usize = 4096;
 
+/// Below this many entries (8 MB) a tall design's QR is one block: it is in the cache already,
+/// and the blocks' own `Q`s and products only add work (a 20,000-point scan with a C backlash,
+/// whose candidates' fits factorise 20,000 × 9-12 designs hundreds of times: 1.89 → 2.14 s with
+/// every design in blocks).
+pub const TALL_QR_MIN_ENTRIES: usize = 1 << 20;
+
 /// `U` (`n × min(n, p)`), the singular values and `Vᵀ` of `a`. Above [`QR_FIRST_ROWS`], by the
 /// QR of row blocks of [`TALL_QR_ROWS`] (TSQR, Demmel et al. 2012, "Communication-optimal
 /// parallel and sequential QR and LU factorizations", SIAM J. Sci. Comput. 34(1) §3):
 /// `A_i = Q_i R_i` for each block, side by side on `threads` threads, then the stacked `R_i`
 /// `= Q_s R`; `R = U_R Σ Vᵀ`, `W = Q_s U_R`, and block `i` of `U` is `Q_i W_i` (`W_i` its `p`
 /// rows of `W`). Householder reflections throughout, so as backward stable as the QR of the
-/// whole; one block (fewer than 2·[`TALL_QR_ROWS`] rows) is that QR.
+/// whole; one block (fewer than 2·[`TALL_QR_ROWS`] rows, or [`TALL_QR_MIN_ENTRIES`]) is that QR.
 fn svd_tall(a: DMatrix<f64>, threads: Threads) -> (DMatrix<f64>, DVector<f64>, DMatrix<f64>) {
     let (n, p) = a.shape();
     if n <= QR_FIRST_ROWS || n < QR_FIRST_RATIO * p {
         return svd_parts(a.svd(true, true));
     }
-    let m = (n / TALL_QR_ROWS.max(2 * p)).max(1);
+    let m = if n * p < TALL_QR_MIN_ENTRIES {
+        1
+    } else {
+        (n / TALL_QR_ROWS.max(2 * p)).max(1)
+    };
     if m == 1 {
         let qr = a.qr();
         let (u, sv, vt) = svd_parts(qr.r().svd(true, true));
@@ -391,13 +401,13 @@ mod tests {
         assert!((&y - &a * &x - &r).norm() < 1e-10 * y.norm());
     }
 
-    /// The QR by row blocks ([`TALL_QR_ROWS`]) of a 20,000 × 9 design (4 blocks; rank 8, one
+    /// The QR by row blocks ([`TALL_QR_ROWS`]) of a 120,000 × 9 design (29 blocks; rank 8, one
     /// column the sum of two others, one scaled by 1e-5): the rank 8, singular values those of
     /// the Gram matrix's eigenvalues to 1e-12 relative (and their squares summing to the 9 unit
-    /// columns' to 1e-13: nalgebra's direct SVD of this matrix is 0.5 % off on the largest, its
-    /// squares summing to 9.019, nalgebra issue 1172), an orthonormal `U` to 1e-13, the
-    /// projection that of the 8 independent columns to 1e-10 of `‖y‖`; and the same bits on 1
-    /// and 3 threads (the blocks do not depend on them).
+    /// columns' to 1e-13, which nalgebra's direct SVD does not guarantee: 9.019 on a 20,000 × 9
+    /// matrix of this kind, its largest value 0.5 % off, nalgebra issue 1172), an orthonormal
+    /// `U` to 1e-13, the projection that of the 8 independent columns to 1e-10 of `‖y‖`; and
+    /// the same bits on 1 and 3 threads (the blocks do not depend on them).
     #[test]
     fn the_blocked_tall_svd_is_exact_to_rounding() {
         let mut rng = crate::numerics::random::Sampler::new(5);
