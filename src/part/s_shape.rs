@@ -21,6 +21,11 @@ pub enum Surface {
 
 impl Surface {
     pub const BOTH: [Surface; 2] = [Surface::A, Surface::B];
+    /// Position in [`Surface::BOTH`]: 0 for A, 1 for B (the index of a surface's pass, path or
+    /// table in pairs kept in that order).
+    pub fn index(self) -> usize {
+        self as usize
+    }
     /// Sign `s` of the outward normal `N = s·unit(R × T)`: +1 on A, -1 on B (s-shape.md).
     pub fn normal_sign(self) -> f64 {
         match self {

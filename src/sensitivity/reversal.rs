@@ -870,7 +870,7 @@ pub fn grid_places(lags: &[Lag; 2], part: &SShape, points: &[MeasurementPoint]) 
     points
         .iter()
         .map(|pt| {
-            let surface = if pt.surface == Surface::A { 0 } else { 1 };
+            let surface = pt.surface.index();
             let p = &lags[surface];
             // Linear interpolation in u between the grid samples around the point (the
             // reference's convention; the exact lag from sample k-1 differs by < 1e-4
@@ -988,7 +988,7 @@ fn ringing_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64> {
     let sites = &spots.ringing;
     let mut out = vec![0.0; sites.len()];
     // runs of the sorted sites on one surface's segment: the segment is the one the closed form
-    // finds by its step ([`segment_of`]), walked forward as the steps increase
+    // finds by the first site's step ([`segment_of`]), the run ending at the next segment's step
     let order = &spots.ringing_order;
     let mut start = 0;
     while start < order.len() {
@@ -1008,7 +1008,7 @@ fn ringing_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64> {
                 .iter()
                 .map(|&i| sites[i].s - seg.s0)
                 .collect();
-            let e = settling_of(seg, p.tau, zeta).offsets(p.tau, &xs);
+            let e = settling_of(seg, p.tau, zeta).offsets(&xs);
             for (&i, e) in order[start..end].iter().zip(e) {
                 out[i] = e;
             }

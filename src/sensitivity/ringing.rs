@@ -52,6 +52,8 @@ pub struct Settling {
     pub decay: f64,
     /// `ω = √(1 − ζ²)/τ` (rad per mm).
     pub omega: f64,
+    /// `τ`, the natural length (mm): the scale of a [`Table`]'s step.
+    pub tau: f64,
 }
 
 impl Settling {
@@ -68,6 +70,7 @@ impl Settling {
             rate,
             decay,
             omega,
+            tau,
         }
     }
 
@@ -100,7 +103,7 @@ impl Settling {
 
     /// `e` at each of `xs` (mm from the segment's start): from a [`Table`] when it is cheaper
     /// ([`NODES_PER_POINT`]), else in closed form.
-    pub fn offsets(&self, tau: f64, xs: &[f64]) -> Vec<f64> {
+    pub fn offsets(&self, xs: &[f64]) -> Vec<f64> {
         if self.is_still() {
             return vec![self.target; xs.len()];
         }
@@ -111,7 +114,7 @@ impl Settling {
             });
         // no node where every point reads e* ([`Table::at`])
         let hi = hi.min(self.settles_at());
-        let h = tau * TABLE_STEP;
+        let h = self.tau * TABLE_STEP;
         let nodes = ((hi - lo).max(0.0) / h).ceil() + 2.0;
         // (not finite: a point at an infinite or undefined length, left to the closed form)
         let pays = nodes.is_finite() && nodes <= NODES_PER_POINT * xs.len() as f64;
@@ -235,7 +238,7 @@ mod tests {
             for zeta in [0.52, 0.28] {
                 let s = Settling::new(-0.5, 0.5, 0.0, tau, zeta);
                 let xs: Vec<f64> = (0..20_000).map(|i| 0.37 + i as f64 * 0.002).collect();
-                let got = s.offsets(tau, &xs);
+                let got = s.offsets(&xs);
                 let amplitude = s.a0.abs() + s.b0.abs();
                 let mut worst = 0.0f64;
                 for (&x, &g) in xs.iter().zip(&got) {
@@ -247,7 +250,7 @@ mod tests {
         // settled far out: the target itself
         let s = Settling::new(-0.5, 0.5, 0.0, 0.19, 0.52);
         let xs: Vec<f64> = (0..5_000).map(|i| 50.0 + i as f64 * 0.001).collect();
-        assert!(s.offsets(0.19, &xs).iter().all(|&e| e == -0.5));
+        assert!(s.offsets(&xs).iter().all(|&e| e == -0.5));
     }
 
     /// Fewer than [`MIN_POINTS`] points, even close together, are evaluated in closed form (the
@@ -257,9 +260,9 @@ mod tests {
         let s = Settling::new(0.5, -0.5, 0.1, 2.0, 0.28);
         let xs: Vec<f64> = (0..MIN_POINTS - 1).map(|i| 0.5 + 0.01 * i as f64).collect();
         let want: Vec<f64> = xs.iter().map(|&x| s.at(x).0).collect();
-        assert_eq!(s.offsets(2.0, &xs), want);
+        assert_eq!(s.offsets(&xs), want);
         let more: Vec<f64> = (0..MIN_POINTS).map(|i| 0.5 + 0.01 * i as f64).collect();
         let exact: Vec<f64> = more.iter().map(|&x| s.at(x).0).collect();
-        assert_ne!(s.offsets(2.0, &more), exact);
+        assert_ne!(s.offsets(&more), exact);
     }
 }

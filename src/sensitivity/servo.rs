@@ -188,7 +188,7 @@ impl RateTable {
         });
         let mut nodes = [Vec::new(), Vec::new()];
         for (&(s, _), part) in jobs.iter().zip(parts) {
-            nodes[usize::from(s == Surface::B)].extend(part?);
+            nodes[s.index()].extend(part?);
         }
         let knots = Surface::BOTH.map(|s| {
             let mut k: Vec<f64> = part
@@ -207,7 +207,7 @@ impl RateTable {
     /// Whether a point at `u` on `surface` is solved at the point ([`RATE_TABLE_KNOT_MARGIN`]).
     fn near_knot(&self, surface: Surface, u: f64) -> bool {
         let margin = RATE_TABLE_KNOT_MARGIN / RATE_TABLE_STEPS as f64;
-        self.knots[usize::from(surface == Surface::B)]
+        self.knots[surface.index()]
             .iter()
             .any(|k| (u - k).abs() <= margin)
     }
@@ -243,7 +243,7 @@ impl RateTable {
 
     /// The cubic through the four nodes around `u`.
     fn interpolated(&self, surface: Surface, u: f64, axes: &[AxisName]) -> PathRates {
-        let nodes = &self.nodes[usize::from(surface == Surface::B)];
+        let nodes = &self.nodes[surface.index()];
         let f = u.clamp(0.0, 1.0) * RATE_TABLE_STEPS as f64;
         let j = (f.floor() as usize).min(RATE_TABLE_STEPS - 1);
         let j0 = j.saturating_sub(1).min(RATE_TABLE_STEPS - 3);

@@ -414,7 +414,7 @@ pub fn points_deviation_on(
     points
         .iter()
         .map(|p| {
-            let path = &paths[usize::from(p.surface == Surface::B)];
+            let path = &paths[p.surface.index()];
             let hit = path.deviation_at(&p.point, &p.normal, p.u, TOOL_RADIUS + d_r)?;
             Ok(PointDeviation {
                 id: p.id,
@@ -681,7 +681,7 @@ mod tests {
             }
         }
         for p in pts {
-            let path = &paths[usize::from(p.surface == Surface::B)];
+            let path = &paths[p.surface.index()];
             let hit = path
                 .deviation_at(&p.point, &p.normal, p.u, TOOL_RADIUS)
                 .unwrap();

@@ -168,7 +168,7 @@ pub fn multilayer_deviation(
     points
         .iter()
         .map(|pt| {
-            let path = &paths[usize::from(pt.surface == Surface::B)];
+            let path = &paths[pt.surface.index()];
             let (p, n) = (&pt.point, &pt.normal);
             let mut own: Option<(usize, f64)> = None;
             let mut best: Option<(usize, f64, f64)> = None;

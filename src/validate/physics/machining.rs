@@ -178,7 +178,7 @@ impl Workshop {
         let near = points
             .iter()
             .map(|p| {
-                let k = usize::from(p.surface == Surface::B);
+                let k = p.surface.index();
                 (k, passes[k].index_near(p.u))
             })
             .collect();
