@@ -21,6 +21,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use crate::effects::data::{Candidate, NamedColumns};
+use crate::gap::span_gram::{SpanGram, GRAM_MIN_ROWS};
 use crate::identify::solve::Factor;
 use crate::numerics::order::sort_f64_descending;
 use crate::parameter::Effect;
@@ -44,7 +45,11 @@ pub fn principal_cosines(qa: &DMatrix<f64>, qb: &DMatrix<f64>) -> Vec<f64> {
     if qa.ncols() == 0 || qb.ncols() == 0 {
         return Vec::new();
     }
-    let m = qa.transpose() * qb;
+    cosines_of(&(qa.transpose() * qb))
+}
+
+/// The singular values of `m = Q_aᵀ Q_b`, capped at 1, largest first.
+fn cosines_of(m: &DMatrix<f64>) -> Vec<f64> {
     let mut sv: Vec<f64> = m.singular_values().iter().map(|v| v.min(1.0)).collect();
     sort_f64_descending(&mut sv);
     sv
@@ -81,14 +86,68 @@ pub fn compare_spans(x: (Effect, &DMatrix<f64>), y: (Effect, &DMatrix<f64>)) -> 
     } else {
         (y, x)
     };
-    let sv = principal_cosines(qa, qb);
+    span_pair(a, b, qa.ncols() < qb.ncols(), &principal_cosines(qa, qb))
+}
+
+/// The [`SpanPair`] of `a` and `b` (the smaller span first) from their principal cosines `sv`
+/// (largest first); `None` when there are none.
+fn span_pair(a: Effect, b: Effect, smaller: bool, sv: &[f64]) -> Option<SpanPair> {
     Some(SpanPair {
         a,
         b,
         cosine: *sv.first()?,
         a_within_b: *sv.last()?,
-        smaller: qa.ncols() < qb.ncols(),
+        smaller,
     })
+}
+
+/// Spans compared pair by pair ([`compare_spans`]); from [`GRAM_MIN_ROWS`] rows on, every
+/// pair's `Q_aᵀ Q_b` read off one Gram matrix of them all ([`SpanGram`]: a dense scan's spans read
+/// once, not once a pair).
+pub struct SpanPairs<'a> {
+    spans: Vec<(Effect, &'a DMatrix<f64>)>,
+    gram: Option<SpanGram>,
+}
+
+impl<'a> SpanPairs<'a> {
+    /// The spans (orthonormal bases of the same rows), their Gram matrix formed on `threads`
+    /// threads when they are tall enough.
+    pub fn new(spans: Vec<(Effect, &'a DMatrix<f64>)>, threads: Threads) -> Self {
+        let rows = spans.first().map_or(0, |s| s.1.nrows());
+        let gram = (rows >= GRAM_MIN_ROWS).then(|| {
+            let bases: Vec<&DMatrix<f64>> = spans.iter().map(|s| s.1).collect();
+            SpanGram::of(&bases, threads)
+        });
+        Self { spans, gram }
+    }
+
+    /// The spans, in the order given.
+    pub fn spans(&self) -> &[(Effect, &'a DMatrix<f64>)] {
+        &self.spans
+    }
+
+    /// [`compare_spans`] of spans `i` and `j`.
+    pub fn compare(&self, i: usize, j: usize) -> Option<SpanPair> {
+        let Some(gram) = &self.gram else {
+            return compare_spans(self.spans[i], self.spans[j]);
+        };
+        // the smaller span first, as compare_spans
+        let (x, y) = if gram.width(i) <= gram.width(j) {
+            (i, j)
+        } else {
+            (j, i)
+        };
+        if gram.width(x) == 0 {
+            return None;
+        }
+        let sv = cosines_of(&gram.cross(x, y));
+        span_pair(
+            self.spans[x].0,
+            self.spans[y].0,
+            gram.width(x) < gram.width(y),
+            &sv,
+        )
+    }
 }
 
 /// Orthonormal bases of the unabsorbed spans `(I − P) S_c` of `candidates` (`P` the projector on
@@ -122,12 +181,14 @@ pub fn near_equivalent_pairs_on<M: Borrow<DMatrix<f64>> + Sync>(
     spans: &[(Effect, M)],
     threads: Threads,
 ) -> Vec<Equivalence> {
+    let pairs = SpanPairs::new(
+        spans.iter().map(|(e, q)| (*e, q.borrow())).collect(),
+        threads,
+    );
     let rows: Vec<usize> = (0..spans.len()).collect();
     map(threads, &rows, |&i| {
-        let (na, qa) = &spans[i];
-        spans[i + 1..]
-            .iter()
-            .filter_map(|(nb, qb)| compare_spans((*na, qa.borrow()), (*nb, qb.borrow())))
+        (i + 1..spans.len())
+            .filter_map(|j| pairs.compare(i, j))
             .filter(|p| p.cosine >= EQUIVALENT_COS)
             .map(|p| Equivalence {
                 a: p.a,

@@ -46,6 +46,7 @@ pub mod regions;
 pub mod report;
 pub mod separability;
 pub mod shape;
+pub mod span_gram;
 pub mod verdict;
 pub mod which;
 

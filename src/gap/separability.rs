@@ -13,7 +13,8 @@
 use serde::Serialize;
 
 use crate::effects::builtin::PartModel;
-use crate::gap::equivalence::{compare_spans, unabsorbed_spans, EQUIVALENT_COS};
+use crate::gap::equivalence::{compare_spans, unabsorbed_spans, SpanPairs, EQUIVALENT_COS};
+use crate::numerics::parallel::Threads;
 use crate::parameter::Effect;
 
 /// The smallest principal cosine at or above which the smaller span is inside the larger: a
@@ -55,14 +56,15 @@ pub fn separability(here: &PartModel, builtin: &PartModel) -> Separability {
     let sh = unabsorbed_spans(&here.baseline, &here.candidates);
     let sb = unabsorbed_spans(&builtin.baseline, &builtin.candidates);
     let on_builtin = |e: Effect| sb.iter().find(|s| s.0 == e).map(|s| (e, &s.1));
+    // a dense scan's pairs off one Gram matrix of its spans (on this thread: the separability
+    // runs beside the fit)
+    let here_pairs = SpanPairs::new(sh.iter().map(|(e, q)| (*e, q)).collect(), Threads::ONE);
     let mut out = Separability::default();
-    for (i, (ea, qa)) in sh.iter().enumerate() {
-        for (eb, qb) in &sh[i + 1..] {
-            let (Some(p), Some(ba), Some(bb)) = (
-                compare_spans((*ea, qa), (*eb, qb)),
-                on_builtin(*ea),
-                on_builtin(*eb),
-            ) else {
+    for (i, (ea, _)) in sh.iter().enumerate() {
+        for (j, (eb, _)) in sh.iter().enumerate().skip(i + 1) {
+            let (Some(p), Some(ba), Some(bb)) =
+                (here_pairs.compare(i, j), on_builtin(*ea), on_builtin(*eb))
+            else {
                 continue;
             };
             let Some(q) = compare_spans(ba, bb) else {
