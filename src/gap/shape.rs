@@ -36,9 +36,12 @@ pub const SHAPE_CONFIDENCE: f64 = 0.95;
 /// The estimate of a family whose members can be computed between the grid's values: to this
 /// bracket in the grid's coordinate (1/1000 of a grid step).
 pub const EXACT_TOL: f64 = 1e-3;
-/// Members of a family projected off the baseline together ([`scan_family`]): at 200,000 points
-/// a block is 13 MB.
+/// Members of a family projected off the baseline together ([`scan_family`], below a dense
+/// scan's rows: [`scan_block_size`]).
 const SCAN_BLOCK: usize = 8;
+/// The most members of a block on a dense scan ([`scan_block_size`]): projected in their own
+/// columns, a block costs no memory of its own.
+const DENSE_SCAN_BLOCK: usize = 32;
 /// Bisection steps of an interval's end between two grid values (1/4096 of a step).
 pub const ROOT_STEPS: usize = 12;
 
@@ -161,54 +164,27 @@ pub fn scan_family_on(
     // matrix-vector products a member: the baseline's basis, 9 MB at 20,000 points, read once a
     // block); the correlations as one blocked product `DᵀD`.
     let n = c.signature.matrix.nrows();
+    let size = scan_block_size(n, family.len());
     // member j's direction in column j (zeros when absorbed), each block in its own columns
     let mut dirs = DMatrix::<f64>::zeros(n, family.len());
     let mut blocks: Vec<(usize, &mut [f64])> = dirs
         .as_mut_slice()
-        .chunks_mut((n * SCAN_BLOCK).max(1))
+        .chunks_mut((n * size).max(1))
         .enumerate()
-        .map(|(b, cols)| (b * SCAN_BLOCK, cols))
+        .map(|(b, cols)| (b * size, cols))
         .collect();
     // each member's fit on the residual (when asked) and whether the baseline leaves it a
     // direction
     let scan_block =
         |(start, cols): &mut (usize, &mut [f64])| -> Vec<(Option<(f64, usize)>, bool)> {
-            let block: Vec<_> = (*start..family.len().min(*start + SCAN_BLOCK))
+            let block: Vec<_> = (*start..family.len().min(*start + size))
                 .map(|j| family.member(j))
                 .collect();
-            let width = block.iter().map(|s| s.ncols()).sum();
-            let mut s_all = DMatrix::<f64>::zeros(n, width);
-            let mut at = 0;
-            for s in &block {
-                s_all.columns_mut(at, s.ncols()).copy_from(s.as_ref());
-                at += s.ncols();
+            if block.iter().all(|s| s.ncols() == 1) {
+                scan_in_place(factor, r0, &block, cols)
+            } else {
+                scan_copied(factor, r0, &block, cols)
             }
-            let u_all = factor.unabsorbed(&s_all);
-            let mut at = 0;
-            block
-                .iter()
-                .enumerate()
-                .map(|(i, s)| {
-                    let w = s.ncols();
-                    let un = Unabsorbed {
-                        u: u_all.columns(at, w).into_owned(),
-                        norms: (0..w).map(|j| s.column(j).norm()).collect(),
-                    };
-                    at += w;
-                    let fit = r0.map(|r0| un.rss(r0));
-                    let nu = un.u.column(0).norm();
-                    let kept = nu > 1e-12 * s.column(0).norm().max(1e-300);
-                    if kept {
-                        for (d, u) in cols[i * n..(i + 1) * n]
-                            .iter_mut()
-                            .zip(un.u.column(0).iter())
-                        {
-                            *d = u / nu;
-                        }
-                    }
-                    (fit, kept)
-                })
-                .collect()
         };
     let scanned: Vec<_> = map_mut(threads, &mut blocks, scan_block)
         .into_iter()
@@ -250,6 +226,105 @@ pub fn scan_family_on(
         effective_shapes: m_eff,
         members,
     }
+}
+
+/// The members of a family projected together: [`SCAN_BLOCK`], or on a dense scan (from
+/// [`crate::gap::span_gram::GRAM_MIN_ROWS`] rows on) the family in equal blocks of at most
+/// [`DENSE_SCAN_BLOCK`] (two of 27 for a backlash's 54 members: the baseline's basis, 115 MB at
+/// 200,000 points, read twice a block, four times a family instead of fourteen, issue 31). The
+/// blocks depend on the rows and the members alone, not on the threads.
+fn scan_block_size(n: usize, members: usize) -> usize {
+    if n < crate::gap::span_gram::GRAM_MIN_ROWS {
+        return SCAN_BLOCK;
+    }
+    let blocks = members.div_ceil(DENSE_SCAN_BLOCK).max(1);
+    members.div_ceil(blocks).max(1)
+}
+
+/// A block of one-column members projected off the baseline in their own columns `cols` of the
+/// directions ([`Factor::unabsorb_in_place`]: no copy of the block and of its projection), each
+/// member's fit on `r0` (when given) from its unabsorbed column, then the column normalised, or
+/// zeroed when the baseline absorbs the member.
+fn scan_in_place(
+    factor: &Factor,
+    r0: Option<&DVector<f64>>,
+    block: &[std::borrow::Cow<'_, DMatrix<f64>>],
+    cols: &mut [f64],
+) -> Vec<(Option<(f64, usize)>, bool)> {
+    let n = factor.basis.nrows();
+    let w = block.len();
+    let mut x = nalgebra::DMatrixViewMut::from_slice(&mut cols[..n * w], n, w);
+    for (j, s) in block.iter().enumerate() {
+        x.column_mut(j).copy_from(&s.column(0));
+    }
+    factor.unabsorb_in_place(x.columns_mut(0, w));
+    block
+        .iter()
+        .enumerate()
+        .map(|(j, s)| {
+            let norm = s.column(0).norm();
+            let col = &mut cols[j * n..(j + 1) * n];
+            let fit = r0.map(|r0| {
+                Unabsorbed {
+                    u: DMatrix::from_column_slice(n, 1, col),
+                    norms: vec![norm],
+                }
+                .rss(r0)
+            });
+            let nu = nalgebra::DVectorView::from_slice(col, n).norm();
+            let kept = nu > 1e-12 * norm.max(1e-300);
+            if kept {
+                col.iter_mut().for_each(|d| *d /= nu);
+            } else {
+                col.fill(0.0);
+            }
+            (fit, kept)
+        })
+        .collect()
+}
+
+/// [`scan_in_place`] for members of several columns: the block's columns side by side in a
+/// copy, projected, each member's direction the unabsorbed part of its first column.
+fn scan_copied(
+    factor: &Factor,
+    r0: Option<&DVector<f64>>,
+    block: &[std::borrow::Cow<'_, DMatrix<f64>>],
+    cols: &mut [f64],
+) -> Vec<(Option<(f64, usize)>, bool)> {
+    let n = factor.basis.nrows();
+    let width = block.iter().map(|s| s.ncols()).sum();
+    let mut s_all = DMatrix::<f64>::zeros(n, width);
+    let mut at = 0;
+    for s in block {
+        s_all.columns_mut(at, s.ncols()).copy_from(s.as_ref());
+        at += s.ncols();
+    }
+    let u_all = factor.unabsorbed(&s_all);
+    let mut at = 0;
+    block
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let w = s.ncols();
+            let un = Unabsorbed {
+                u: u_all.columns(at, w).into_owned(),
+                norms: (0..w).map(|j| s.column(j).norm()).collect(),
+            };
+            at += w;
+            let fit = r0.map(|r0| un.rss(r0));
+            let nu = un.u.column(0).norm();
+            let kept = nu > 1e-12 * s.column(0).norm().max(1e-300);
+            if kept {
+                for (d, u) in cols[i * n..(i + 1) * n]
+                    .iter_mut()
+                    .zip(un.u.column(0).iter())
+                {
+                    *d = u / nu;
+                }
+            }
+            (fit, kept)
+        })
+        .collect()
 }
 
 /// The first and last indices of `z` within `bound` (`best` among them): the hull of the

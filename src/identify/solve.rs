@@ -18,7 +18,7 @@
 //! Residual figures: [`rms`] and [`max_abs`] (mm for deviations), the `rms`/`max_abs` of
 //! [`super::ResidualStats`] as well.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DMatrixView, DMatrixViewMut, DVector};
 
 use crate::numerics::parallel::{map, Threads};
 
@@ -137,6 +137,23 @@ impl Factor {
     /// forming `Qᵀ`: at 20,000 rows a copy of 9 MB a call).
     pub fn unabsorbed(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
         x - &self.basis * tr_mul(&self.basis, x)
+    }
+
+    /// [`Self::unabsorbed`] in place: `x ← x − Q Qᵀ x` on a view (the columns of a larger
+    /// matrix, without a copy of `x` and of the product: a dense scan's family members, issue 31),
+    /// the same bits. Where `Q (Qᵀx)` is a blocked product (more than [`SMALL_PRODUCT`] rows,
+    /// columns of `x` and of `Q`, and at most [`PRODUCT_DEPTH`] columns of `Q`), the product is
+    /// subtracted in its own epilogue (`c ← −ab + c`: `ab` is summed as for the copy, then one
+    /// rounding, that of `x − ab`); else the product is formed and subtracted, as by the copy.
+    pub fn unabsorb_in_place(&self, mut x: DMatrixViewMut<'_, f64>) {
+        let c = tr_mul_view(&self.basis, x.as_view());
+        let (n, w) = x.shape();
+        let r = self.basis.ncols();
+        if n > SMALL_PRODUCT && w > SMALL_PRODUCT && r > SMALL_PRODUCT && r <= PRODUCT_DEPTH {
+            x.gemm(-1.0, &self.basis, &c, 1.0);
+        } else {
+            x -= &self.basis * c;
+        }
     }
 
     /// Same for one vector.
@@ -262,16 +279,30 @@ pub fn hstack(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
 /// blocked product on a strided view of one column would touch a cache line per row). The sums
 /// are in another order: equal to rounding.
 pub fn tr_mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
-    const FEW: usize = 5;
+    tr_mul_view(a, b.as_view())
+}
+
+/// Up to this many rows or columns nalgebra multiplies by columns (its `gemm`'s `SMALL_DIM`),
+/// above by blocks (`matrixmultiply`).
+pub const SMALL_PRODUCT: usize = 5;
+
+/// Depth (the shared dimension) up to which the blocked product sums in one pass
+/// (`matrixmultiply`'s `kc` for `f64`), so that subtracting in its epilogue rounds as
+/// subtracting the finished product.
+pub const PRODUCT_DEPTH: usize = 256;
+
+/// [`tr_mul`] with `b` a view (the columns of a larger matrix): the same bits.
+pub fn tr_mul_view(a: &DMatrix<f64>, b: DMatrixView<'_, f64>) -> DMatrix<f64> {
+    const FEW: usize = SMALL_PRODUCT;
     let (n, p) = a.shape();
     assert_eq!(n, b.nrows(), "tr_mul: {n} rows against {}", b.nrows());
     if p <= FEW || b.ncols() <= FEW || n <= FEW {
-        return a.tr_mul(b);
+        return a.tr_mul(&b);
     }
     // aᵀ (p × n) on a's column-major storage: entry (j, i) at i + j·n
     let at = nalgebra::DMatrixView::from_slice_with_strides(a.as_slice(), p, n, n, 1);
     let mut out = DMatrix::zeros(p, b.ncols());
-    out.gemm(1.0, &at, b, 0.0);
+    out.gemm(1.0, &at, &b, 0.0);
     out
 }
 
@@ -307,6 +338,26 @@ mod tests {
             assert!((&got - &want).amax() <= 1e-13 * scale, "{n}x{p}, {k}");
             if p <= 5 || k <= 5 {
                 assert_eq!(got, want);
+            }
+        }
+    }
+
+    /// Projecting off the basis in place is the copy's projection bit for bit, whether the
+    /// product is blocked (6 to 40 columns) or by columns (1 to 5 columns, or a basis of 4
+    /// columns), on the columns of a larger matrix.
+    #[test]
+    fn unabsorbing_in_place_is_the_copy_bit_for_bit() {
+        let f = |i: usize, j: usize| ((i * 7 + j * 13) % 17) as f64 - 8.0 + 0.1 * (i as f64).sin();
+        for (n, p) in [(300, 12), (300, 4), (5000, 40)] {
+            let factor = Factor::new(&DMatrix::from_fn(n, p, f), None);
+            for w in [1, 3, 5, 6, 9, 40] {
+                let x = DMatrix::from_fn(n, w + 2, |i, j| f(i + 5, j + 3) * 0.7);
+                let want = factor.unabsorbed(&x.columns(1, w).into_owned());
+                let mut got = x.clone();
+                factor.unabsorb_in_place(got.columns_mut(1, w));
+                assert_eq!(got.columns(1, w), want, "{n} x {p}, {w} columns");
+                assert_eq!(got.column(0), x.column(0));
+                assert_eq!(got.column(w + 1), x.column(w + 1));
             }
         }
     }
