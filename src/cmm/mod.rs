@@ -30,6 +30,7 @@ pub mod table;
 pub mod units;
 pub mod write;
 
+use crate::numerics::parallel::Threads;
 use std::collections::hash_map::Entry;
 use std::collections::HashMap;
 
@@ -50,7 +51,7 @@ pub fn read_cmm(bytes: &[u8], name: &str) -> Result<CmmFile, CmmError> {
 }
 
 /// Finds the format of the content lines and splits them into rows.
-fn parse_table(content: &[(usize, &str)]) -> Result<ParsedTable, CmmError> {
+fn parse_table(content: &[(usize, &str)], threads: Threads) -> Result<ParsedTable, CmmError> {
     let (first_line, first) = content[0];
     if fixed::is_xyzijk(first) {
         return fixed::xyzijk(content);
@@ -61,7 +62,7 @@ fn parse_table(content: &[(usize, &str)]) -> Result<ParsedTable, CmmError> {
     if let Some(h) = delimited::find_header(content) {
         let layout = header::layout_from_header(&h.fields, h.line)?;
         let data = &content[h.content_index + 1..];
-        let split = delimited::split_rows(data, h.separator, &layout);
+        let split = delimited::split_rows(data, h.separator, &layout, threads);
         return Ok(ParsedTable {
             kind: FormatKind::Delimited,
             layout,
@@ -195,10 +196,10 @@ pub fn read_cmm_with(bytes: &[u8], name: &str, opts: &ReadOptions) -> Result<Cmm
     opts.validate()?;
     let decoded = decode::decode(bytes, name, opts.max_bytes)?;
     let lines = content_lines(&decoded.text, bytes.len(), name, opts.max_rows)?;
-    let table = parse_table(&lines.content)?;
+    let table = parse_table(&lines.content, opts.threads)?;
     let data_rows = count_data_rows(&table, lines.content[0].0, name, opts.max_rows)?;
     let default_unit = opts.length_unit.unwrap_or(LengthUnit::Mm);
-    let (mut points, mut problems) = read_points(&table, default_unit);
+    let (mut points, mut problems) = read_points(&table, default_unit, opts.threads);
     let mut warnings = Vec::new();
     let implausible = check_units(&mut points, &table, opts, default_unit, &mut warnings)?;
     problems.extend(implausible);
@@ -303,13 +304,18 @@ fn count_data_rows(
 
 /// The points of `table` in mm (lengths without a unit in `default_unit`), and the problems:
 /// rows of the wrong shape, bad fields, repeated ids (those rows are dropped from the points).
-fn read_points(table: &ParsedTable, default_unit: LengthUnit) -> (Vec<CmmPoint>, Vec<RowProblem>) {
+fn read_points(
+    table: &ParsedTable,
+    default_unit: LengthUnit,
+    threads: Threads,
+) -> (Vec<CmmPoint>, Vec<RowProblem>) {
     let decimal_comma_allowed = table.separator != Some(Separator::Comma);
-    let converted = rows::convert(
+    let converted = rows::convert_on(
         &table.rows,
         &table.layout,
         decimal_comma_allowed,
         default_unit,
+        threads,
     );
     let mut points = converted.points;
     let mut problems = table.problems.clone();

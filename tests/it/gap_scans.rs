@@ -210,3 +210,35 @@ fn a_scan_is_analysed_the_same_on_any_number_of_threads() {
     assert!(one.contains("backlash_c"));
     assert!(one == on(3), "the analysis on 3 threads differs from 1");
 }
+
+/// A scan's rows are split and converted in chunks of 4,096 side by side (issue 31): on 3
+/// threads the file reads as on one, point for point (ids generated from the row's position,
+/// lines) and bad row for bad row, with bad rows in the first, second and third chunk and the
+/// 10,000 rows of a 2 × 50 × 100 scan (`exclude_bad_rows`, so that they are reported).
+#[test]
+fn a_scan_reads_the_same_in_chunks_on_any_threads() {
+    use testpiece::cmm::{read_cmm_with, ReadOptions};
+    use testpiece::numerics::parallel::Threads;
+    let part = SShape::iso();
+    let pts = ScanLayout {
+        heights: 50,
+        rulings: 100,
+    }
+    .scan_points(&part);
+    let file = scan_csv(pts.iter().map(|p| (p, 0.001)), Precision::Decimals(6), None);
+    // three rows made bad: a letter in a number (data rows 10, 5000 and 9000)
+    let mut lines: Vec<String> = file.lines().map(String::from).collect();
+    let header = lines.iter().position(|l| l.starts_with("x,")).unwrap();
+    for row in [10, 5000, 9000] {
+        lines[header + 1 + row] = lines[header + 1 + row].replacen('.', "q", 1);
+    }
+    let bytes = lines.join("\n").into_bytes();
+    let opts = ReadOptions::default().with_exclude_bad_rows(true);
+    let one = read_cmm_with(&bytes, "scan.csv", &opts.clone().with_threads(Threads::ONE)).unwrap();
+    let three = read_cmm_with(&bytes, "scan.csv", &opts.with_threads(Threads::new(3))).unwrap();
+    assert_eq!(one.points.len(), 9997);
+    assert_eq!(one.excluded.len(), 3);
+    assert_eq!(one, three);
+    // the generated ids count the data rows, bad ones included
+    assert_eq!(three.points[9996].id, "10000");
+}
