@@ -41,7 +41,7 @@ pub const EXACT_TOL: f64 = 1e-3;
 const SCAN_BLOCK: usize = 8;
 /// The most members of a block on a dense scan ([`scan_block_size`]): projected in their own
 /// columns, a block costs no memory of its own.
-const DENSE_SCAN_BLOCK: usize = 32;
+const DENSE_SCAN_BLOCK: usize = 10;
 /// Bisection steps of an interval's end between two grid values (1/4096 of a step).
 pub const ROOT_STEPS: usize = 12;
 

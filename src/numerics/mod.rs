@@ -3,6 +3,7 @@
 //! ([`memo`]), sorting by a number with one copy of the sort code ([`order`]), and a map over independent items
 //! on the threads a caller gives ([`parallel`]). Nothing here knows the part, the machine or a CMM.
 
+pub mod fast_hash;
 pub mod memo;
 pub mod order;
 pub mod parallel;
