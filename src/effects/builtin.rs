@@ -255,8 +255,9 @@ pub(crate) fn every_candidate_model(
     threads: Threads,
 ) -> Result<PartModel, GapError> {
     use crate::effects::machine::{
-        c_table_sign, index_signatures, machine_z_columns, scale_and_motions,
+        c_table_sign, index_signatures, machine_z_columns, MotionParams,
     };
+    use crate::sensitivity::defect::{jacobian_rows, SensitivityMatrix};
     let chain_axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
     // the point-wise work in blocks of points, shared out between the threads as each becomes
     // free (issue 31: two fixed halves left one thread alone for a tenth of the model): every
@@ -272,7 +273,25 @@ pub(crate) fn every_candidate_model(
         Ok(match job {
             Job::Design(r) => {
                 let (points, q) = (&points[r.clone()], &q[r.clone()]);
-                let sens = crate::sensitivity::sensitivity_matrix(part, points, q, opts, errors)?;
+                // the location errors and the error motions from one Jacobian a point (the
+                // chain's factors and products once; each column as it would be alone)
+                let motion_params = MotionParams::new();
+                let all: Vec<ErrorParam> = errors
+                    .iter()
+                    .chain(&motion_params.params)
+                    .cloned()
+                    .collect();
+                let m = jacobian_rows(part, points, q, opts, &all)?;
+                let sens = SensitivityMatrix {
+                    ids: points.iter().map(|p| p.id).collect(),
+                    curves: points.iter().map(|p| p.curve.name().to_string()).collect(),
+                    errors: errors.to_vec(),
+                    values: m.columns(0, errors.len()).into_owned(),
+                };
+                let (scale, motions) = motion_params.columns(
+                    &m.columns(errors.len(), motion_params.params.len())
+                        .into_owned(),
+                );
                 let eps = effect_points_on(part, points, path.lengths());
                 let flank =
                     |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
@@ -280,7 +299,6 @@ pub(crate) fn every_candidate_model(
                     .iter()
                     .map(|d| d.deviation)
                     .collect();
-                let (scale, motions) = scale_and_motions(part, points, q, opts)?;
                 Piece::Design(Design {
                     sens,
                     eps,

@@ -17,7 +17,7 @@
 //! at each lag of the family, are [`crate::sensitivity::reversal::lagged_columns`] on the path
 //! model's lags ([`crate::effects::builtin`]).
 
-use nalgebra::{Rotation3, Vector3};
+use nalgebra::{DMatrix, Rotation3, Vector3};
 
 use crate::effects::data::Reversal;
 use crate::effects::nuisance::Nuisance;
@@ -48,40 +48,76 @@ pub fn scale_and_motions(
     q: &[AxisValues],
     opts: &SensitivityOptions,
 ) -> Result<(AxisColumns, Vec<Nuisance>), GapError> {
-    let mut params = Vec::new();
-    let mut fams = Vec::new();
-    let mut scale = Vec::new();
-    for &axis in &SCALE_AXES {
-        for &component in &SCALE_AXES {
-            let lo = if component == axis { 1 } else { 2 };
-            let start = params.len();
-            if component == axis {
-                scale.push((axis, start));
+    let motions = MotionParams::new();
+    let m = jacobian_rows(part, points, q, opts, &motions.params)?;
+    Ok(motions.columns(&m))
+}
+
+/// The error motions of [`scale_and_motions`]: their parameters in column order, each family's
+/// columns and where each scale error's column is (so that a caller can put them beside other
+/// parameters in one Jacobian a point: the part model, issue 31).
+pub struct MotionParams {
+    pub params: Vec<ErrorParam>,
+    /// `motion_E<component><axis>` and its columns `start..end`.
+    families: Vec<(String, usize, usize)>,
+    /// Each axis's scale error (`E<axis><axis>` of power 1): its column.
+    scale: Vec<(AxisName, usize)>,
+}
+
+impl MotionParams {
+    pub fn new() -> Self {
+        let mut params = Vec::new();
+        let mut families = Vec::new();
+        let mut scale = Vec::new();
+        for &axis in &SCALE_AXES {
+            for &component in &SCALE_AXES {
+                let lo = if component == axis { 1 } else { 2 };
+                let start = params.len();
+                if component == axis {
+                    scale.push((axis, start));
+                }
+                for power in lo..=3 {
+                    params.push(ErrorParam::Motion {
+                        component,
+                        axis,
+                        power,
+                    });
+                }
+                families.push((format!("motion_E{component}{axis}"), start, params.len()));
             }
-            for power in lo..=3 {
-                params.push(ErrorParam::Motion {
-                    component,
-                    axis,
-                    power,
-                });
-            }
-            fams.push((format!("motion_E{component}{axis}"), start, params.len()));
+        }
+        Self {
+            params,
+            families,
+            scale,
         }
     }
-    let m = jacobian_rows(part, points, q, opts, &params)?;
-    let scale = scale
-        .into_iter()
-        .map(|(a, j)| (a, m.column(j).iter().copied().collect()))
-        .collect();
-    let motions = fams
-        .into_iter()
-        .map(|(id, a, b)| Nuisance {
-            id,
-            columns: m.columns(a, b - a).into_owned(),
-            pooled: true,
-        })
-        .collect();
-    Ok((scale, motions))
+
+    /// The scale columns and the motion families from `m`, whose columns are [`Self::params`]'
+    /// (`points × params`).
+    pub fn columns(&self, m: &DMatrix<f64>) -> (AxisColumns, Vec<Nuisance>) {
+        let scale = self
+            .scale
+            .iter()
+            .map(|&(a, j)| (a, m.column(j).iter().copied().collect()))
+            .collect();
+        let motions = self
+            .families
+            .iter()
+            .map(|(id, a, b)| Nuisance {
+                id: id.clone(),
+                columns: m.columns(*a, b - a).into_owned(),
+                pooled: true,
+            })
+            .collect();
+        (scale, motions)
+    }
+}
+
+impl Default for MotionParams {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 /// Where each axis of `axes` reverses along the passes (A then B): tool-tip path length from the

@@ -495,10 +495,14 @@ fn jacobian_of(
             }
         };
         let dm = pre * fd.d * post;
+        // `wi·dm` (and `wi·dm·wi`) once for the point and the direction: the same products,
+        // in the same order, as written out for each
+        let wdm = wi * dm;
         let (dp, dd) = if fd.tool_side {
-            (wi * dm * vp, wi * dm * vd)
+            (wdm * vp, wdm * vd)
         } else {
-            (-(wi * dm * wi * tp), -(wi * dm * wi * td))
+            let wdmw = wdm * wi;
+            (-(wdmw * tp), -(wdmw * td))
         };
         jp.set_column(k, &dp.xyz());
         jd.set_column(k, &dd.xyz());
