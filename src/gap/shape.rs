@@ -25,7 +25,7 @@ use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use serde::Serialize;
 
 use crate::effects::data::Candidate;
-use crate::identify::solve::{hstack, tr_mul, Factor};
+use crate::identify::solve::{gram_on, hstack, tr_mul, Factor};
 use crate::machine::Unit;
 use crate::numerics::parallel::{map_mut, Threads};
 use crate::numerics::stats;
@@ -212,7 +212,13 @@ pub fn scan_family_on(
     }
     // the members kept, in place (a copy would be 86 MB more at 200,000 points, issue 31)
     let dirs = dirs.resize_horizontally(k, 0.0);
-    let corr = tr_mul(&dirs, &dirs);
+    // (on a dense scan by row blocks side by side: one product of 200,000 × 54 had been a
+    // tenth of a second of one thread a family)
+    let corr = if n < crate::gap::span_gram::GRAM_MIN_ROWS {
+        tr_mul(&dirs, &dirs)
+    } else {
+        gram_on(&dirs, threads)
+    };
     let eig = SymmetricEigen::new(corr).eigenvalues;
     let m_eff = eig
         .iter()

@@ -282,6 +282,27 @@ pub fn tr_mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
     tr_mul_view(a, b.as_view())
 }
 
+/// `aᵀa` by row blocks of [`TALL_QR_ROWS`], the blocks side by side on `threads` threads and
+/// summed in their order (the same bits on any number of threads; to rounding [`tr_mul`]'s):
+/// a dense scan's `n × m` Gram matrices, one thread's 0.1 s each at 200,000 × 54 (issue 31).
+pub fn gram_on(a: &DMatrix<f64>, threads: Threads) -> DMatrix<f64> {
+    let (n, p) = a.shape();
+    let starts: Vec<usize> = (0..n).step_by(TALL_QR_ROWS).collect();
+    let blocks = map(threads, &starts, |&r0| {
+        let rows = TALL_QR_ROWS.min(n - r0);
+        // the block's rows of aᵀ (p × rows) viewed in place, and of a
+        let at = DMatrixView::from_slice_with_strides(&a.as_slice()[r0..], p, rows, n, 1);
+        let mut out = DMatrix::zeros(p, p);
+        out.gemm(1.0, &at, &a.rows(r0, rows), 0.0);
+        out
+    });
+    let mut g = DMatrix::zeros(p, p);
+    for b in blocks {
+        g += b;
+    }
+    g
+}
+
 /// Up to this many rows or columns nalgebra multiplies by columns (its `gemm`'s `SMALL_DIM`),
 /// above by blocks (`matrixmultiply`).
 pub const SMALL_PRODUCT: usize = 5;
@@ -339,6 +360,20 @@ mod tests {
             if p <= 5 || k <= 5 {
                 assert_eq!(got, want);
             }
+        }
+    }
+
+    /// The Gram matrix by row blocks is `aᵀa` to rounding (1e-13 of ‖a‖²) on 9,000 × 12 (three
+    /// blocks, the last short) and 100 × 7 (one), and the same bits on 1 and 3 threads.
+    #[test]
+    fn the_blocked_gram_is_the_product() {
+        let f = |i: usize, j: usize| ((i * 7 + j * 13) % 17) as f64 - 8.0 + 0.1 * (i as f64).sin();
+        for (n, p) in [(9000, 12), (100, 7)] {
+            let a = DMatrix::from_fn(n, p, f);
+            let g = gram_on(&a, Threads::ONE);
+            let want = a.transpose() * &a;
+            assert!((&g - &want).amax() <= 1e-13 * a.norm_squared(), "{n} x {p}");
+            assert_eq!(gram_on(&a, Threads::new(3)), g);
         }
     }
 
