@@ -49,8 +49,8 @@ pub use error::AnalysisError;
 pub use fit::{fit_points, fit_points_with, PointsFit};
 pub use options::{AnalysisOptions, KnownDeviation};
 pub use points::{
-    columns_of, design_at, effects_on_machine, measurement_points, nearest_curve,
-    sensitivity_options,
+    columns_of, design_at, effects_on_machine, measurement_points, measurement_points_on,
+    nearest_curve, sensitivity_options,
 };
 pub use progress::{silent, Progress, Sink, Stage};
 use report::diagnosis_summary;
@@ -190,7 +190,7 @@ pub fn analyse_parts_with(
     let prepared = session.prepared();
     progress(Progress::of(Stage::Read));
     let (matched, pure) = read_parts(files, opts)?;
-    let points = measurement_points(prepared.part(), &matched);
+    let points = measurement_points_on(prepared.part(), &matched, opts.threads);
     let mut noise = match &pure {
         Some(pe) => NoiseSource {
             source: NoiseKind::Repeat,
