@@ -25,7 +25,7 @@ use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use serde::Serialize;
 
 use crate::effects::data::Candidate;
-use crate::identify::solve::{gram_on, hstack, tr_mul, Factor};
+use crate::identify::solve::{gram_on, hstack, tr_mul, zeros_lazily, Factor};
 use crate::machine::Unit;
 use crate::numerics::parallel::{map_mut, Threads};
 use crate::numerics::stats;
@@ -166,7 +166,7 @@ pub fn scan_family_on(
     let n = c.signature.matrix.nrows();
     let size = scan_block_size(n, family.len());
     // member j's direction in column j (zeros when absorbed), each block in its own columns
-    let mut dirs = DMatrix::<f64>::zeros(n, family.len());
+    let mut dirs = zeros_lazily(n, family.len());
     let mut blocks: Vec<(usize, &mut [f64])> = dirs
         .as_mut_slice()
         .chunks_mut((n * size).max(1))
