@@ -88,6 +88,17 @@ fn factor(x: &DMatrix<f64>) -> Factor {
     Factor::new(x, Some(&scale))
 }
 
+/// [`factor`] of a design given up, a tall one's row blocks side by side on `threads` threads
+/// ([`Factor::of_on`]: the same numbers): the factorisations outside the models' map, which had
+/// run on one thread (a dense scan's 200,000 rows, issue 31).
+fn factor_on(x: DMatrix<f64>, threads: Threads) -> Factor {
+    if x.ncols() == 1 {
+        return factor(&x);
+    }
+    let scale: Vec<f64> = x.column_iter().map(|c| c.norm().max(1e-300)).collect();
+    Factor::of_on(x, Some(&scale), threads)
+}
+
 /// The least-squares [`Fit`] of `x` on `y`, its first `p` coefficients kept.
 fn fit(x: &DMatrix<f64>, y: &DVector<f64>, p: usize) -> Fit {
     fit_on(&factor(x), y, p)
@@ -139,8 +150,8 @@ pub fn model_spread(
     let yfull = DMatrix::from_column_slice(y.len(), 1, y);
     let wy = DVector::from_iterator(n, white(&yfull).iter().copied());
     let b0 = match chosen {
-        Some(s) => fit(&hstack(&white(a), &white(s)), &wy, p),
-        None => fit(&white(a), &wy, p),
+        Some(s) => fit_on(&factor_on(hstack(&white(a), &white(s)), threads), &wy, p),
+        None => fit_on(&factor_on(white(a), threads), &wy, p),
     }
     .beta;
     let au = a.select_rows(used);
@@ -148,7 +159,7 @@ pub fn model_spread(
     let ln_n = (n as f64).ln();
     // each model's columns factorised once: its estimate, RSS and rank from the same fit
     // the baseline's factorisation, kept for the pooled error motions beside a baseline answer
-    let base_factor = factor(&au);
+    let base_factor = factor_on(au.clone(), threads);
     let base = fit_on(&base_factor, &yu, p);
     let base_rank = base.rank;
     // a model's BIC: its RSS over σ², `ln n` for each column it adds to the location errors'
@@ -169,7 +180,7 @@ pub fn model_spread(
     let mut answer_factor = None;
     let answer_rank = match chosen {
         Some(_) => {
-            let fa = factor(&answer);
+            let fa = factor_on(answer.clone(), threads);
             let f = fit_on(&fa, &yu, p);
             let rank = f.rank;
             answer_score = bic(&f);
