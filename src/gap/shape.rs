@@ -180,11 +180,7 @@ pub fn scan_family_on(
             let block: Vec<_> = (*start..family.len().min(*start + size))
                 .map(|j| family.member(j))
                 .collect();
-            if block.iter().all(|s| s.ncols() == 1) {
-                scan_in_place(factor, r0, &block, cols)
-            } else {
-                scan_copied(factor, r0, &block, cols)
-            }
+            scan_block_of(factor, r0, &block, cols)
         };
     let scanned: Vec<_> = map_mut(threads, &mut blocks, scan_block)
         .into_iter()
@@ -247,86 +243,65 @@ fn scan_block_size(n: usize, members: usize) -> usize {
     members.div_ceil(blocks).max(1)
 }
 
-/// A block of one-column members projected off the baseline in their own columns `cols` of the
-/// directions ([`Factor::unabsorb_in_place`]: no copy of the block and of its projection), each
-/// member's fit on `r0` (when given) from its unabsorbed column, then the column normalised, or
-/// zeroed when the baseline absorbs the member.
-fn scan_in_place(
+/// A block of members projected off the baseline ([`Factor::unabsorb_in_place`]), each
+/// member's fit on `r0` (when given) from its unabsorbed columns, and its direction (its first
+/// column's unabsorbed part, normalised, or zeros when the baseline absorbs it) written to its
+/// column of `cols`. Members of one column each (every family here) are projected in their own
+/// columns of `cols`, with no copy of the block or of its projection; members of several
+/// columns in a copy of the block's columns side by side.
+fn scan_block_of(
     factor: &Factor,
     r0: Option<&DVector<f64>>,
     block: &[std::borrow::Cow<'_, DMatrix<f64>>],
     cols: &mut [f64],
 ) -> Vec<(Option<(f64, usize)>, bool)> {
     let n = factor.basis.nrows();
-    let w = block.len();
-    let mut x = nalgebra::DMatrixViewMut::from_slice(&mut cols[..n * w], n, w);
-    for (j, s) in block.iter().enumerate() {
-        x.column_mut(j).copy_from(&s.column(0));
+    let width: usize = block.iter().map(|s| s.ncols()).sum();
+    let in_place = width == block.len();
+    let mut copy = if in_place {
+        DMatrix::zeros(n, 0)
+    } else {
+        DMatrix::zeros(n, width)
+    };
+    {
+        let mut x = if in_place {
+            nalgebra::DMatrixViewMut::from_slice(&mut cols[..n * width], n, width)
+        } else {
+            copy.as_view_mut()
+        };
+        let mut at = 0;
+        for s in block {
+            x.columns_mut(at, s.ncols()).copy_from(s.as_ref());
+            at += s.ncols();
+        }
+        factor.unabsorb_in_place(x);
     }
-    factor.unabsorb_in_place(x.columns_mut(0, w));
-    block
-        .iter()
-        .enumerate()
-        .map(|(j, s)| {
-            let norm = s.column(0).norm();
-            let col = &mut cols[j * n..(j + 1) * n];
-            let fit = r0.map(|r0| {
-                Unabsorbed {
-                    u: DMatrix::from_column_slice(n, 1, col),
-                    norms: vec![norm],
-                }
-                .rss(r0)
-            });
-            let nu = nalgebra::DVectorView::from_slice(col, n).norm();
-            let kept = nu > 1e-12 * norm.max(1e-300);
-            if kept {
-                col.iter_mut().for_each(|d| *d /= nu);
-            } else {
-                col.fill(0.0);
-            }
-            (fit, kept)
-        })
-        .collect()
-}
-
-/// [`scan_in_place`] for members of several columns: the block's columns side by side in a
-/// copy, projected, each member's direction the unabsorbed part of its first column.
-fn scan_copied(
-    factor: &Factor,
-    r0: Option<&DVector<f64>>,
-    block: &[std::borrow::Cow<'_, DMatrix<f64>>],
-    cols: &mut [f64],
-) -> Vec<(Option<(f64, usize)>, bool)> {
-    let n = factor.basis.nrows();
-    let width = block.iter().map(|s| s.ncols()).sum();
-    let mut s_all = DMatrix::<f64>::zeros(n, width);
-    let mut at = 0;
-    for s in block {
-        s_all.columns_mut(at, s.ncols()).copy_from(s.as_ref());
-        at += s.ncols();
-    }
-    let u_all = factor.unabsorbed(&s_all);
     let mut at = 0;
     block
         .iter()
         .enumerate()
         .map(|(i, s)| {
             let w = s.ncols();
-            let un = Unabsorbed {
-                u: u_all.columns(at, w).into_owned(),
-                norms: (0..w).map(|j| s.column(j).norm()).collect(),
+            let u = if in_place {
+                DMatrix::from_column_slice(n, 1, &cols[i * n..(i + 1) * n])
+            } else {
+                copy.columns(at, w).into_owned()
             };
             at += w;
+            let un = Unabsorbed {
+                u,
+                norms: (0..w).map(|j| s.column(j).norm()).collect(),
+            };
             let fit = r0.map(|r0| un.rss(r0));
             let nu = un.u.column(0).norm();
-            let kept = nu > 1e-12 * s.column(0).norm().max(1e-300);
+            let kept = nu > 1e-12 * un.norms[0].max(1e-300);
+            let dir = &mut cols[i * n..(i + 1) * n];
             if kept {
-                for (d, u) in cols[i * n..(i + 1) * n]
-                    .iter_mut()
-                    .zip(un.u.column(0).iter())
-                {
+                for (d, u) in dir.iter_mut().zip(un.u.column(0).iter()) {
                     *d = u / nu;
                 }
+            } else {
+                dir.fill(0.0);
             }
             (fit, kept)
         })
@@ -689,6 +664,41 @@ mod tests {
         assert_eq!(members.len(), 20);
         assert!([3, 9, 17].iter().all(|&k| members[k].1 == 0));
         assert!(one.effective_shapes > 1.0 && one.effective_shapes < 17.0);
+    }
+
+    /// Each member's fit from the scan is its own Frisch–Waugh–Lovell fit ([`fwl`]), bit for
+    /// bit, whether the members have one column (projected in the directions' own columns) or
+    /// two (projected in a copy): 300 points, 12 members, a constant baseline.
+    #[test]
+    fn a_members_scan_fit_is_its_own_fit() {
+        let n = 300;
+        let x: Vec<f64> = (0..n).map(|i| i as f64 * 0.1).collect();
+        let grid: Vec<f64> = (0..12).map(|k| 0.5 + 0.4 * k as f64).collect();
+        let one_column =
+            |tau: f64| DMatrix::from_iterator(n, 1, x.iter().map(|x| (-x / tau).exp()));
+        let (factor, r0, c) = drift_family(one_column, &grid, 4);
+        let shape = c.family.as_ref().unwrap().shape.clone();
+        for width in [1, 2] {
+            let members = grid
+                .iter()
+                .map(|&t| DMatrix::from_fn(n, width, |i, j| (-x[i] / (t + j as f64)).exp()))
+                .collect();
+            let c = Candidate {
+                family: Some(Family::stored(shape.clone(), members)),
+                ..c.clone()
+            };
+            let scan = scan_family_on(&factor, Some(&r0), &c, Threads::ONE);
+            let family = c.family.as_ref().unwrap();
+            for (k, (rss, rank)) in scan.members.unwrap().into_iter().enumerate() {
+                let (want, want_rank) = fwl(&factor, &r0, &family.member(k));
+                assert_eq!(
+                    (rss.to_bits(), rank),
+                    (want.to_bits(), want_rank),
+                    "{width}, {k}"
+                );
+            }
+            assert!(scan.effective_shapes >= 1.0 && scan.effective_shapes <= 12.0);
+        }
     }
 
     /// A warm-up family with its pause profiled out: 240 points, the first half on A, data made
