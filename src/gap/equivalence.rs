@@ -121,11 +121,6 @@ impl<'a> SpanPairs<'a> {
         Self { spans, gram }
     }
 
-    /// The spans, in the order given.
-    pub fn spans(&self) -> &[(Effect, &'a DMatrix<f64>)] {
-        &self.spans
-    }
-
     /// [`compare_spans`] of spans `i` and `j`.
     pub fn compare(&self, i: usize, j: usize) -> Option<SpanPair> {
         let Some(gram) = &self.gram else {

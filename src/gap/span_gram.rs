@@ -6,9 +6,10 @@
 //! runs as short column updates, not as a blocked product. At a dense scan's 20,000 rows that was
 //! 5 % of the diagnosis's CPU, at 200,000 rows half a second (issue 31). Here the spans are put
 //! side by side, `Q = [Q_1 … Q_m]` (`n × K`), and `G = QᵀQ` (`K × K`) is formed once by row
-//! blocks of [`GRAM_BLOCK_ROWS`]: each block's columns copied together (in the cache), its
-//! `BᵀB` a blocked product, the blocks side by side on the threads given, summed in the blocks'
-//! order (the same bits on any number of threads). `Q_aᵀ Q_b` is then `G`'s block `(a, b)`.
+//! blocks ([`crate::identify::solve::sum_over_row_blocks`]): each block's columns copied
+//! together (in the cache), its `BᵀB` a blocked product, the blocks side by side on the threads
+//! given, summed in the blocks' order (the same bits on any number of threads). `Q_aᵀ Q_b` is
+//! then `G`'s block `(a, b)`.
 //!
 //! The sums are in another order than the pair-by-pair product's: equal to rounding. Only from
 //! [`GRAM_MIN_ROWS`] rows on (a dense scan): below, the pairs keep the pair-by-pair product and
@@ -16,14 +17,11 @@
 
 use nalgebra::DMatrix;
 
-use crate::identify::solve::tr_mul;
-use crate::numerics::parallel::{map, Threads};
+use crate::identify::solve::{sum_over_row_blocks, tr_mul};
+use crate::numerics::parallel::Threads;
 
 /// From this many rows on, the pairs' products come from one Gram matrix.
 pub const GRAM_MIN_ROWS: usize = 4000;
-
-/// Rows of a block of the Gram matrix: 4,096 rows × 60 columns is 2 MB.
-pub const GRAM_BLOCK_ROWS: usize = 4096;
 
 /// The Gram matrix of spans put side by side, and where each span's columns start in it.
 #[derive(Debug, Clone)]
@@ -50,19 +48,13 @@ impl SpanGram {
             "SpanGram::of: spans of {:?} rows",
             spans.iter().map(|q| q.nrows()).collect::<Vec<_>>()
         );
-        let starts: Vec<usize> = (0..n).step_by(GRAM_BLOCK_ROWS).collect();
-        let blocks = map(threads, &starts, |&r0| {
-            let rows = GRAM_BLOCK_ROWS.min(n - r0);
+        let g = sum_over_row_blocks(n, k, threads, |r0, rows| {
             let mut b = DMatrix::<f64>::zeros(rows, k);
             for (q, &at) in spans.iter().zip(&offsets) {
                 b.columns_mut(at, q.ncols()).copy_from(&q.rows(r0, rows));
             }
             tr_mul(&b, &b)
         });
-        let mut g = DMatrix::<f64>::zeros(k, k);
-        for block in blocks {
-            g += block;
-        }
         Self { g, offsets }
     }
 

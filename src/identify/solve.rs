@@ -354,16 +354,28 @@ pub fn tr_mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
 /// a dense scan's `n × m` Gram matrices, one thread's 0.1 s each at 200,000 × 54 (issue 31).
 pub fn gram_on(a: &DMatrix<f64>, threads: Threads) -> DMatrix<f64> {
     let (n, p) = a.shape();
-    let starts: Vec<usize> = (0..n).step_by(TALL_QR_ROWS).collect();
-    let blocks = map(threads, &starts, |&r0| {
-        let rows = TALL_QR_ROWS.min(n - r0);
+    sum_over_row_blocks(n, p, threads, |r0, rows| {
         // the block's rows of aᵀ (p × rows) viewed in place, and of a
         let at = DMatrixView::from_slice_with_strides(&a.as_slice()[r0..], p, rows, n, 1);
         let mut out = DMatrix::zeros(p, p);
         out.gemm(1.0, &at, &a.rows(r0, rows), 0.0);
         out
-    });
-    let mut g = DMatrix::zeros(p, p);
+    })
+}
+
+/// `Σ block(r0, rows)` (each `k × k`) over the row blocks `r0..r0 + rows` of [`TALL_QR_ROWS`]
+/// that cover `n` rows, the blocks side by side on `threads` threads and summed in their order:
+/// the same bits on any number of threads (the Gram matrices of a dense scan, [`gram_on`] and
+/// [`crate::gap::span_gram::SpanGram`]).
+pub fn sum_over_row_blocks(
+    n: usize,
+    k: usize,
+    threads: Threads,
+    block: impl Fn(usize, usize) -> DMatrix<f64> + Sync,
+) -> DMatrix<f64> {
+    let starts: Vec<usize> = (0..n).step_by(TALL_QR_ROWS).collect();
+    let blocks = map(threads, &starts, |&r0| block(r0, TALL_QR_ROWS.min(n - r0)));
+    let mut g = DMatrix::zeros(k, k);
     for b in blocks {
         g += b;
     }
