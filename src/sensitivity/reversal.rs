@@ -643,7 +643,11 @@ impl Lag {
 /// `e_k = e* + (e_{k_r−1} − e*)·exp(−(s_k − s_{k_r−1})/τ)` on the segment holding `k` (`τ` the
 /// lag, [`LAG_LENGTH`] at the reference); exactly `e*` on a settled first segment.
 fn offset_on(segs: &[Segment], k: usize, s: f64, tau: f64) -> f64 {
-    let g = &segs[segs.partition_point(|g| g.k <= k).max(1) - 1];
+    offset_in(&segs[segment_of(segs, k)], s, tau)
+}
+
+/// [`offset_on`] on its segment `g`.
+fn offset_in(g: &Segment, s: f64, tau: f64) -> f64 {
     if let Some(r) = &g.ramp {
         // inside the take-up, or settling from its end
         return if s < r.end() {
@@ -799,15 +803,13 @@ struct Site {
 
 /// The [`GridSpot`] of each point and the distinct [`Site`]s they need: points whose `u` share
 /// grid samples share the first-order sites (22,317 for 20,000 points of 40 heights, 36,794 for
-/// 200,000 points of 100), a ringing site is a point's own path length.
+/// 200,000 points of 100), a ringing site is a point's own path length. Both lists of sites are
+/// in the order of their surface, step and path length.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct GridSpots {
     spots: Vec<GridSpot>,
     linear: Vec<Site>,
     ringing: Vec<Site>,
-    /// The indices of `ringing` in the order of their surface, step and path length: each
-    /// segment's sites together, in increasing length ([`ringing_offsets`]).
-    ringing_order: Vec<usize>,
 }
 
 impl GridSpots {
@@ -827,7 +829,6 @@ impl GridSpots {
             spots: rows.iter().map(|&i| self.spots[i]).collect(),
             linear: self.linear.clone(),
             ringing: self.ringing.clone(),
-            ringing_order: self.ringing_order.clone(),
         }
     }
 }
@@ -922,16 +923,35 @@ impl GridSpots {
                 ringing,
             });
         }
-        let mut order: Vec<usize> = (0..out.ringing.len()).collect();
-        order.sort_unstable_by(|&i, &j| {
-            let (x, y) = (&out.ringing[i], &out.ringing[j]);
-            (x.surface, x.k)
-                .cmp(&(y.surface, y.k))
-                .then(x.s.total_cmp(&y.s))
-        });
-        out.ringing_order = order;
+        // the sites in the order of their surface, step and path length (each segment's sites
+        // together, in increasing length: a lag's segments are walked in order, and a ringing
+        // segment's offsets are one slice, [`ringing_offsets`]), the spots renumbered
+        let linear = sort_sites(&mut out.linear);
+        let ringing = sort_sites(&mut out.ringing);
+        for g in &mut out.spots {
+            g.linear = g.linear.map(|i| linear[i]);
+            g.ringing = ringing[g.ringing];
+        }
         out
     }
+}
+
+/// Sorts `sites` by surface, step and path length (distinct sites: a total order, so the same
+/// order whatever their order before); the new index of each site's old one.
+fn sort_sites(sites: &mut Vec<Site>) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..sites.len()).collect();
+    order.sort_unstable_by(|&i, &j| {
+        let (x, y) = (&sites[i], &sites[j]);
+        (x.surface, x.k)
+            .cmp(&(y.surface, y.k))
+            .then(x.s.total_cmp(&y.s))
+    });
+    let mut new_of_old = vec![0; sites.len()];
+    for (new, &old) in order.iter().enumerate() {
+        new_of_old[old] = new;
+    }
+    *sites = order.iter().map(|&i| sites[i]).collect();
+    new_of_old
 }
 
 /// [`lagged_columns`] at the points' [`grid_spots`] on these passes.
@@ -950,22 +970,7 @@ pub fn lagged_columns_at(lags: &[Lag; 2], spots: &GridSpots, gains: &[Vec<f64>])
 pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &GridSpots, gain: &[f64]) -> Vec<f64> {
     // the offsets at the sites of the surfaces whose lag is of that kind; none when no
     // surface's lag is (a point reads the kind of its surface)
-    let linear: Vec<f64> = if lags.iter().any(|p| p.zeta.is_none()) {
-        spots
-            .linear
-            .iter()
-            .map(|x| {
-                let p = &lags[x.surface];
-                if p.zeta.is_none() {
-                    p.offset(a, x.k, x.s)
-                } else {
-                    0.0
-                }
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let linear = first_order_offsets(lags, a, spots);
     let ringing = ringing_offsets(lags, a, spots);
     spots
         .spots
@@ -981,41 +986,69 @@ pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &GridSpots, gain: &[f6
         .collect()
 }
 
+/// The offsets of axis `axes[a]` at the first-order sites of `spots` of the surfaces whose lag
+/// is first-order (0 at the others'), [`offset_on`] each: the sites in order, so each surface's
+/// segments are walked once instead of searched for each site; empty when no surface's lag is
+/// first-order.
+fn first_order_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64> {
+    if lags.iter().all(|p| p.zeta.is_some()) {
+        return Vec::new();
+    }
+    let mut out = Vec::with_capacity(spots.linear.len());
+    // the segment of the last site, on its surface
+    let mut at: Option<(usize, usize)> = None;
+    for x in &spots.linear {
+        let p = &lags[x.surface];
+        if p.zeta.is_some() {
+            out.push(0.0);
+            continue;
+        }
+        let segs = &p.segments[a];
+        // [`segment_of`]'s segment: the last whose step is at most the site's (the first when
+        // none is), found from the last site's on the same surface (the sites' steps increase)
+        let mut g = match at {
+            Some((surface, g)) if surface == x.surface => g,
+            _ => 0,
+        };
+        while g + 1 < segs.len() && segs[g + 1].k <= x.k {
+            g += 1;
+        }
+        at = Some((x.surface, g));
+        out.push(offset_in(&segs[g], x.s, p.tau));
+    }
+    out
+}
+
 /// The offsets of axis `axes[a]` at the ringing sites of `spots` of the surfaces whose lag rings
-/// (0 at the others'), each segment's sites together, in increasing path length
-/// ([`Settling::offsets`]: from a table where a dense scan makes that cheaper, issue 31); empty
-/// when no surface's lag rings.
+/// (0 at the others'), a segment's sites at a time (one slice of the sorted sites, in increasing
+/// path length: [`Settling::offsets_into`], from a table where a dense scan makes that cheaper,
+/// issue 31); empty when no surface's lag rings.
 fn ringing_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64> {
     if lags.iter().all(|p| p.zeta.is_none()) {
         return Vec::new();
     }
     let sites = &spots.ringing;
     let mut out = vec![0.0; sites.len()];
+    let mut xs = Vec::new();
     // runs of the sorted sites on one surface's segment: the segment is the one the closed form
     // finds by the first site's step ([`segment_of`]), the run ending at the next segment's step
-    let order = &spots.ringing_order;
     let mut start = 0;
-    while start < order.len() {
-        let surface = sites[order[start]].surface;
+    while start < sites.len() {
+        let surface = sites[start].surface;
         let p = &lags[surface];
         let segs = &p.segments[a];
-        let g = segment_of(segs, sites[order[start]].k);
+        let g = segment_of(segs, sites[start].k);
         let next_k = segs.get(g + 1).map_or(usize::MAX, |n| n.k);
         let end = start
-            + order[start..]
+            + sites[start..]
                 .iter()
-                .take_while(|&&i| sites[i].surface == surface && sites[i].k < next_k)
+                .take_while(|x| x.surface == surface && x.k < next_k)
                 .count();
         if let Some(zeta) = p.zeta {
             let seg = &segs[g];
-            let xs: Vec<f64> = order[start..end]
-                .iter()
-                .map(|&i| sites[i].s - seg.s0)
-                .collect();
-            let e = settling_of(seg, p.tau, zeta).offsets(&xs);
-            for (&i, e) in order[start..end].iter().zip(e) {
-                out[i] = e;
-            }
+            xs.clear();
+            xs.extend(sites[start..end].iter().map(|x| x.s - seg.s0));
+            settling_of(seg, p.tau, zeta).offsets_into(&xs, &mut out[start..end]);
         }
         start = end;
     }
@@ -1134,17 +1167,19 @@ mod tests {
         assert!(hermite_root(0.0, 1.0, 1.0, 1.0).is_none());
     }
 
-    /// Points that share their grid samples (the built-in 100 twice, as a scan's heights share
-    /// their rulings) share their sites: the sites of one copy serve both, and each point's value,
-    /// first-order and ringing, is the lag evaluated at that point alone (exactly: the same
-    /// arithmetic).
+    /// Points that share their grid samples (the built-in 100 twice, the second time in reverse
+    /// order, as a scan's heights share their rulings) share their sites: the sites of one copy
+    /// serve both, and each point's value, first-order and ringing, on each axis, is the lag
+    /// evaluated at that point alone (exactly: the same arithmetic, the sites' segments walked in
+    /// order as each point's is searched).
     #[test]
     fn points_on_the_same_samples_share_their_sites() {
         let part = SShape::iso();
         let opts = SensitivityOptions::default();
         let axes = [AxisName::X, AxisName::C];
         let points = crate::part::builtin_points(&part);
-        let twice: Vec<MeasurementPoint> = points.iter().chain(&points).cloned().collect();
+        let twice: Vec<MeasurementPoint> =
+            points.iter().chain(points.iter().rev()).cloned().collect();
         let p = passes(&part, &opts).unwrap();
         for zeta in [None, Some(0.4)] {
             let lags = [
@@ -1159,18 +1194,20 @@ mod tests {
             );
             assert!(one.ringing.len() <= points.len() && one.linear.len() <= 2 * points.len());
             let gain = vec![1.0; twice.len()];
-            let col = lagged_column_at(&lags, 1, &two, &gain);
-            for (i, pt) in twice.iter().enumerate() {
-                let l = &lags[usize::from(pt.surface != Surface::A)];
-                let k = grid_after(pt.u);
-                let (u0, u1) = (grid_u(k - 1), grid_u(k));
-                let t = (pt.u - u0) / (u1 - u0);
-                let (s0, s1) = (l.length.at(&part, u0), l.length.at(&part, u1));
-                let want = match zeta {
-                    None => l.offset(1, k - 1, s0) * (1.0 - t) + l.offset(1, k, s1) * t,
-                    Some(_) => l.offset(1, k, s0 * (1.0 - t) + s1 * t),
-                };
-                assert_eq!(col[i], want, "point {i}");
+            for a in 0..axes.len() {
+                let col = lagged_column_at(&lags, a, &two, &gain);
+                for (i, pt) in twice.iter().enumerate() {
+                    let l = &lags[usize::from(pt.surface != Surface::A)];
+                    let k = grid_after(pt.u);
+                    let (u0, u1) = (grid_u(k - 1), grid_u(k));
+                    let t = (pt.u - u0) / (u1 - u0);
+                    let (s0, s1) = (l.length.at(&part, u0), l.length.at(&part, u1));
+                    let want = match zeta {
+                        None => l.offset(a, k - 1, s0) * (1.0 - t) + l.offset(a, k, s1) * t,
+                        Some(_) => l.offset(a, k, s0 * (1.0 - t) + s1 * t),
+                    };
+                    assert_eq!(col[i], want, "axis {a}, point {i}");
+                }
             }
         }
     }

@@ -104,8 +104,23 @@ impl Settling {
     /// `e` at each of `xs` (mm from the segment's start): from a [`Table`] when it is cheaper
     /// ([`NODES_PER_POINT`]), else in closed form.
     pub fn offsets(&self, xs: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; xs.len()];
+        self.offsets_into(xs, &mut out);
+        out
+    }
+
+    /// [`Settling::offsets`] written to `out` (as long as `xs`).
+    pub fn offsets_into(&self, xs: &[f64], out: &mut [f64]) {
+        assert_eq!(
+            xs.len(),
+            out.len(),
+            "offsets of {} points into {}",
+            xs.len(),
+            out.len()
+        );
         if self.is_still() {
-            return vec![self.target; xs.len()];
+            out.fill(self.target);
+            return;
         }
         let (lo, hi) = xs
             .iter()
@@ -119,10 +134,15 @@ impl Settling {
         // (not finite: a point at an infinite or undefined length, left to the closed form)
         let pays = nodes.is_finite() && nodes <= NODES_PER_POINT * xs.len() as f64;
         if xs.len() < MIN_POINTS || !pays {
-            return xs.iter().map(|&x| self.at(x).0).collect();
+            for (e, &x) in out.iter_mut().zip(xs) {
+                *e = self.at(x).0;
+            }
+            return;
         }
         let table = Table::new(self, lo, h, nodes as usize);
-        xs.iter().map(|&x| table.at(self, x)).collect()
+        for (e, &x) in out.iter_mut().zip(xs) {
+            *e = table.at(self, x);
+        }
     }
 }
 
@@ -131,8 +151,8 @@ impl Settling {
 pub struct Table {
     x0: f64,
     h: f64,
-    value: Vec<f64>,
-    slope: Vec<f64>,
+    /// `[value, slope]` at each node (side by side: a point reads two nodes, one cache line)
+    nodes: Vec<[f64; 2]>,
     /// Beyond this `x` the offset is `e*` ([`Settling::settles_at`]).
     settled: f64,
 }
@@ -157,8 +177,7 @@ impl Table {
         let mut out = Self {
             x0,
             h,
-            value: Vec::with_capacity(n),
-            slope: Vec::with_capacity(n),
+            nodes: Vec::with_capacity(n),
             settled: s.settles_at(),
         };
         let mut w = (0.0, 0.0);
@@ -171,9 +190,8 @@ impl Table {
                 (w.0 * step.0 - w.1 * step.1, w.0 * step.1 + w.1 * step.0)
             };
             since += 1;
-            out.value.push(w.0);
-            // Re(λ·w)
-            out.slope.push(lr * w.0 - li * w.1);
+            // the value and Re(λ·w)
+            out.nodes.push([w.0, lr * w.0 - li * w.1]);
         }
         out
     }
@@ -184,7 +202,7 @@ impl Table {
         if x > self.settled {
             return s.target;
         }
-        let last = self.value.len() - 2;
+        let last = self.nodes.len() - 2;
         let f = (x - self.x0) / self.h;
         let j = (f.floor().max(0.0) as usize).min(last);
         let t = f - j as f64;
@@ -193,11 +211,8 @@ impl Table {
         let h10 = t3 - 2.0 * t2 + t;
         let h01 = -2.0 * t3 + 3.0 * t2;
         let h11 = t3 - t2;
-        s.target
-            + h00 * self.value[j]
-            + h10 * self.h * self.slope[j]
-            + h01 * self.value[j + 1]
-            + h11 * self.h * self.slope[j + 1]
+        let ([v0, d0], [v1, d1]) = (self.nodes[j], self.nodes[j + 1]);
+        s.target + h00 * v0 + h10 * self.h * d0 + h01 * v1 + h11 * self.h * d1
     }
 }
 
