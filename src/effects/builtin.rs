@@ -11,7 +11,7 @@ use crate::effects::EffectPoint;
 use crate::effects::GapError;
 use crate::machine::{AxisName, AxisValues, ErrorParam};
 use crate::numerics::order::argsort;
-use crate::numerics::parallel::{map, Threads};
+use crate::numerics::parallel::{join, map, Threads};
 use crate::parameter::{Effect, ParamId, Shape};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
@@ -324,20 +324,12 @@ pub(crate) fn every_candidate_model(
             }
         })
     });
-    let mut design: Option<Design> = None;
+    let mut designs: Vec<Design> = Vec::new();
     let mut axis_parts: Option<(Vec<Vec<f64>>, ServoColumns)> = None;
     let mut places: Vec<GridPlace> = Vec::with_capacity(points.len());
     for piece in pieces {
         match piece? {
-            Piece::Design(d) => {
-                design = Some(match design {
-                    None => d,
-                    Some(mut all) => {
-                        all.append(d);
-                        all
-                    }
-                })
-            }
+            Piece::Design(d) => designs.push(d),
             Piece::Axes(g, s, p) => {
                 places.extend(p);
                 axis_parts = Some(match axis_parts {
@@ -352,10 +344,9 @@ pub(crate) fn every_candidate_model(
             }
         }
     }
-    let (Some(design), Some((all_gains, servo))) = (design, axis_parts) else {
+    let (Some(design), Some((all_gains, servo))) = (Design::concat(designs), axis_parts) else {
         unreachable!("point_jobs has a job of each kind")
     };
-    let spots = GridSpots::of(&places);
     let Design {
         sens,
         eps,
@@ -368,17 +359,35 @@ pub(crate) fn every_candidate_model(
         sens.values.clone(),
     )?;
     // the backlash columns at the reference lag and at each lag of the family, from the gains
-    // computed once
+    // computed once; beside them (on another thread when there is one) what depends on the
+    // points alone: the probing and drift families and the points' metadata (a fifth of a second
+    // of one thread at 200,000 points had followed the jobs, issue 31)
     let axes = &path.lags[0].axes;
-    let gains: Vec<Vec<f64>> = axes
-        .iter()
-        .map(|a| match chain_axes.iter().position(|c| c == a) {
-            Some(k) => Ok(all_gains[k].clone()),
-            None => backlash_gains(part, points, q, &[*a], opts).map(|mut g| g.remove(0)),
-        })
-        .collect::<Result<_, _>>()?;
+    let (grid, (probing, drift, meta)) = join(
+        threads,
+        || -> Result<_, GapError> {
+            let spots = GridSpots::of(&places);
+            let gains: Vec<Vec<f64>> = axes
+                .iter()
+                .map(|a| match chain_axes.iter().position(|c| c == a) {
+                    Some(k) => Ok(all_gains[k].clone()),
+                    None => backlash_gains(part, points, q, &[*a], opts).map(|mut g| g.remove(0)),
+                })
+                .collect::<Result<_, _>>()?;
+            let backlash = lagged_columns_at(&path.lags, &spots, &gains);
+            Ok((spots, gains, backlash))
+        },
+        || {
+            (
+                crate::effects::nuisance::probing(&eps),
+                crate::effects::nuisance::drift(&eps),
+                point_meta(points, &eps),
+            )
+        },
+    );
+    let (spots, gains, backlash) = grid?;
     let named = |cols: Vec<Vec<f64>>| axes.iter().copied().zip(cols).collect::<Vec<_>>();
-    let backlash = named(lagged_columns_at(&path.lags, &spots, &gains));
+    let backlash = named(backlash);
     // what the backlash families' members are computed from (also kept for the take-up rounds)
     let basis = LagBasis {
         lags: path.settling.clone(),
@@ -403,10 +412,10 @@ pub(crate) fn every_candidate_model(
         .map(|e| candidate(e, &model))
         .collect::<Result<Vec<_>, _>>()?;
     let mut nuisance = motions;
-    nuisance.push(crate::effects::nuisance::probing(&model.points));
-    nuisance.push(crate::effects::nuisance::drift(&model.points));
+    nuisance.push(probing);
+    nuisance.push(drift);
     Ok(PartModel {
-        points: point_meta(points, &model.points),
+        points: meta,
         baseline,
         candidates,
         reversals: path.reversals.clone(),
@@ -455,17 +464,31 @@ struct Design {
 }
 
 impl Design {
-    /// The rows of `next` (the block that follows) after these.
-    fn append(&mut self, next: Design) {
-        self.sens.ids.extend(next.sens.ids);
-        self.sens.curves.extend(next.sens.curves);
-        self.sens.values = stack_rows(&self.sens.values, &next.sens.values);
-        self.eps.extend(next.eps);
-        self.envelope.extend(next.envelope);
-        append_columns(&mut self.scale, next.scale);
-        for (m, n) in self.motions.iter_mut().zip(next.motions) {
-            m.columns = stack_rows(&m.columns, &n.columns);
+    /// The blocks' rows one after the other, in their order (`None` for no block): each matrix
+    /// stacked once (block after block had copied the rows so far again at every block).
+    fn concat(blocks: Vec<Design>) -> Option<Design> {
+        let mut blocks = blocks.into_iter();
+        let mut all = blocks.next()?;
+        let rest: Vec<Design> = blocks.collect();
+        let stacked = |first: &DMatrix<f64>, next: &dyn Fn(&Design) -> &DMatrix<f64>| {
+            stack_rows(
+                &std::iter::once(first)
+                    .chain(rest.iter().map(next))
+                    .collect::<Vec<_>>(),
+            )
+        };
+        all.sens.values = stacked(&all.sens.values, &|d| &d.sens.values);
+        for (k, m) in all.motions.iter_mut().enumerate() {
+            m.columns = stacked(&m.columns, &|d| &d.motions[k].columns);
         }
+        for next in rest {
+            all.sens.ids.extend(next.sens.ids);
+            all.sens.curves.extend(next.sens.curves);
+            all.eps.extend(next.eps);
+            all.envelope.extend(next.envelope);
+            append_columns(&mut all.scale, next.scale);
+        }
+        Some(all)
     }
 }
 
@@ -502,10 +525,20 @@ impl<N> ExtendColumn for (N, Vec<f64>) {
     }
 }
 
-/// The rows of `a`, then those of `b` (same columns).
-fn stack_rows(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
-    let mut out = DMatrix::zeros(a.nrows() + b.nrows(), a.ncols());
-    out.rows_mut(0, a.nrows()).copy_from(a);
-    out.rows_mut(a.nrows(), b.nrows()).copy_from(b);
-    out
+/// The rows of each of `parts` after those of the one before (same columns): column by column,
+/// each part's piece of it copied whole (column-major storage), into memory written once.
+fn stack_rows(parts: &[&DMatrix<f64>]) -> DMatrix<f64> {
+    let cols = parts.first().map_or(0, |m| m.ncols());
+    assert!(
+        parts.iter().all(|m| m.ncols() == cols),
+        "stack_rows: parts of unequal columns"
+    );
+    let rows: usize = parts.iter().map(|m| m.nrows()).sum();
+    let mut data = Vec::with_capacity(rows * cols);
+    for j in 0..cols {
+        for m in parts {
+            data.extend_from_slice(&m.as_slice()[j * m.nrows()..(j + 1) * m.nrows()]);
+        }
+    }
+    DMatrix::from_vec(rows, cols, data)
 }
