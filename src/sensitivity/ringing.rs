@@ -204,7 +204,10 @@ impl Table {
         }
         let last = self.nodes.len() - 2;
         let f = (x - self.x0) / self.h;
-        let j = (f.floor().max(0.0) as usize).min(last);
+        // the node at or before `x`: `f`'s integer part, 0 below the first node (`as` truncates
+        // and saturates: the floor of `f` clamped at 0 for every `f`, NaN to 0, without the call
+        // to `floor` that the baseline x86-64 makes for each point)
+        let j = ((f as i64).max(0) as usize).min(last);
         let t = f - j as f64;
         let (t2, t3) = (t * t, t * t * t);
         let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
@@ -222,6 +225,37 @@ mod tests {
 
     /// The closed form's slope is the derivative of its value (central differences, step 1e-5
     /// mm: error ~1e-10 of `|c|/τ`), and it solves `e'' + 2ζe'/τ + e/τ² = e*/τ²`.
+    /// A table's node index by truncation is the floor clamped at 0 for every `f`: fractions,
+    /// integers, negatives, zeros of both signs, NaN, infinities and values past `usize`.
+    #[test]
+    fn the_node_index_is_the_clamped_floor() {
+        let last = 1000;
+        for f in [
+            0.0,
+            -0.0,
+            0.3,
+            1.0,
+            1.999_999_999,
+            2.5,
+            999.9,
+            1000.0,
+            1e6,
+            -0.5,
+            -1.0,
+            -7.2,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1e19,
+            1e300,
+            -1e300,
+        ] {
+            let by_floor = (f.floor().max(0.0) as usize).min(last);
+            let by_cast = ((f as i64).max(0) as usize).min(last);
+            assert_eq!(by_cast, by_floor, "f = {f}");
+        }
+    }
+
     #[test]
     fn the_closed_form_solves_the_settling_equation() {
         let (tau, zeta) = (0.7, 0.3);
