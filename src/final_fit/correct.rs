@@ -628,8 +628,8 @@ pub fn summary(c: &Correction, baseline: &Identification, fin: &Identification) 
     let mut s = match c.basis {
         Basis::Baseline => match c.verdict {
             Some(VerdictId::Noise) if c.choice == EffectsChoice::Auto => {
-                "The location errors are the baseline identification: the diagnosis finds only \
-                 measurement noise in its residual."
+                "The location errors are the baseline identification: the diagnosis finds no \
+                 unmodelled effect above the detection limit in its residual."
                     .to_string()
             }
             _ => "The location errors are the baseline identification (not corrected for any \

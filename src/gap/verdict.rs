@@ -95,7 +95,9 @@ impl VerdictId {
     /// A plain-language name.
     pub fn plain_name(self) -> &'static str {
         match self {
-            VerdictId::Noise => "no unmodelled effect (the residual is measurement noise)",
+            // the verdict's rule is the detection limit: structure below it may still be more
+            // than noise alone (the summary's `Where:` line says so when the χ² test rejects it)
+            VerdictId::Noise => "no unmodelled effect above the detection limit",
             VerdictId::Unexplained => "unexplained structured residual",
             VerdictId::Effect(e) => e.plain_name(),
         }
