@@ -223,8 +223,6 @@ impl Table {
 mod tests {
     use super::*;
 
-    /// The closed form's slope is the derivative of its value (central differences, step 1e-5
-    /// mm: error ~1e-10 of `|c|/τ`), and it solves `e'' + 2ζe'/τ + e/τ² = e*/τ²`.
     /// A table's node index by truncation is the floor clamped at 0 for every `f`: fractions,
     /// integers, negatives, zeros of both signs, NaN, infinities and values past `usize`.
     #[test]
@@ -256,6 +254,8 @@ mod tests {
         }
     }
 
+    /// The closed form's slope is the derivative of its value (central differences, step 1e-5
+    /// mm: error ~1e-10 of `|c|/τ`), and it solves `e'' + 2ζe'/τ + e/τ² = e*/τ²`.
     #[test]
     fn the_closed_form_solves_the_settling_equation() {
         let (tau, zeta) = (0.7, 0.3);
