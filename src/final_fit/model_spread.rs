@@ -82,20 +82,22 @@ struct Fit {
     rank: usize,
 }
 
-/// `x` factorised with its columns measured against their norms (the rank decided on them).
+/// The norm each column of a model is measured against (the rank decided on them).
+fn column_norms(x: &DMatrix<f64>) -> Vec<f64> {
+    x.column_iter().map(|c| c.norm().max(1e-300)).collect()
+}
+
+/// `x` factorised with its columns measured against their norms ([`column_norms`]).
 fn factor(x: &DMatrix<f64>) -> Factor {
-    let scale: Vec<f64> = x.column_iter().map(|c| c.norm().max(1e-300)).collect();
-    Factor::new(x, Some(&scale))
+    Factor::new(x, Some(&column_norms(x)))
 }
 
 /// [`factor`] of a design given up, a tall one's row blocks side by side on `threads` threads
-/// ([`Factor::of_on`]: the same numbers): the factorisations outside the models' map, which had
-/// run on one thread (a dense scan's 200,000 rows, issue 31).
+/// ([`Factor::of_on`]: the same numbers, a column alone by its norm as [`Factor::new`] does):
+/// the factorisations outside the models' map, which had run on one thread (a dense scan's
+/// 200,000 rows, issue 31).
 fn factor_on(x: DMatrix<f64>, threads: Threads) -> Factor {
-    if x.ncols() == 1 {
-        return factor(&x);
-    }
-    let scale: Vec<f64> = x.column_iter().map(|c| c.norm().max(1e-300)).collect();
+    let scale = column_norms(&x);
     Factor::of_on(x, Some(&scale), threads)
 }
 
