@@ -23,7 +23,9 @@ use crate::measurement::noise::{
     SmoothResidual, LJUNG_BOX_LAGS, NOT_WHITE_P,
 };
 use crate::measurement::ruling_pairs::pair_sigma;
-use crate::measurement::smooth_noise::{smooth_basis, smooth_factor, smooth_sigmas, SMOOTH_DEGREE};
+use crate::measurement::smooth_noise::{
+    smooth_factor, smooth_sigmas, with_smooth_basis, SMOOTH_DEGREE,
+};
 use crate::numerics::order::sort_by_key_f64;
 use crate::numerics::parallel::{map, Threads};
 use crate::parameter::Effect;
@@ -68,7 +70,7 @@ pub fn diagnose_with(input: &GapInput, opts: DiagnoseOptions) -> Result<Diagnosi
 }
 
 /// [`diagnose_with`], with the fit of the deviations by `[A | smooth basis]` (the baseline and
-/// [`smooth_basis`] of degree [`SMOOTH_DEGREE`] of `input`'s points, on every row) when the
+/// [`crate::measurement::smooth_noise::smooth_basis`] of degree [`SMOOTH_DEGREE`] of `input`'s points, on every row) when the
 /// caller has it ([`crate::measurement::outliers::find_outliers_with_fit`]): the same numbers,
 /// not factorised again.
 pub fn diagnose_with_smooth(
@@ -106,8 +108,7 @@ pub fn diagnose_with_smooth(
     let (sfactor, sresid) = match smooth {
         Some(s) => (s.factor, s.residual),
         None => smooth_factor(
-            smooth_basis(&input.points, SMOOTH_DEGREE),
-            a,
+            with_smooth_basis(a, &input.points, SMOOTH_DEGREE, opts.threads),
             &y,
             opts.threads,
         ),

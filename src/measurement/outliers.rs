@@ -54,7 +54,7 @@ use crate::effects::data::curve_sequences;
 use crate::effects::data::GapInput;
 use crate::identify::solve::{hstack, Factor};
 use crate::measurement::noise::total_sigma;
-use crate::measurement::smooth_noise::{smooth_basis, SmoothFit, SMOOTH_DEGREE};
+use crate::measurement::smooth_noise::{with_smooth_basis, SmoothFit, SMOOTH_DEGREE};
 use crate::numerics::order::{argsort, sort_by_key_f64_descending, sort_f64};
 use crate::numerics::stats;
 
@@ -421,9 +421,11 @@ pub fn find_outliers_with_fit_on(
 ) -> (OutlierTest, Option<SmoothFit>) {
     let n = input.deviations.len();
     let y = DVector::from_column_slice(&input.deviations);
-    let x0 = hstack(
+    let x0 = with_smooth_basis(
         &input.baseline.matrix,
-        &smooth_basis(&input.points, SMOOTH_DEGREE),
+        &input.points,
+        SMOOTH_DEGREE,
+        threads,
     );
     let nb = Neighbours::new(input);
     let testable: Vec<bool> = {
