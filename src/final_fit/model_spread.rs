@@ -144,18 +144,18 @@ pub fn model_spread(
         return ModelSpread::default();
     }
     // the answer's estimate: generalised least squares in the whitened problem when the answer
-    // has a correlated error, else ordinary
-    let white = |m: &DMatrix<f64>| match whitener {
-        Some(w) => w.apply(m).select_rows(used),
-        None => m.select_rows(used),
-    };
-    let yfull = DMatrix::from_column_slice(y.len(), 1, y);
-    let wy = DVector::from_iterator(n, white(&yfull).iter().copied());
-    let b0 = match chosen {
-        Some(s) => fit_on(&factor_on(hstack(&white(a), &white(s)), threads), &wy, p),
-        None => fit_on(&factor_on(white(a), threads), &wy, p),
-    }
-    .beta;
+    // has a correlated error; without one it is the answer's own fit below (the same columns on
+    // the same rows, factorised once)
+    let whitened_b0 = whitener.map(|w| {
+        let white = |m: &DMatrix<f64>| w.apply(m).select_rows(used);
+        let yfull = DMatrix::from_column_slice(y.len(), 1, y);
+        let wy = DVector::from_iterator(n, white(&yfull).iter().copied());
+        match chosen {
+            Some(s) => fit_on(&factor_on(hstack(&white(a), &white(s)), threads), &wy, p),
+            None => fit_on(&factor_on(white(a), threads), &wy, p),
+        }
+        .beta
+    });
     let au = a.select_rows(used);
     let yu = DVector::from_iterator(n, used.iter().map(|&i| y[i]));
     let ln_n = (n as f64).ln();
@@ -180,22 +180,24 @@ pub fn model_spread(
     let answer = chosen.map_or_else(|| au.clone(), |s| hstack(&au, &s.select_rows(used)));
     // a named answer's factorisation, kept for the pooled error motions beside it
     let mut answer_factor = None;
-    let answer_rank = match chosen {
+    let (answer_rank, ols_b0) = match chosen {
         Some(_) => {
             let fa = factor_on(answer.clone(), threads);
             let f = fit_on(&fa, &yu, p);
-            let rank = f.rank;
+            let (rank, beta) = (f.rank, f.beta.clone());
             answer_score = bic(&f);
             push("answer".into(), answer.ncols(), f);
             push("baseline".into(), p, base);
             answer_factor = Some(fa);
-            rank
+            (rank, beta)
         }
         None => {
+            let beta = base.beta.clone();
             push("baseline".into(), p, base);
-            base_rank
+            (base_rank, beta)
         }
     };
+    let b0 = whitened_b0.unwrap_or(ols_b0);
     // each candidate's fits (side by side on the threads given), taken in the candidates' order
     let alts: Vec<(String, &DMatrix<f64>)> = candidates
         .iter()
@@ -211,12 +213,12 @@ pub fn model_spread(
             Some(_) => {
                 let with = hstack(&answer, &s);
                 let fw = fit(&with, &yu, p);
-                (with, fw)
+                (with.ncols(), fw)
             }
-            None => (single.clone(), fs.clone()),
+            None => (single.ncols(), fs.clone()),
         };
         // the fits and their column counts (the designs dropped: 91 MB each at 200,000 points)
-        (fs, single.ncols(), fw, with.ncols())
+        (fs, single.ncols(), fw, with)
     });
     for (k, ((id, _), (fs, single, fw, with))) in alts.iter().zip(fitted).enumerate() {
         let shape = k >= candidates.len();
