@@ -19,7 +19,7 @@ use std::sync::Arc;
 use crate::parameter::effect::{damping_of_overshoot, OVERSHOOT_GRID};
 use crate::parameter::{backlash_axes, Effect};
 use crate::part::{SShape, Surface};
-use crate::sensitivity::reversal::{passes, Lag};
+use crate::sensitivity::reversal::{passes_on, Lag};
 use crate::sensitivity::take_up::{travels, TurnTravel};
 use crate::sensitivity::SensitivityOptions;
 use crate::toolpath::envelope::pose_table;
@@ -59,7 +59,7 @@ impl PathModel {
         opts: &SensitivityOptions,
         threads: Threads,
     ) -> Result<Self, GapError> {
-        let passes = passes(part, opts)?;
+        let passes = passes_on(part, opts, threads)?;
         let axes = backlash_axes(&opts.chain);
         let grid = Effect::Backlash(AxisName::X)
             .shape()

@@ -29,6 +29,7 @@
 use std::collections::HashMap;
 
 use crate::numerics::fast_hash::FastHashMap;
+use crate::numerics::parallel::{join, Threads};
 
 use crate::machine::direct::jacobian_body_point;
 use crate::machine::inverse::RotaryPair;
@@ -475,10 +476,21 @@ pub fn reversal_count(p: &Pass, axis: AxisName) -> usize {
 /// The passes of surfaces A and B ([`Surface::BOTH`] order), for callers that need them for
 /// several things (signatures and reversal positions).
 pub fn passes(part: &SShape, opts: &SensitivityOptions) -> Result<[Pass; 2], SensitivityError> {
-    Ok([
-        pass(part, Surface::BOTH[0], opts)?,
-        pass(part, Surface::BOTH[1], opts)?,
-    ])
+    passes_on(part, opts, Threads::ONE)
+}
+
+/// [`passes`], the two side by side on `threads` threads: the same passes.
+pub fn passes_on(
+    part: &SShape,
+    opts: &SensitivityOptions,
+    threads: Threads,
+) -> Result<[Pass; 2], SensitivityError> {
+    let (a, b) = join(
+        threads,
+        || pass(part, Surface::BOTH[0], opts),
+        || pass(part, Surface::BOTH[1], opts),
+    );
+    Ok([a?, b?])
 }
 
 /// One stretch of constant direction of the lag: from grid step `k` on, the offset moves from
