@@ -14,6 +14,7 @@ use crate::numerics::parallel::Threads;
 use crate::numerics::stats;
 use crate::parameter::Effect;
 use crate::simulate::ExactDefectModel;
+use nalgebra::DMatrix;
 
 use super::error::AnalysisError;
 use super::options::AnalysisOptions;
@@ -64,8 +65,6 @@ pub(super) fn refine_with(
 pub(super) struct FinalInput<'a> {
     pub(super) design: &'a Design,
     pub(super) observations: &'a Observations,
-    pub(super) baseline: &'a Identification,
-    pub(super) baseline_refinement: Option<&'a RefineReport>,
     pub(super) model: Option<&'a PartModel>,
     /// The model's candidates at the shapes the diagnosis fitted.
     pub(super) candidates: &'a [crate::effects::Candidate],
@@ -73,11 +72,18 @@ pub(super) struct FinalInput<'a> {
     /// The part's noise σ of the diagnosis (mm).
     pub(super) noise_sigma: Option<f64>,
     pub(super) unavailable: &'a [(Effect, String)],
+    /// The model spread about the baseline answer, when it was computed beforehand
+    /// ([`baseline_spread`]: beside the baseline identification).
+    pub(super) spread: Option<ModelSpread>,
 }
 
 /// The final answer ([`crate::final_fit::correct`]), refined with the exact model like the baseline.
+/// `baseline` is the baseline identification (after its refinement), `baseline_refinement`
+/// its refinement.
 pub(super) fn final_answer(
-    f: FinalInput,
+    mut f: FinalInput,
+    baseline: &Identification,
+    baseline_refinement: Option<&RefineReport>,
     prepared: &Prepared,
     at: &PointsModel,
     opts: &AnalysisOptions,
@@ -87,7 +93,7 @@ pub(super) fn final_answer(
     let input = CorrectionInput {
         design: f.design,
         observations: f.observations,
-        baseline: f.baseline,
+        baseline,
         points: f.model.map_or(&no_points, |m| &m.points),
         candidates: f.candidates,
         verdict: f.verdict,
@@ -104,7 +110,7 @@ pub(super) fn final_answer(
         mut correction,
     } = fin;
     let refinement = match correction.basis {
-        Basis::Baseline => f.baseline_refinement.cloned(),
+        Basis::Baseline => baseline_refinement.cloned(),
         _ if opts.refine => {
             let r = refine_with(
                 prepared,
@@ -117,8 +123,8 @@ pub(super) fn final_answer(
             )?;
             apply_refinement(&mut identification, &r, "");
             if r.performed && r.success {
-                correction.shift = shifts(f.baseline, &identification);
-                correction.summary = summary(&correction, f.baseline, &identification);
+                correction.shift = shifts(baseline, &identification);
+                correction.summary = summary(&correction, baseline, &identification);
             }
             Some(r)
         }
@@ -126,18 +132,57 @@ pub(super) fn final_answer(
     };
     if opts.effects == EffectsChoice::Auto {
         if let (Some(_), Some(v)) = (f.model, f.verdict) {
-            widen_by_model_spread(
-                &f,
-                v,
-                &design,
-                whitener.as_ref(),
-                &mut identification,
-                &mut correction,
-                opts.threads,
-            );
+            // the spread computed beforehand is the baseline answer's: the one [`correct`] took
+            let spread = match f.spread.take() {
+                Some(s) if correction.basis == Basis::Baseline => s,
+                _ => {
+                    let p = f.design.matrix().ncols();
+                    let added = design.matrix().ncols().saturating_sub(p);
+                    let chosen = (correction.basis == Basis::Effects && added > 0)
+                        .then(|| design.matrix().columns(p, added).into_owned());
+                    spread_of(&f, v, chosen.as_ref(), whitener.as_ref(), opts.threads)
+                }
+            };
+            widen_by_model_spread(&f, v, spread, &mut identification, &mut correction);
         }
     }
     Ok((design, identification, refinement, correction))
+}
+
+/// The model spread ([`model_spread`]) about the answer of the location errors plus `chosen`
+/// (the columns the answer adds to them; none for the baseline), in the problem whitened by
+/// `whitener` when the answer has a correlated error.
+fn spread_of(
+    f: &FinalInput,
+    v: &crate::gap::verdict::Verdict,
+    chosen: Option<&DMatrix<f64>>,
+    whitener: Option<&Whitener>,
+    threads: Threads,
+) -> ModelSpread {
+    let obs = f.observations;
+    let used: Vec<usize> = (0..obs.len()).filter(|&i| obs.weight(i) > 0.0).collect();
+    model_spread(
+        f.design.matrix(),
+        &f.design.names(),
+        &obs.deviation,
+        &used,
+        f.candidates,
+        f.model.map_or(&[][..], |m| &m.nuisance[..]),
+        Answer { chosen, whitener },
+        v.sigma,
+        threads,
+    )
+}
+
+/// The model spread about the baseline answer, which needs nothing of the baseline's own
+/// identification: computed beside it when the final answer is known to be the baseline
+/// ([`crate::final_fit::correct::basis_of`]), the same numbers as after it.
+pub(super) fn baseline_spread(
+    f: &FinalInput,
+    v: &crate::gap::verdict::Verdict,
+    threads: Threads,
+) -> ModelSpread {
+    spread_of(f, v, None, None, threads)
 }
 
 /// Confidence of the band within which the residual's RMS is taken as noise (the baseline's
@@ -214,33 +259,10 @@ fn widen_covariance(
 fn widen_by_model_spread(
     f: &FinalInput,
     v: &crate::gap::verdict::Verdict,
-    design: &Design,
-    whitener: Option<&Whitener>,
+    spread: ModelSpread,
     identification: &mut Identification,
     correction: &mut Correction,
-    threads: Threads,
 ) {
-    let obs = f.observations;
-    let used: Vec<usize> = (0..obs.len()).filter(|&i| obs.weight(i) > 0.0).collect();
-    let a = f.design.matrix();
-    let p = a.ncols();
-    let added = design.matrix().ncols().saturating_sub(p);
-    let chosen = (correction.basis == Basis::Effects && added > 0)
-        .then(|| design.matrix().columns(p, added).into_owned());
-    let spread = model_spread(
-        a,
-        &f.design.names(),
-        &obs.deviation,
-        &used,
-        f.candidates,
-        f.model.map_or(&[][..], |m| &m.nuisance[..]),
-        Answer {
-            chosen: chosen.as_ref(),
-            whitener,
-        },
-        v.sigma,
-        threads,
-    );
     let rescale = noise_share(
         correction.basis,
         identification.sigma,

@@ -2,13 +2,14 @@
 //! `validate` all run.
 
 use crate::effects::prepared::Prepared;
-use crate::final_fit::correct::Correction;
+use crate::final_fit::correct::{basis_of, Basis, Correction, EffectsChoice};
 use crate::identify::refine::{apply_refinement, RefineReport};
 use crate::identify::{identify, Design, Identification, IdentifyOptions, Observations};
+use crate::numerics::parallel::join;
 
 use super::diagnosis::{diagnose_modelled, Diagnosis};
 use super::error::AnalysisError;
-use super::final_answer::{final_answer, refine_with, FinalInput};
+use super::final_answer::{baseline_spread, final_answer, refine_with, FinalInput};
 use super::options::AnalysisOptions;
 use super::outliers::outliers_of;
 use super::points::design_of_points;
@@ -78,15 +79,6 @@ pub fn fit_points_with(
             .map_or(s, |r| r.structure.noise.used);
         iopts = iopts.with_sigma(total);
     }
-    progress(Progress::of(Stage::Identify));
-    let mut identification = identify(&design, &obs, &iopts)?;
-    let refinement = if opts.refine {
-        let r = refine_with(prepared, at, &design, &obs, &identification, &iopts, None)?;
-        apply_refinement(&mut identification, &r, "");
-        Some(r)
-    } else {
-        None
-    };
     let outliers = outliers_of(&modelled, ids, opts.keep_outliers);
     let diagnosis = modelled.diagnosis;
     // the candidates at the shapes the diagnosis fitted (a backlash's lag, a warm-up)
@@ -103,19 +95,49 @@ pub fn fit_points_with(
             ),
             None => m.candidates.clone(),
         });
+    let verdict = diagnosis.report().map(|r| &r.verdict);
+    let mut input = FinalInput {
+        candidates: &shaped,
+        design: &design,
+        observations: &obs,
+        model: modelled.model.as_deref(),
+        verdict,
+        noise_sigma: diagnosis.report().map(|r| r.structure.noise.used),
+        unavailable: &modelled.unavailable,
+        spread: None,
+    };
+    // When the final answer will be the baseline (verdict `none`), the model spread about it
+    // needs nothing of the baseline's identification: it is computed beside it (the
+    // identification and its refinement are mostly one thread's work, issue 31).
+    let spread_beside = opts.effects == EffectsChoice::Auto
+        && input.model.is_some()
+        && basis_of(verdict, &modelled.unavailable, &opts.effects) == Basis::Baseline;
+    progress(Progress::of(Stage::Identify));
+    let (baseline, spread) = join(
+        opts.threads,
+        || -> Result<_, AnalysisError> {
+            let mut identification = identify(&design, &obs, &iopts)?;
+            let refinement = if opts.refine {
+                let r = refine_with(prepared, at, &design, &obs, &identification, &iopts, None)?;
+                apply_refinement(&mut identification, &r, "");
+                Some(r)
+            } else {
+                None
+            };
+            Ok((identification, refinement))
+        },
+        || match (spread_beside, verdict) {
+            (true, Some(v)) => Some(baseline_spread(&input, v, opts.threads)),
+            _ => None,
+        },
+    );
+    let (identification, refinement) = baseline?;
+    input.spread = spread;
     progress(Progress::of(Stage::FinalFit));
     let (final_design, final_id, final_refinement, correction) = final_answer(
-        FinalInput {
-            candidates: &shaped,
-            design: &design,
-            observations: &obs,
-            baseline: &identification,
-            baseline_refinement: refinement.as_ref(),
-            model: modelled.model.as_deref(),
-            verdict: diagnosis.report().map(|r| &r.verdict),
-            noise_sigma: diagnosis.report().map(|r| r.structure.noise.used),
-            unavailable: &modelled.unavailable,
-        },
+        input,
+        &identification,
+        refinement.as_ref(),
         prepared,
         at,
         opts,

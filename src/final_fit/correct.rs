@@ -350,6 +350,26 @@ fn with_rounding(candidates: &[Candidate], effects: &[Effect]) -> Vec<Effect> {
 
 /// The effects to fit for `choice` and the verdict, or the reason there are none.
 fn chosen(input: &CorrectionInput, choice: &EffectsChoice) -> (Basis, Vec<Effect>, Vec<String>) {
+    chosen_by(input.verdict, input.unavailable, choice)
+}
+
+/// The basis [`correct`] fits the final answer on, from the verdict, the effects that cannot be
+/// fitted and the choice alone (not from any fit): what can be prepared for it before the
+/// baseline identification is made.
+pub fn basis_of(
+    verdict: Option<&Verdict>,
+    unavailable: &[(Effect, String)],
+    choice: &EffectsChoice,
+) -> Basis {
+    chosen_by(verdict, unavailable, choice).0
+}
+
+/// [`chosen`]'s rule on its inputs: the basis, the effects fitted and the notes.
+fn chosen_by(
+    verdict: Option<&Verdict>,
+    unavailable: &[(Effect, String)],
+    choice: &EffectsChoice,
+) -> (Basis, Vec<Effect>, Vec<String>) {
     match choice {
         EffectsChoice::None => (
             Basis::Baseline,
@@ -357,7 +377,7 @@ fn chosen(input: &CorrectionInput, choice: &EffectsChoice) -> (Basis, Vec<Effect
             vec!["--effects none: the baseline identification is the answer.".to_string()],
         ),
         EffectsChoice::Given(v) => (Basis::Effects, v.clone(), Vec::new()),
-        EffectsChoice::Auto => match input.verdict.map(|v| &v.finding) {
+        EffectsChoice::Auto => match verdict.map(|v| &v.finding) {
             None => (
                 Basis::Baseline,
                 Vec::new(),
@@ -370,13 +390,9 @@ fn chosen(input: &CorrectionInput, choice: &EffectsChoice) -> (Basis, Vec<Effect
                 let missing: Vec<String> = effects
                     .iter()
                     .filter_map(|e| {
-                        input
-                            .unavailable
-                            .iter()
-                            .find(|(u, _)| u == e)
-                            .map(|(_, why)| {
-                                format!("`{e}` cannot be fitted with these errors: {why}")
-                            })
+                        unavailable.iter().find(|(u, _)| u == e).map(|(_, why)| {
+                            format!("`{e}` cannot be fitted with these errors: {why}")
+                        })
                     })
                     .collect();
                 if missing.is_empty() {
