@@ -7,8 +7,10 @@ use crate::final_fit::correct::{
 };
 use crate::final_fit::model_spread::{model_spread, Answer, ModelSpread};
 use crate::identify::correlated::{whiten, whitened_limit, Whitened, Whitener};
-use crate::identify::refine::{apply_refinement, refine, RefineOptions, RefineReport};
-use crate::identify::{Design, Identification, IdentifyOptions, Observations};
+use crate::identify::refine::{
+    apply_refinement, refine, refine_factored, RefineOptions, RefineReport,
+};
+use crate::identify::{Design, Factored, Identification, IdentifyOptions, Observations};
 use crate::identify::{Status, NONZERO_T};
 use crate::numerics::parallel::Threads;
 use crate::numerics::stats;
@@ -20,8 +22,15 @@ use super::error::AnalysisError;
 use super::options::AnalysisOptions;
 use super::session::PointsModel;
 
-/// The exact-model refinement of a fit of `design` (plain, or whitened by `whitener`) at the
-/// points of `at`, on the prepared settings (their chain, branch and mode).
+/// How a fit to refine was made: plainly (with its factored problem when it was kept,
+/// [`crate::identify::identify_factored`]), or whitened.
+pub(super) enum Fitted<'a> {
+    Plain(Option<&'a Factored>),
+    Whitened(&'a Whitener),
+}
+
+/// The exact-model refinement of a fit of `design` (plain, or whitened) at the points of `at`,
+/// on the prepared settings (their chain, branch and mode).
 pub(super) fn refine_with(
     prepared: &Prepared,
     at: &PointsModel,
@@ -29,7 +38,7 @@ pub(super) fn refine_with(
     obs: &Observations,
     linear: &Identification,
     iopts: &IdentifyOptions,
-    whitener: Option<&Whitener>,
+    fitted: Fitted,
 ) -> Result<RefineReport, AnalysisError> {
     let model = ExactDefectModel::at_points_on(
         design,
@@ -39,9 +48,18 @@ pub(super) fn refine_with(
         prepared.options(),
         at.threads(),
     )?;
-    let r = match whitener {
-        None => refine(design, obs, linear, model, &RefineOptions::default(), iopts),
-        Some(w) => {
+    let r = match fitted {
+        Fitted::Plain(None) => refine(design, obs, linear, model, &RefineOptions::default(), iopts),
+        Fitted::Plain(Some(f)) => refine_factored(
+            design,
+            obs,
+            linear,
+            f,
+            model,
+            &RefineOptions::default(),
+            iopts,
+        ),
+        Fitted::Whitened(w) => {
             let (wd, wobs) = whiten(design, obs, w)?;
             let model = Whitened { model, whitener: w };
             let limit = whitened_limit(design, &wd, iopts);
@@ -112,6 +130,10 @@ pub(super) fn final_answer(
     let refinement = match correction.basis {
         Basis::Baseline => baseline_refinement.cloned(),
         _ if opts.refine => {
+            let fitted = match whitener.as_ref() {
+                Some(w) => Fitted::Whitened(w),
+                None => Fitted::Plain(None),
+            };
             let r = refine_with(
                 prepared,
                 at,
@@ -119,7 +141,7 @@ pub(super) fn final_answer(
                 f.observations,
                 &identification,
                 iopts,
-                whitener.as_ref(),
+                fitted,
             )?;
             apply_refinement(&mut identification, &r, "");
             if r.performed && r.success {

@@ -4,12 +4,12 @@
 use crate::effects::prepared::Prepared;
 use crate::final_fit::correct::{basis_of, Basis, Correction, EffectsChoice};
 use crate::identify::refine::{apply_refinement, RefineReport};
-use crate::identify::{identify, Design, Identification, IdentifyOptions, Observations};
+use crate::identify::{identify_factored, Design, Identification, IdentifyOptions, Observations};
 use crate::numerics::parallel::join;
 
 use super::diagnosis::{diagnose_modelled, Diagnosis};
 use super::error::AnalysisError;
-use super::final_answer::{baseline_spread, final_answer, refine_with, FinalInput};
+use super::final_answer::{baseline_spread, final_answer, refine_with, FinalInput, Fitted};
 use super::options::AnalysisOptions;
 use super::outliers::outliers_of;
 use super::points::design_of_points;
@@ -116,9 +116,10 @@ pub fn fit_points_with(
     let (baseline, spread) = join(
         opts.threads,
         || -> Result<_, AnalysisError> {
-            let mut identification = identify(&design, &obs, &iopts)?;
+            let (mut identification, factored) = identify_factored(&design, &obs, &iopts)?;
             let refinement = if opts.refine {
-                let r = refine_with(prepared, at, &design, &obs, &identification, &iopts, None)?;
+                let plain = Fitted::Plain(Some(&factored));
+                let r = refine_with(prepared, at, &design, &obs, &identification, &iopts, plain)?;
                 apply_refinement(&mut identification, &r, "");
                 Some(r)
             } else {

@@ -339,6 +339,17 @@ pub fn identify(
     obs: &Observations,
     opts: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
+    identify_factored(design, obs, opts).map(|(id, _)| id)
+}
+
+/// [`identify`], and the factored problem it solved ([`Factored::new`] of the same `design`,
+/// `obs` and `opts`): for an exact-model refinement of the same fit
+/// ([`crate::identify::refine::refine_factored`]), which would otherwise factorise it again.
+pub fn identify_factored(
+    design: &Design,
+    obs: &Observations,
+    opts: &IdentifyOptions,
+) -> Result<(Identification, Factored), IdentifyError> {
     let f = Factored::new(design, obs, opts)?;
     let p = design.cols();
     let x = solve_scaled(&f, obs);
@@ -351,7 +362,7 @@ pub fn identify(
     let (correlation, covariance) = correlations(cov.as_ref(), &params);
     let notes = notes(&f, p, opts, &noise);
     let svd = &f.svd;
-    Ok(Identification {
+    let id = Identification {
         parameters: ParameterMap(params),
         groups,
         rank: svd.rank,
@@ -377,7 +388,8 @@ pub fn identify(
         ),
         points: point_fits(obs, &fitted),
         notes,
-    })
+    };
+    Ok((id, f))
 }
 
 /// The least-squares solution `x = M y_used` ([`Factored::estimator`]: `D⁻¹ N V' S'⁻¹ U'ᵀ W^½`,

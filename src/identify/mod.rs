@@ -39,7 +39,7 @@ pub use error::IdentifyError;
 pub use groups::{
     Combination, ConventionShare, Direction, Estimable, Group, GroupKind, CONVENTION_SHARE_FLOOR,
 };
-pub use least_squares::{identify, Factored, IdentifyOptions};
+pub use least_squares::{identify, identify_factored, Factored, IdentifyOptions};
 pub use observations::Observations;
 pub use report::{
     ColumnCorrelation, CurveStats, ExcludedPoint, Identification, ParameterEstimate, ParameterMap,

@@ -272,7 +272,26 @@ pub fn refine<F>(
 where
     F: ExactModel,
 {
-    refine_dyn(design, obs, linear, &model, opts, id_opts)
+    let f = Factored::new(design, obs, id_opts)?;
+    refine_dyn(design, obs, linear, &f, &model, opts, id_opts)
+}
+
+/// [`refine`] of the fit whose factored problem is `f` ([`Factored::new`] of the same `design`,
+/// `obs` and `id_opts`, as [`crate::identify::identify_factored`] returns it):
+/// the same report, without factorising it again.
+pub fn refine_factored<F>(
+    design: &Design,
+    obs: &Observations,
+    linear: &Identification,
+    f: &Factored,
+    model: F,
+    opts: &RefineOptions,
+    id_opts: &IdentifyOptions,
+) -> Result<RefineReport, IdentifyError>
+where
+    F: ExactModel,
+{
+    refine_dyn(design, obs, linear, f, &model, opts, id_opts)
 }
 
 /// [`refine`] on a model behind a trait object (one instance for every model type).
@@ -280,11 +299,11 @@ fn refine_dyn(
     design: &Design,
     obs: &Observations,
     linear: &Identification,
+    f: &Factored,
     model: &dyn ExactModel,
     opts: &RefineOptions,
     id_opts: &IdentifyOptions,
 ) -> Result<RefineReport, IdentifyError> {
-    let f = Factored::new(design, obs, id_opts)?;
     let names = design.names();
     let p = design.cols();
     let x0 = linear.values();

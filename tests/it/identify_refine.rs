@@ -102,6 +102,34 @@ fn recovers_non_linear_truth() {
     assert!(r.condition.is_finite());
 }
 
+/// The refinement of a fit from the factored problem its identification kept
+/// (`identify_factored`, `refine_factored`) is the refinement that factorises it again: the same
+/// identification and the same report, value for value (κ = 2 /mm as above, LM run).
+#[test]
+fn the_kept_factorisation_refines_as_a_new_one() {
+    let d = design("physical");
+    let truth = [
+        7.5e-5, 2.4e-4, 1.7e-4, -1.6e-4, -1.2e-4, 0.0178, -2.97e-4, 1.9e-4,
+    ];
+    let (y, _) = model(&d, 2.0)(&truth).unwrap();
+    let obs = Observations::plain(y);
+    let opts = IdentifyOptions::default();
+    let lin = identify(&d, &obs, &opts).unwrap();
+    let (kept, factored) = identify_factored(&d, &obs, &opts).unwrap();
+    assert_eq!(kept.values(), lin.values());
+    assert_eq!(kept.parameters, lin.parameters);
+    let ropts = RefineOptions::default();
+    let again = refine(&d, &obs, &lin, model(&d, 2.0), &ropts, &opts).unwrap();
+    let from_kept =
+        refine_factored(&d, &obs, &kept, &factored, model(&d, 2.0), &ropts, &opts).unwrap();
+    assert!(again.performed);
+    assert_eq!(from_kept.values, again.values);
+    assert_eq!(from_kept.std, again.std);
+    assert_eq!(from_kept.covariance, again.covariance);
+    assert_eq!(from_kept.evaluations, again.evaluations);
+    assert_eq!(from_kept.residual_rms, again.residual_rms);
+}
+
 /// Paper mode: LM works only in the solved subspace, so the unresolved combinations stay as the
 /// linear solution fixed them; a truth with the group parameters at 0 is recovered.
 #[test]
