@@ -287,13 +287,18 @@ impl Factored {
     pub fn estimator(&self) -> DMatrix<f64> {
         let p = self.basis_xi.nrows();
         let n = self.used.len();
+        // `f_jk = (N V')_jk / (s'_k d_j)`, then each point's column of `M` in turn, its terms in
+        // the order of `k` (the same sums as direction by direction over every point, which
+        // wrote across all of `M` once a term: 64 passes over 13 MB at 200,000 points, issue 31)
+        let f = DMatrix::from_fn(p, self.kept, |j, k| {
+            self.basis_xi[(j, k)] / (self.s_red[k] * self.svd.scale[j])
+        });
         let mut m = DMatrix::zeros(p, n);
-        for k in 0..self.kept {
-            let s = self.s_red[k];
-            for j in 0..p {
-                let f = self.basis_xi[(j, k)] / (s * self.svd.scale[j]);
-                for r in 0..n {
-                    m[(j, r)] += f * self.u_red[(r, k)] * self.sqrt_w[r];
+        for (r, mut col) in m.column_iter_mut().enumerate() {
+            for k in 0..self.kept {
+                let uw = self.u_red[(r, k)];
+                for j in 0..p {
+                    col[j] += f[(j, k)] * uw * self.sqrt_w[r];
                 }
             }
         }
@@ -744,6 +749,52 @@ mod tests {
         assert!(column_correlations(&design, &used, &sqrt_w, 0.95).is_empty());
         let wss = weighted_residual_sum(&used, &sqrt_w, &[0.5, 0.0, 2.0], &[0.0, 1.0, 0.0]);
         assert_near!(wss, 6.0, 1e-15);
+    }
+
+    /// The estimator built a point at a time is, bit for bit, the one built direction by
+    /// direction over every point (the loops it replaces), and solves the fit: `M·y` equals the
+    /// least-squares solution of a full-rank design (normal equations, to 1e-12 relative).
+    /// Four nearly orthogonal columns `cos(jπt)`, `j = 0..3` (every direction resolved), 40 points
+    /// with unequal weights.
+    #[test]
+    fn the_estimator_by_points_is_the_estimator_by_directions() {
+        let user = |n: &str| Parameter::user(n, crate::machine::Unit::Mm, 0.01);
+        let n = 40;
+        let a = DMatrix::from_fn(n, 4, |i, j| {
+            let t = i as f64 / n as f64;
+            (std::f64::consts::PI * j as f64 * t).cos()
+        });
+        let design =
+            Design::try_new(vec![user("A"), user("B"), user("C"), user("D")], a.clone()).unwrap();
+        let y: Vec<f64> = (0..n).map(|i| ((i * 13) % 7) as f64 * 1e-3).collect();
+        let obs = Observations::plain(y.clone())
+            .with_weights((0..n).map(|i| 1.0 + (i % 3) as f64).collect());
+        let f = Factored::new(&design, &obs, &IdentifyOptions::default()).unwrap();
+        let m = f.estimator();
+        let mut by_directions = DMatrix::<f64>::zeros(4, n);
+        for k in 0..f.kept {
+            let s = f.s_red[k];
+            for j in 0..4 {
+                let c = f.basis_xi[(j, k)] / (s * f.svd.scale[j]);
+                for r in 0..n {
+                    by_directions[(j, r)] += c * f.u_red[(r, k)] * f.sqrt_w[r];
+                }
+            }
+        }
+        assert!(m
+            .iter()
+            .zip(by_directions.iter())
+            .all(|(p, q)| p.to_bits() == q.to_bits()));
+        // the weighted normal equations' solution
+        let w = DMatrix::from_diagonal(&DVector::from_iterator(n, (0..n).map(|i| obs.weight(i))));
+        let x = (a.transpose() * &w * &a)
+            .lu()
+            .solve(&(a.transpose() * &w * DVector::from_vec(y.clone())))
+            .unwrap();
+        let got = &m * DVector::from_vec(y);
+        for j in 0..4 {
+            assert_near!(got[j], x[j], 1e-12 * x.amax());
+        }
     }
 
     /// A std above `weak_limit · typical` makes a parameter weak; a group naming it wins.
