@@ -366,7 +366,7 @@ pub(crate) fn every_candidate_model(
     let (grid, (probing, drift, meta)) = join(
         threads,
         || -> Result<_, GapError> {
-            let spots = GridSpots::of(&places);
+            let spots = GridSpots::of_on(&places, threads);
             let gains: Vec<Vec<f64>> = axes
                 .iter()
                 .map(|a| match chain_axes.iter().position(|c| c == a) {
