@@ -91,11 +91,19 @@ pub fn groups_in_order<'a>(
 ) -> Vec<(&'a str, Vec<usize>)> {
     let mut out: Vec<(&str, Vec<usize>)> = Vec::new();
     let mut at: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+    // the group of the label before: a scan's points come a line at a time, so most labels are
+    // their predecessor's and are not hashed (a dense scan's 200,000 labels, grouped several
+    // times an analysis)
+    let mut last: Option<(&str, usize)> = None;
     for (i, label) in labelled {
-        let k = *at.entry(label).or_insert_with(|| {
-            out.push((label, Vec::new()));
-            out.len() - 1
-        });
+        let k = match last {
+            Some((l, k)) if l == label => k,
+            _ => *at.entry(label).or_insert_with(|| {
+                out.push((label, Vec::new()));
+                out.len() - 1
+            }),
+        };
+        last = Some((label, k));
         out[k].1.push(i);
     }
     out
@@ -104,6 +112,22 @@ pub fn groups_in_order<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Runs of one label (a scan's lines) and labels coming back after others group as the
+    /// labels do one by one.
+    #[test]
+    fn runs_of_a_label_group_as_single_labels() {
+        let labels = ["x", "x", "y", "y", "y", "x", "z", "z", "y", "x"];
+        let got = groups_in_order(labels.iter().copied().enumerate());
+        assert_eq!(
+            got,
+            vec![
+                ("x", vec![0, 1, 5, 9]),
+                ("y", vec![2, 3, 4, 8]),
+                ("z", vec![6, 7])
+            ]
+        );
+    }
 
     #[test]
     fn groups_keep_the_first_appearance_order() {
