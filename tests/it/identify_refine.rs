@@ -69,16 +69,22 @@ fn skipped_when_linearisation_error_is_small() {
     assert_eq!(r.rank, 8);
 }
 
+/// A machine's location errors (`truth`, the design's order) and the part the exact model with
+/// κ = 2 /mm makes of them, noiseless.
+fn curved_part(d: &Design) -> ([f64; 8], Observations) {
+    let truth = [
+        7.5e-5, 2.4e-4, 1.7e-4, -1.6e-4, -1.2e-4, 0.0178, -2.97e-4, 1.9e-4,
+    ];
+    let (y, _) = model(d, 2.0)(&truth).unwrap();
+    (truth, Observations::plain(y))
+}
+
 /// κ = 2 /mm: deviations of ±0.15 mm get ±45 µm of curvature. The linear fit is biased; LM
 /// recovers the truth from noiseless data to 1e-9 and reports success.
 #[test]
 fn recovers_non_linear_truth() {
     let d = design("physical");
-    let truth = [
-        7.5e-5, 2.4e-4, 1.7e-4, -1.6e-4, -1.2e-4, 0.0178, -2.97e-4, 1.9e-4,
-    ];
-    let (y, _) = model(&d, 2.0)(&truth).unwrap();
-    let obs = Observations::plain(y);
+    let (truth, obs) = curved_part(&d);
     let opts = IdentifyOptions::default();
     let lin = identify(&d, &obs, &opts).unwrap();
     let bias = (lin.value("EA0B").unwrap() - truth[6]).abs();
@@ -108,11 +114,7 @@ fn recovers_non_linear_truth() {
 #[test]
 fn the_kept_factorisation_refines_as_a_new_one() {
     let d = design("physical");
-    let truth = [
-        7.5e-5, 2.4e-4, 1.7e-4, -1.6e-4, -1.2e-4, 0.0178, -2.97e-4, 1.9e-4,
-    ];
-    let (y, _) = model(&d, 2.0)(&truth).unwrap();
-    let obs = Observations::plain(y);
+    let (_, obs) = curved_part(&d);
     let opts = IdentifyOptions::default();
     let lin = identify(&d, &obs, &opts).unwrap();
     let (kept, factored) = identify_factored(&d, &obs, &opts).unwrap();
