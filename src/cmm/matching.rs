@@ -125,6 +125,7 @@ impl Tally {
             self.worst = Some((line, size, detail));
         }
     }
+
     /// The tally of this one's points followed by `next`'s: the same as adding them one by one
     /// (the lines in order; the worst replaced only by a strictly larger one, as [`Tally::add`]
     /// does; no size added is NaN: each is added behind a comparison that NaN fails, or is a
@@ -294,8 +295,8 @@ fn refuse_nominal_positions(points: &[MatchedPoint], format: &FormatInfo) -> Res
 /// Runs of rows a thread in [`match_points`]: the last runs still balance the threads.
 const MATCH_RUNS_PER_THREAD: usize = 16;
 
-/// The matches of a run of rows ([`match_point`] each, the row moved into its match), its bad
-/// rows and its remarks, in the rows' order; the first error of the run.
+/// The matches of a run of rows ([`match_point`] each, the row moved out of the file into its
+/// match), its bad rows and its remarks, in the rows' order; the first error of the run.
 fn match_run(
     projector: &Projector<SShape>,
     run: &mut [CmmPoint],
@@ -305,9 +306,8 @@ fn match_run(
     let mut problems = Vec::new();
     let mut remarks = Remarks::new();
     for row in run.iter_mut() {
-        match match_point(projector, row, opts)? {
-            Ok((foot, gap)) => {
-                let point = foot.with_row(take_row(row));
+        match match_point(projector, take_row(row), opts)? {
+            Ok((point, gap)) => {
                 remarks.note(&point, gap, opts);
                 points.push(point);
             }
@@ -332,51 +332,16 @@ fn take_row(row: &mut CmmPoint) -> CmmPoint {
     std::mem::replace(row, empty)
 }
 
-/// A row's match without the row: [`MatchedPoint`]'s other fields.
-struct Foot {
-    surface: Surface,
-    u: f64,
-    v: f64,
-    foot: [f64; 3],
-    normal: [f64; 3],
-    deviation: f64,
-    rule: DeviationRule,
-    distance: f64,
-    clamped: bool,
-    normal_angle_deg: Option<f64>,
-    position_deviation: Option<f64>,
-}
-
-impl Foot {
-    /// The matched point of row `file`, the row this foot was found for.
-    fn with_row(self, file: CmmPoint) -> MatchedPoint {
-        MatchedPoint {
-            file,
-            surface: self.surface,
-            u: self.u,
-            v: self.v,
-            foot: self.foot,
-            normal: self.normal,
-            deviation: self.deviation,
-            rule: self.rule,
-            distance: self.distance,
-            clamped: self.clamped,
-            normal_angle_deg: self.normal_angle_deg,
-            position_deviation: self.position_deviation,
-        }
-    }
-}
-
 /// Matches one row: closest-point projection of its own coordinates (nominal if given, else
 /// measured), the deviation by the rules of the module docs, and the check that the point is
-/// near the surfaces: `Ok((foot, gap))` with the distance `gap` (mm) of the projected
+/// near the surfaces: `Ok((point, gap))` with the distance `gap` (mm) of the projected
 /// coordinates from the foot, or `Err` with the bad row (no position, or too far from the
 /// surfaces). A failed projection is an error of the whole file (the outer `Err`).
 fn match_point(
     projector: &Projector<SShape>,
-    pt: &CmmPoint,
+    pt: CmmPoint,
     opts: &ReadOptions,
-) -> Result<Result<(Foot, f64), RowProblem>, CmmError> {
+) -> Result<Result<(MatchedPoint, f64), RowProblem>, CmmError> {
     let Some(pos) = pt.nominal.or(pt.measured) else {
         // The reader guarantees a position; keep the promise not to drop rows silently.
         return Ok(Err(RowProblem {
@@ -394,13 +359,14 @@ fn match_point(
     })?;
     let n = proj.normal;
     let gap = (p - proj.foot).norm();
-    let (deviation, rule, position_deviation) = deviation_by_rule(pt, &n, proj.distance);
-    if let Some(problem) = far_from_surface(projector, pt, &p, &proj, gap, deviation, opts) {
+    let (deviation, rule, position_deviation) = deviation_by_rule(&pt, &n, proj.distance);
+    if let Some(problem) = far_from_surface(projector, &pt, &p, &proj, gap, deviation, opts) {
         return Ok(Err(problem));
     }
     let normal_angle_deg = pt.normal.map(|fnorm| normal_angle_deg(fnorm, &n));
     Ok(Ok((
-        Foot {
+        MatchedPoint {
+            file: pt,
             surface: proj.surface,
             u: proj.u,
             v: proj.v,
