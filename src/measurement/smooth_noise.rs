@@ -260,8 +260,8 @@ mod tests {
     use super::*;
     use crate::assert_near;
 
-    /// A scan's `[A | basis]` written in place is, bit for bit, the basis built apart and joined
-    /// to `A` ([`hstack`], the construction it replaces), on 1 and 3 threads: two surfaces of
+    /// A scan's `[A | basis]` written in place is, bit for bit, the basis built an entry at a
+    /// time as before (written out here) and joined to `A`, on 1 and 3 threads: two surfaces of
     /// 5 and 3 lines (B's degree in height capped at 2 by its lines), the surfaces' points
     /// interleaved in the file's order. A discrete layout (two curves a surface) keeps the
     /// per-curve basis.
@@ -288,9 +288,34 @@ mod tests {
         }
         let n = points.len();
         let a = DMatrix::from_fn(n, 3, |i, j| ((i * 7 + j * 3) % 11) as f64 - 5.0);
-        let joined = hstack(&a, &smooth_basis(&points, SMOOTH_DEGREE));
-        // 6 × 4 columns on A, 6 × 3 on B
-        assert_eq!(joined.ncols(), 3 + 24 + 18);
+        // the basis as it was built before, an entry at a time: on each surface (A with 5 lines,
+        // degree 3 in height; B with 3, degree 2), `P_i(t)·P_j(η)` at column `i·(hd + 1) + j`
+        let unit = |v: f64, lo: f64, hi: f64| 2.0 * (v - lo) / (hi - lo).max(1e-12) - 1.0;
+        let mut basis = DMatrix::zeros(n, 24 + 18);
+        let mut first = 0;
+        for (s, hd) in [(Surface::A, 3), (Surface::B, 2)] {
+            let rows: Vec<usize> = (0..n).filter(|&i| points[i].surface == s).collect();
+            let range = |f: &dyn Fn(&PointMeta) -> f64| {
+                rows.iter()
+                    .map(|&i| f(&points[i]))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                        (a.min(v), b.max(v))
+                    })
+            };
+            let ((s0, s1), (h0, h1)) = (range(&|p| p.s), range(&|p| p.h));
+            for &r in &rows {
+                let pt = legendre(unit(points[r].s, s0, s1), SMOOTH_DEGREE);
+                let ph = legendre(unit(points[r].h, h0, h1), hd);
+                for (i, pi) in pt.iter().enumerate() {
+                    for (j, pj) in ph.iter().enumerate() {
+                        basis[(r, first + i * (hd + 1) + j)] = pi * pj;
+                    }
+                }
+            }
+            first += (SMOOTH_DEGREE + 1) * (hd + 1);
+        }
+        let joined = hstack(&a, &basis);
+        assert_eq!(smooth_basis(&points, SMOOTH_DEGREE), basis);
         for t in [1, 3] {
             let x = with_smooth_basis(&a, &points, SMOOTH_DEGREE, Threads::new(t));
             assert_eq!(x.shape(), joined.shape());
