@@ -108,10 +108,13 @@ pub fn fit_points_with(
     };
     // When the final answer will be the baseline (verdict `none`), the model spread about it
     // needs nothing of the baseline's identification: it is computed beside it (the
-    // identification and its refinement are mostly one thread's work, issue 31).
-    let spread_beside = opts.effects == EffectsChoice::Auto
-        && input.model.is_some()
-        && basis_of(verdict, &modelled.unavailable, &opts.effects) == Basis::Baseline;
+    // identification and its refinement are mostly one thread's work, issue 31); the verdict
+    // it is computed with, when it is
+    let spread_beside = verdict.filter(|_| {
+        opts.effects == EffectsChoice::Auto
+            && input.model.is_some()
+            && basis_of(verdict, &modelled.unavailable, &opts.effects) == Basis::Baseline
+    });
     progress(Progress::of(Stage::Identify));
     let (baseline, spread) = join(
         opts.threads,
@@ -127,10 +130,7 @@ pub fn fit_points_with(
             };
             Ok((identification, refinement))
         },
-        || match (spread_beside, verdict) {
-            (true, Some(v)) => Some(baseline_spread(&input, v, opts.threads)),
-            _ => None,
-        },
+        || spread_beside.map(|v| baseline_spread(&input, v, opts.threads)),
     );
     let (identification, refinement) = baseline?;
     input.spread = spread;
