@@ -316,7 +316,7 @@ impl Stage {
     pub fn run(&self) -> Result<f64, BenchError> {
         Ok(match self {
             Stage::Eval(part) => {
-                let c = &part.a[0];
+                let c = &part.curves(crate::part::Surface::A)[0];
                 (0..1000).map(|i| c.derivs_at(i as f64 / 999.0).d2.x).sum()
             }
             Stage::Points(part) => builtin_points(part)[99].u,

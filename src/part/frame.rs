@@ -21,7 +21,7 @@ use nalgebra::Vector3;
 
 use super::s_shape::{SShape, Surface};
 use crate::geometry::bspline::MAX_STACK_DEGREE;
-use crate::geometry::CurveDerivs;
+use crate::geometry::{BSplineCurve, CurveDerivs};
 
 /// The frame at `S(u, v)`: point (mm) and three unit vectors.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,6 +64,17 @@ pub struct FrameDerivs {
 }
 
 /// Derivative of `x/|x|` given `x` and `x'`.
+/// Whether curves `[C0, C1]` share one non-rational basis (the same degree, at most
+/// [`MAX_STACK_DEGREE`], and knots, every weight 1): then [`SShape::section_at`] evaluates the
+/// basis once for both curves and their difference.
+pub(crate) fn share_one_basis([c0, c1]: &[BSplineCurve; 2]) -> bool {
+    let rational = c0.weights().iter().chain(c1.weights()).any(|w| *w != 1.0);
+    !rational
+        && c0.knots() == c1.knots()
+        && c0.degree() == c1.degree()
+        && c0.degree() <= MAX_STACK_DEGREE
+}
+
 pub(crate) fn unit_derivative(x: &Vector3<f64>, dx: &Vector3<f64>) -> Vector3<f64> {
     let len = x.norm();
     let e = x / len;
@@ -89,12 +100,7 @@ impl SShape {
     /// shared-basis path).
     fn section_upto(&self, s: Surface, u: f64, nd: usize) -> Section {
         let [c0, c1] = self.curves(s);
-        let rational = c0.weights().iter().chain(c1.weights()).any(|w| *w != 1.0);
-        if rational
-            || c0.knots() != c1.knots()
-            || c0.degree() != c1.degree()
-            || c0.degree() > MAX_STACK_DEGREE
-        {
+        if !self.one_basis(s) {
             let d0 = c0.derivs_at(u);
             let d1 = c1.derivs_at(u);
             return Section {
@@ -200,6 +206,38 @@ mod tests {
 
     fn fd_ok(a: &Vector3<f64>, fd: &Vector3<f64>) -> bool {
         (a - fd).norm() <= FD_REL * (1.0 + a.norm())
+    }
+
+    /// One basis for both curves is decided with the curves: the built-in surfaces share one; a
+    /// curve written as rational (every weight 2: the same curve, the weights cancel) does not,
+    /// and its sections, each curve evaluated on its own, are the shared basis's to 1e-9 mm
+    /// (rounding of the two evaluations; the points are ~100 mm, the derivatives ~1000 mm).
+    #[test]
+    fn one_basis_is_decided_with_the_curves() {
+        let p = SShape::iso();
+        assert!(Surface::BOTH.iter().all(|&s| p.one_basis(s)));
+        let [c0, c1] = p.curves(Surface::A).clone();
+        let n = c1.control_points().len();
+        let weighted = BSplineCurve::try_new_rational(
+            c1.degree(),
+            c1.knots().to_vec(),
+            c1.control_points().to_vec(),
+            vec![2.0; n],
+        )
+        .unwrap();
+        let pair = [c0, weighted];
+        assert!(!share_one_basis(&pair));
+        let q = SShape::new(pair, p.curves(Surface::B).clone());
+        assert!(!q.one_basis(Surface::A) && q.one_basis(Surface::B));
+        for i in 0..=40 {
+            let u = i as f64 / 40.0;
+            let (x, y) = (p.section_at(Surface::A, u), q.section_at(Surface::A, u));
+            for (a, b) in [(x.c0, y.c0), (x.c1, y.c1), (x.d, y.d)] {
+                for (va, vb) in [(a.point, b.point), (a.d1, b.d1), (a.d2, b.d2)] {
+                    assert!((va - vb).norm() < 1e-9, "u = {u}: {va:?} vs {vb:?}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -9,6 +9,8 @@ use nalgebra::Vector3;
 
 use crate::geometry::{BSplineCurve, GeometryError};
 
+use super::frame::share_one_basis;
+
 /// Height of the part: the top curves lie in Z = 30 mm.
 pub const HEIGHT: f64 = 30.0;
 
@@ -122,9 +124,14 @@ fn curve(xy: &[(f64, f64); 16], z: f64) -> Result<BSplineCurve, GeometryError> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SShape {
     /// `C0` (bottom, Z = 0) and `C1` (top, Z = 30) of surface A.
-    pub a: [BSplineCurve; 2],
+    a: [BSplineCurve; 2],
     /// `C0` and `C1` of surface B.
-    pub b: [BSplineCurve; 2],
+    b: [BSplineCurve; 2],
+    /// Per surface ([`Surface::index`]), whether its two curves share one non-rational basis
+    /// ([`super::frame::share_one_basis`]): decided once with the curves, not at each of the
+    /// millions of sections a dense scan evaluates (comparing their weights and knots had been
+    /// a third of a section's time, issue 31).
+    one_basis: [bool; 2],
 }
 
 impl SShape {
@@ -133,10 +140,21 @@ impl SShape {
         // The control points are constants checked by the tests: construction cannot fail.
         let build =
             |c: &[(f64, f64); 16], z| curve(c, z).expect("S-shape control points are valid");
-        Self {
-            a: [build(&A_BOTTOM, 0.0), build(&A_TOP, HEIGHT)],
-            b: [build(&B_BOTTOM, 0.0), build(&B_TOP, HEIGHT)],
-        }
+        Self::new(
+            [build(&A_BOTTOM, 0.0), build(&A_TOP, HEIGHT)],
+            [build(&B_BOTTOM, 0.0), build(&B_TOP, HEIGHT)],
+        )
+    }
+
+    /// The part of surfaces A and B, each given by its bottom and top curves `[C0, C1]`.
+    pub(crate) fn new(a: [BSplineCurve; 2], b: [BSplineCurve; 2]) -> Self {
+        let one_basis = [share_one_basis(&a), share_one_basis(&b)];
+        Self { a, b, one_basis }
+    }
+
+    /// Whether the two curves of surface `s` share one non-rational basis (see the field).
+    pub(crate) fn one_basis(&self, s: Surface) -> bool {
+        self.one_basis[s.index()]
     }
 
     /// Bottom and top curves of one surface.
