@@ -407,9 +407,10 @@ pub(crate) fn every_candidate_model(
         index: index_signatures(points, q, opts)?,
         points: eps,
     };
-    let candidates = Effect::on_chain(&opts.chain)
+    // each candidate's columns on its own: side by side on the threads
+    let effects = Effect::on_chain(&opts.chain);
+    let candidates = map(threads, &effects, |&e| candidate(e, &model))
         .into_iter()
-        .map(|e| candidate(e, &model))
         .collect::<Result<Vec<_>, _>>()?;
     let mut nuisance = motions;
     nuisance.push(probing);

@@ -185,6 +185,8 @@ pub fn diagnose_with_smooth(
     // (each family's blocks of members side by side on the threads there are, one family at a
     // time: the families' scans are a third of a dense scan's diagnosis, and a family's kept
     // directions 86 MB at 200,000 points)
+    // (the families' directions in one buffer, each family's in turn)
+    let mut directions = Vec::new();
     let scans: Vec<crate::gap::shape::FamilyScan> = input
         .candidates
         .iter()
@@ -194,6 +196,7 @@ pub fn diagnose_with_smooth(
                 Some(&baseline.residual),
                 c,
                 opts.threads,
+                &mut directions,
             )
         })
         .collect();

@@ -21,11 +21,11 @@
 //!   `λ_k` of the correlation matrix of the family's unabsorbed signatures), not as one candidate:
 //!   1 for identical shapes, the grid's size for unrelated ones.
 
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DMatrixViewMut, DVector, SymmetricEigen};
 use serde::Serialize;
 
 use crate::effects::data::Candidate;
-use crate::identify::solve::{gram_on, hstack, tr_mul, zeros_lazily, Factor};
+use crate::identify::solve::{gram_of_columns, hstack, tr_mul, Factor};
 use crate::machine::Unit;
 use crate::numerics::parallel::{map_mut, Threads};
 use crate::numerics::stats;
@@ -138,19 +138,21 @@ pub struct FamilyScan {
 /// [`FamilyScan`] of `c` on the baseline `factor` (`m_eff` 1 for a candidate of one shape), the
 /// members' fits on the residual `r0` when given.
 pub fn scan_family(factor: &Factor, r0: Option<&DVector<f64>>, c: &Candidate) -> FamilyScan {
-    scan_family_on(factor, r0, c, Threads::ONE)
+    scan_family_on(factor, r0, c, Threads::ONE, &mut Vec::new())
 }
 
 /// [`scan_family`], the family's blocks of members side by side on `threads` threads: the same
 /// numbers (each block is the same product whatever the threads). A family's blocks, not whole
 /// families, are shared out: the directions kept for `m_eff` are `n × members` (86 MB for a
 /// backlash family at 200,000 points), one family's at a time, each block writing its own
-/// columns.
+/// columns, in `scratch`: a buffer the caller keeps from one family to the next, grown to
+/// `n × members` when shorter (what it holds on entry does not matter).
 pub fn scan_family_on(
     factor: &Factor,
     r0: Option<&DVector<f64>>,
     c: &Candidate,
     threads: Threads,
+    scratch: &mut Vec<f64>,
 ) -> FamilyScan {
     let Some(family) = &c.family else {
         return FamilyScan {
@@ -165,10 +167,15 @@ pub fn scan_family_on(
     // block); the correlations as one blocked product `DᵀD`.
     let n = c.signature.matrix.nrows();
     let size = scan_block_size(n, family.len());
-    // member j's direction in column j (zeros when absorbed), each block in its own columns
-    let mut dirs = zeros_lazily(n, family.len());
-    let mut blocks: Vec<(usize, &mut [f64])> = dirs
-        .as_mut_slice()
+    // member j's direction in column j (zeros when absorbed), each block in its own columns, in
+    // the caller's buffer: every block writes all of its columns, so a buffer a family before
+    // left needs no zeros (a new one for each family had been 86 MB of fresh pages at 200,000
+    // points, a fault every 4 kB, issue 31)
+    let len = n * family.len();
+    if scratch.len() < len {
+        *scratch = vec![0.0; len];
+    }
+    let mut blocks: Vec<(usize, &mut [f64])> = scratch[..len]
         .chunks_mut((n * size).max(1))
         .enumerate()
         .map(|(b, cols)| (b * size, cols))
@@ -187,6 +194,7 @@ pub fn scan_family_on(
         .flatten()
         .collect();
     let mut members = r0.map(|_| Vec::with_capacity(family.len()));
+    let mut dirs = DMatrixViewMut::from_slice(&mut scratch[..len], n, family.len());
     // the kept directions moved to the front, in the members' order
     let mut k = 0;
     for (j, (fit, kept)) in scanned.into_iter().enumerate() {
@@ -207,13 +215,14 @@ pub fn scan_family_on(
         };
     }
     // the members kept, in place (a copy would be 86 MB more at 200,000 points, issue 31)
-    let dirs = dirs.resize_horizontally(k, 0.0);
+    let kept = &scratch[..n * k];
     // (on a dense scan by row blocks side by side: one product of 200,000 × 54 had been a
     // tenth of a second of one thread a family)
     let corr = if n < crate::gap::span_gram::GRAM_MIN_ROWS {
+        let dirs = DMatrix::from_column_slice(n, k, kept);
         tr_mul(&dirs, &dirs)
     } else {
-        gram_on(&dirs, threads)
+        gram_of_columns(kept, n, k, threads)
     };
     let eig = SymmetricEigen::new(corr).eigenvalues;
     let m_eff = eig
@@ -621,7 +630,8 @@ mod tests {
 
     /// A family's scan on 2 threads is the scan on 1, bit for bit: 20 members (blocks of 8, 8
     /// and 4), three of them inside the baseline's span (a constant: absorbed, no direction),
-    /// so the kept directions are moved up past them in the members' order.
+    /// so the kept directions are moved up past them in the members' order. And in a buffer
+    /// whose values another family left, the same scan.
     #[test]
     fn a_family_is_scanned_the_same_on_two_threads() {
         let n = 300;
@@ -645,8 +655,8 @@ mod tests {
             })
             .collect();
         let (factor, r0, c) = drift_family(col, &grid, 9);
-        let one = scan_family_on(&factor, Some(&r0), &c, Threads::ONE);
-        let two = scan_family_on(&factor, Some(&r0), &c, Threads::new(2));
+        let one = scan_family_on(&factor, Some(&r0), &c, Threads::ONE, &mut Vec::new());
+        let two = scan_family_on(&factor, Some(&r0), &c, Threads::new(2), &mut Vec::new());
         assert_eq!(
             one.effective_shapes.to_bits(),
             two.effective_shapes.to_bits()
@@ -659,6 +669,15 @@ mod tests {
                 .collect::<Vec<_>>()
         };
         assert_eq!(bits(&one.members), bits(&two.members));
+        // in a buffer another family left (longer, every value NaN): the same scan
+        let mut left = vec![f64::NAN; n * 25];
+        let reused = scan_family_on(&factor, Some(&r0), &c, Threads::new(2), &mut left);
+        assert_eq!(
+            one.effective_shapes.to_bits(),
+            reused.effective_shapes.to_bits()
+        );
+        assert_eq!(bits(&one.members), bits(&reused.members));
+        assert_eq!(left.len(), n * 25);
         // the absorbed members add no rank
         let members = one.members.unwrap();
         assert_eq!(members.len(), 20);
@@ -687,7 +706,7 @@ mod tests {
                 family: Some(Family::stored(shape.clone(), members)),
                 ..c.clone()
             };
-            let scan = scan_family_on(&factor, Some(&r0), &c, Threads::ONE);
+            let scan = scan_family_on(&factor, Some(&r0), &c, Threads::ONE, &mut Vec::new());
             let family = c.family.as_ref().unwrap();
             for (k, (rss, rank)) in scan.members.unwrap().into_iter().enumerate() {
                 let (want, want_rank) = fwl(&factor, &r0, &family.member(k));

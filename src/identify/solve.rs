@@ -361,11 +361,19 @@ pub fn tr_mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
 /// a dense scan's `n × m` Gram matrices, one thread's 0.1 s each at 200,000 × 54 (issue 31).
 pub fn gram_on(a: &DMatrix<f64>, threads: Threads) -> DMatrix<f64> {
     let (n, p) = a.shape();
+    gram_of_columns(a.as_slice(), n, p, threads)
+}
+
+/// [`gram_on`] of the `n × p` matrix whose columns are `a` one after the other (column-major,
+/// `a.len() ≥ n·p`): the same bits.
+pub fn gram_of_columns(a: &[f64], n: usize, p: usize, threads: Threads) -> DMatrix<f64> {
+    assert!(a.len() >= n * p, "gram of {n} × {p} on {} values", a.len());
     sum_over_row_blocks(n, p, threads, |r0, rows| {
-        // the block's rows of aᵀ (p × rows) viewed in place, and of a
-        let at = DMatrixView::from_slice_with_strides(&a.as_slice()[r0..], p, rows, n, 1);
+        // the block's rows of aᵀ (p × rows) and of a, viewed in place
+        let at = DMatrixView::from_slice_with_strides(&a[r0..], p, rows, n, 1);
+        let block = DMatrixView::from_slice_with_strides(&a[r0..], rows, p, 1, n);
         let mut out = DMatrix::zeros(p, p);
-        out.gemm(1.0, &at, &a.rows(r0, rows), 0.0);
+        out.gemm(1.0, &at, &block, 0.0);
         out
     })
 }
@@ -450,7 +458,8 @@ mod tests {
     }
 
     /// The Gram matrix by row blocks is `aᵀa` to rounding (1e-13 of ‖a‖²) on 9,000 × 12 (three
-    /// blocks, the last short) and 100 × 7 (one), and the same bits on 1 and 3 threads.
+    /// blocks, the last short) and 100 × 7 (one), and the same bits on 1 and 3 threads, from a
+    /// view of `a`'s rows block by block, and from the first columns of a longer buffer.
     #[test]
     fn the_blocked_gram_is_the_product() {
         let f = |i: usize, j: usize| ((i * 7 + j * 13) % 17) as f64 - 8.0 + 0.1 * (i as f64).sin();
@@ -460,6 +469,21 @@ mod tests {
             let want = a.transpose() * &a;
             assert!((&g - &want).amax() <= 1e-13 * a.norm_squared(), "{n} x {p}");
             assert_eq!(gram_on(&a, Threads::new(3)), g);
+            // the blocks as rows of `a` (the product of a view of its rows), summed in order:
+            // the same bits
+            let mut by_rows = DMatrix::zeros(p, p);
+            for r0 in (0..n).step_by(TALL_QR_ROWS) {
+                let rows = TALL_QR_ROWS.min(n - r0);
+                let at = DMatrixView::from_slice_with_strides(&a.as_slice()[r0..], p, rows, n, 1);
+                let mut block = DMatrix::zeros(p, p);
+                block.gemm(1.0, &at, &a.rows(r0, rows), 0.0);
+                by_rows += block;
+            }
+            assert_eq!(g, by_rows, "{n} x {p}");
+            // the first columns of a longer buffer (what follows them is not read)
+            let mut longer = a.as_slice().to_vec();
+            longer.extend(std::iter::repeat_n(f64::NAN, 3 * n));
+            assert_eq!(gram_of_columns(&longer, n, p, Threads::new(2)), g);
         }
     }
 
