@@ -156,7 +156,7 @@ pub fn unabsorbed_spans(
         .iter()
         .map(|c| {
             let u = base.unabsorbed(&c.signature.matrix);
-            (c.effect, Factor::new(&u, None).basis)
+            (c.effect, Factor::of(u, None).basis)
         })
         .filter(|(_, q)| q.ncols() > 0)
         .collect()

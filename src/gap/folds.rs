@@ -107,8 +107,8 @@ pub fn build_folds(
         if train.len() < min_train || test.is_empty() {
             return None;
         }
-        let a_train = a.select_rows(&train);
-        let base = Factor::new(&a_train, None);
+        // (the training rows factorised in place, not copied again)
+        let base = Factor::of(a.select_rows(&train), None);
         let y_train = DVector::from_iterator(train.len(), train.iter().map(|&i| y[i]));
         let y_test = DVector::from_iterator(test.len(), test.iter().map(|&i| y[i]));
         let r0_train = base.unabsorbed_vec(&y_train);
