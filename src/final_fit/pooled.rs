@@ -66,7 +66,7 @@ pub fn pooled_fit(
     let cols: Vec<DVector<f64>> = families
         .iter()
         .flat_map(|f| {
-            let q = Factor::new(&f.columns.select_rows(used), None).basis;
+            let q = Factor::of(f.columns.select_rows(used), None).basis;
             q.column_iter()
                 .map(|c| c.into_owned() * (n as f64).sqrt())
                 .collect::<Vec<_>>()

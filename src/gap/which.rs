@@ -113,8 +113,7 @@ pub fn cross_validate(folds: &[FoldFactor], s: &DMatrix<f64>, n: usize) -> CvRes
         } else {
             let s_train = s.select_rows(&f.train);
             let scale: Vec<f64> = (0..s.ncols()).map(|j| s_train.column(j).norm()).collect();
-            let u = f.base.unabsorbed(&s_train);
-            let fu = Factor::new(&u, Some(&scale));
+            let fu = Factor::of(f.base.unabsorbed(&s_train), Some(&scale));
             let theta = fu.solve(&f.r0_train);
             let beta = f.base.solve(&(&f.y_train - &s_train * &theta));
             let s_test = s.select_rows(&f.test);

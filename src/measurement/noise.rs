@@ -603,8 +603,7 @@ fn sinusoid_free_sigma_by(
     let rss = if gram {
         waves_gram_rss(&waves, &btr, r.norm_squared())
     } else {
-        let w = DMatrix::from_columns(&columns);
-        crate::identify::solve::Factor::new(&w, None)
+        crate::identify::solve::Factor::of(DMatrix::from_columns(&columns), None)
             .unabsorbed_vec(r)
             .norm_squared()
     };

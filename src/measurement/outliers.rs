@@ -190,7 +190,7 @@ impl<'a> Base<'a> {
     fn with(&self, c: &DMatrix<f64>) -> (Vec<f64>, Vec<f64>, usize) {
         let cs = kept_rows(c, self.keep);
         let norms: Vec<f64> = (0..cs.ncols()).map(|j| cs.column(j).norm()).collect();
-        let added = Factor::new(&self.factor.unabsorbed(&cs), Some(&norms));
+        let added = Factor::of(self.factor.unabsorbed(&cs), Some(&norms));
         let e = added.unabsorbed_vec(&self.e);
         let (r, extra) = spread(self.r.len(), self.keep, &e, &added.basis);
         let h = self.h.iter().zip(extra).map(|(a, b)| a + b).collect();
