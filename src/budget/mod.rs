@@ -169,7 +169,7 @@ pub enum BudgetError {
 /// Decodes a tool-path file (size limit, binary data, encodings: the CMM reader's rules).
 pub(crate) fn decode_text(bytes: &[u8], name: &str) -> Result<String, BudgetError> {
     crate::cmm::decode::decode(bytes, name, MAX_FILE_BYTES)
-        .map(|d| d.text)
+        .map(|d| d.text.into_owned())
         .map_err(|source| BudgetError::Decode {
             name: name.to_string(),
             source,
