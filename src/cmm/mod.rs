@@ -196,10 +196,10 @@ pub fn read_cmm_with(bytes: &[u8], name: &str, opts: &ReadOptions) -> Result<Cmm
     opts.validate()?;
     let decoded = decode::decode(bytes, name, opts.max_bytes)?;
     let lines = content_lines(&decoded.text, bytes.len(), name, opts.max_rows)?;
-    let table = parse_table(&lines.content, opts.threads)?;
+    let mut table = parse_table(&lines.content, opts.threads)?;
     let data_rows = count_data_rows(&table, lines.content[0].0, name, opts.max_rows)?;
     let default_unit = opts.length_unit.unwrap_or(LengthUnit::Mm);
-    let (mut points, mut problems) = read_points(&table, default_unit, opts.threads);
+    let (mut points, mut problems) = read_points(&mut table, default_unit, opts.threads);
     let mut warnings = Vec::new();
     let implausible = check_units(&mut points, &table, opts, default_unit, &mut warnings)?;
     problems.extend(implausible);
@@ -304,14 +304,16 @@ fn count_data_rows(
 
 /// The points of `table` in mm (lengths without a unit in `default_unit`), and the problems:
 /// rows of the wrong shape, bad fields, repeated ids (those rows are dropped from the points).
+/// The table's rows are given up to their conversion: `table.rows` is empty after.
 fn read_points(
-    table: &ParsedTable,
+    table: &mut ParsedTable,
     default_unit: LengthUnit,
     threads: Threads,
 ) -> (Vec<CmmPoint>, Vec<RowProblem>) {
     let decimal_comma_allowed = table.separator != Some(Separator::Comma);
+    // the rows given up to their conversion (nothing after it reads them)
     let converted = rows::convert_on(
-        &table.rows,
+        std::mem::take(&mut table.rows),
         &table.layout,
         decimal_comma_allowed,
         default_unit,

@@ -8,7 +8,8 @@ use testpiece::machine::Branch;
 use testpiece::settings::MachineChoice;
 
 use crate::common::{
-    analyse_files, branch, cmm_noise, machine, mm, mpe, print_json, threads, to_json, Mpe,
+    analyse_files, branch, cmm_noise, leave_to_exit, machine, mm, mpe, print_json, threads,
+    to_json, Mpe,
 };
 
 /// the sim-to-real gap of a measured part: where, which effect, how far [--json]
@@ -131,13 +132,20 @@ pub fn run(a: Args) -> Result<(), String> {
     let [file] = a.files.as_slice() else {
         return Err("diagnose needs exactly one FILE (see `testpiece diagnose --help`)".into());
     };
-    let (analysis, _) = analyse_files(file, &a.repeat, &settings)?;
+    let analysis = analyse_files(file, &a.repeat, &settings)?;
+    let printed = print(&analysis.0, file, a.json);
+    leave_to_exit(analysis);
+    printed
+}
+
+/// The report of `analysis` (of `file`) on stdout: its JSON or its summary.
+fn print(analysis: &Analysis, file: &str, json: bool) -> Result<(), String> {
     let report = match &analysis.diagnosis {
         Diagnosis::Made { report, .. } => report,
         Diagnosis::NotMade { reason } => return Err(format!("{file}: {reason}")),
     };
-    if a.json {
-        print_json(&report_json(report, &analysis)?)
+    if json {
+        print_json(&report_json(report, analysis)?)
     } else {
         // The σ from an MPE is stated in the summary; a σ given or estimated is in the JSON.
         print!("{}", report.summary);
