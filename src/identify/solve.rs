@@ -20,7 +20,7 @@
 
 use nalgebra::{DMatrix, DMatrixView, DMatrixViewMut, DVector};
 
-use crate::numerics::parallel::{map, Threads};
+use crate::numerics::parallel::{map, map_mut, Threads};
 
 /// Singular values (of the unit-column-scaled matrix) below this count as zero.
 pub const RANK_TOL: f64 = 1e-7;
@@ -241,18 +241,37 @@ fn svd_tall(a: DMatrix<f64>, threads: Threads) -> (DMatrix<f64>, DVector<f64>, D
     let top = stacked.qr();
     let (u_r, sv, vt) = jacobi_svd(top.r());
     let w = top.q() * u_r;
-    // U a group of blocks at a time (one a thread), each block's QR dropped once used: the
-    // blocks and U are not all held beside each other's copies
-    let mut u = zeros_lazily(n, w.ncols());
-    let mut rest: Vec<_> = blocks.into_iter().zip(bounds).enumerate().collect();
-    while !rest.is_empty() {
-        let group: Vec<_> = rest.drain(..threads.get().min(rest.len())).collect();
-        let parts = map(threads, &group, |(i, (qr, _))| qr.q() * w.rows(i * p, p));
-        for ((_, (_, (start, end))), part) in group.iter().zip(parts) {
-            u.view_mut((*start, 0), (end - start, w.ncols()))
-                .copy_from(&part);
+    // U's rows a block at a time, each written by the thread that computes them (its piece of
+    // every column: U is column-major), the block's QR dropped once used: the blocks and U are
+    // not all held beside each other's copies (and the 90 MB of U at 200,000 points not copied
+    // in by one thread, issue 31)
+    let k = w.ncols();
+    let mut u = zeros_lazily(n, k);
+    let mut pieces: Vec<Vec<&mut [f64]>> = bounds.iter().map(|_| Vec::with_capacity(k)).collect();
+    for column in u.as_mut_slice().chunks_mut(n) {
+        let mut rest = column;
+        for (piece, (start, end)) in pieces.iter_mut().zip(&bounds) {
+            let (rows, tail) = rest.split_at_mut(end - start);
+            piece.push(rows);
+            rest = tail;
         }
     }
+    let mut jobs: Vec<(usize, Option<_>, Vec<&mut [f64]>)> = blocks
+        .into_iter()
+        .zip(pieces)
+        .enumerate()
+        .map(|(i, (qr, piece))| (i, Some(qr), piece))
+        .collect();
+    map_mut(threads, &mut jobs, |(i, qr, piece)| {
+        if let Some(qr) = qr.take() {
+            let part = qr.q() * w.rows(*i * p, p);
+            let rows = part.nrows();
+            for (c, column) in piece.iter_mut().enumerate() {
+                column.copy_from_slice(&part.as_slice()[c * rows..(c + 1) * rows]);
+            }
+        }
+    });
+    drop(jobs);
     (u, sv, vt)
 }
 
