@@ -302,6 +302,38 @@ mod tests {
         assert!(s.offsets(&xs).iter().all(|&e| e == -0.5));
     }
 
+    /// The nodes a run of [`RESTART`] at a time are, bit for bit, those of one loop over the
+    /// nodes that sets the phase afresh every [`RESTART`] nodes (the table before issue 31's
+    /// runs, written out here): 2 × RESTART + 300 nodes, two restarts and a short last run.
+    #[test]
+    fn the_nodes_by_runs_are_the_one_loop_recurrence() {
+        let s = Settling::new(-0.5, 0.5, 0.1, 2.0, 0.28);
+        let (x0, h, n) = (0.37, 0.002, 2 * RESTART + 300);
+        let table = Table::new(&s, x0, h, n);
+        let exact = |x: f64| {
+            let ex = (-s.decay * x).exp();
+            let (sn, cs) = (s.omega * x).sin_cos();
+            (ex * (s.a0 * cs + s.b0 * sn), ex * (s.a0 * sn - s.b0 * cs))
+        };
+        let step = {
+            let ex = (-s.decay * h).exp();
+            let (sn, cs) = (s.omega * h).sin_cos();
+            (ex * cs, ex * sn)
+        };
+        let (mut w, mut since, mut want) = ((0.0, 0.0), RESTART, Vec::new());
+        for j in 0..n {
+            w = if since == RESTART {
+                since = 0;
+                exact(x0 + j as f64 * h)
+            } else {
+                (w.0 * step.0 - w.1 * step.1, w.0 * step.1 + w.1 * step.0)
+            };
+            since += 1;
+            want.push([w.0, -s.decay * w.0 - s.omega * w.1]);
+        }
+        assert_eq!(table.nodes, want);
+    }
+
     /// Fewer than [`MIN_POINTS`] points, even close together, are evaluated in closed form (the
     /// built-in layout's case): the same bits.
     #[test]
