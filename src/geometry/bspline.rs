@@ -202,12 +202,14 @@ impl BSplineCurve {
     ///
     /// # Panics
     /// When the degree exceeds [`MAX_STACK_DEGREE`] (callers check [`Self::degree`]).
+    #[inline]
     pub fn basis_derivs2(&self, u: f64) -> (usize, [[f64; STACK_WIDTH]; 3]) {
         self.basis_stack(u, 2)
     }
 
     /// [`Self::basis_derivs2`] without the second derivatives (row 2 stays 0): the same
     /// arithmetic for rows 0 and 1, for callers that need no curvature (the tool pose).
+    #[inline]
     pub fn basis_derivs1(&self, u: f64) -> (usize, [[f64; STACK_WIDTH]; 3]) {
         self.basis_stack(u, 1)
     }

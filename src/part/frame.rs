@@ -98,6 +98,7 @@ impl SShape {
 
     /// The section with derivatives up to order `nd` (1 or 2; higher-order fields 0 on the
     /// shared-basis path).
+    #[inline]
     fn section_upto(&self, s: Surface, u: f64, nd: usize) -> Section {
         let [c0, c1] = self.curves(s);
         if !self.one_basis(s) {
