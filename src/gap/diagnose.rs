@@ -184,8 +184,7 @@ pub fn diagnose_with_smooth(
     // (each family's members fitted on the baseline residual in the same pass)
     // (each family's blocks of members side by side on the threads there are, one family at a
     // time: the families' scans are a third of a dense scan's diagnosis, and a family's kept
-    // directions 86 MB at 200,000 points)
-    // (the families' directions in one buffer, each family's in turn)
+    // directions 86 MB at 200,000 points, in one buffer that each family's scan takes in turn)
     let mut directions = Vec::new();
     let scans: Vec<crate::gap::shape::FamilyScan> = input
         .candidates

@@ -63,7 +63,6 @@ pub struct FrameDerivs {
     pub n_v: Vector3<f64>,
 }
 
-/// Derivative of `x/|x|` given `x` and `x'`.
 /// Whether curves `[C0, C1]` share one non-rational basis (the same degree, at most
 /// [`MAX_STACK_DEGREE`], and knots, every weight 1): then [`SShape::section_at`] evaluates the
 /// basis once for both curves and their difference.
@@ -75,6 +74,7 @@ pub(crate) fn share_one_basis([c0, c1]: &[BSplineCurve; 2]) -> bool {
         && c0.degree() <= MAX_STACK_DEGREE
 }
 
+/// Derivative of `x/|x|` given `x` and `x'`.
 pub(crate) fn unit_derivative(x: &Vector3<f64>, dx: &Vector3<f64>) -> Vector3<f64> {
     let len = x.norm();
     let e = x / len;
