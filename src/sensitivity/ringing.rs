@@ -95,6 +95,24 @@ impl Settling {
         )
     }
 
+    /// The phase `c·exp(λx)` at `x` mm from the segment's start, exactly: `(A − iB)(cos ωx +
+    /// i sin ωx)·exp(−a x)`, whose real part is `e − e*` (a [`Table`]'s nodes).
+    fn phase_at(&self, x: f64) -> (f64, f64) {
+        let ex = (-self.decay * x).exp();
+        let (sn, cs) = (self.omega * x).sin_cos();
+        (
+            ex * (self.a0 * cs + self.b0 * sn),
+            ex * (self.a0 * sn - self.b0 * cs),
+        )
+    }
+
+    /// `exp(λh)`: the factor of the phase over a step of `h` mm (a [`Table`]'s recurrence).
+    fn phase_step(&self, h: f64) -> (f64, f64) {
+        let ex = (-self.decay * h).exp();
+        let (sn, cs) = (self.omega * h).sin_cos();
+        (ex * cs, ex * sn)
+    }
+
     /// The `x` beyond which `exp(−a·x)·(|A| + |B|) < `[`SETTLED`]: [`Settling::at`]'s rule for
     /// `e*` exactly (to the rounding of the logarithm).
     pub fn settles_at(&self) -> f64 {
@@ -162,26 +180,15 @@ impl Table {
     pub fn new(s: &Settling, x0: f64, h: f64, n: usize) -> Self {
         let n = n.max(2);
         let (lr, li) = (-s.decay, s.omega);
-        // c·exp(λx), exactly
-        let exact = |x: f64| {
-            let ex = (-s.decay * x).exp();
-            let (sn, cs) = (s.omega * x).sin_cos();
-            // (A − iB)(cos + i sin)·exp(−a x)
-            (ex * (s.a0 * cs + s.b0 * sn), ex * (s.a0 * sn - s.b0 * cs))
-        };
-        let step = {
-            let ex = (-s.decay * h).exp();
-            let (sn, cs) = (s.omega * h).sin_cos();
-            (ex * cs, ex * sn)
-        };
+        let step = s.phase_step(h);
         // the value and Re(λ·w)
         let node = |w: (f64, f64)| [w.0, lr * w.0 - li * w.1];
         // a run of RESTART nodes at a time: its first exactly, the others by the recurrence in a
         // loop with no call in it (the phase stays in registers: a call to `exp` inside the loop
-        // had kept it in memory, ~6 % of a 20,000-point scan's time, issue 31)
+        // had kept it in memory, ~1 % of a 20,000-point scan's CPU, issue 31)
         let mut nodes = vec![[0.0; 2]; n];
         for (run, slots) in nodes.chunks_mut(RESTART).enumerate() {
-            let mut w = exact(x0 + (run * RESTART) as f64 * h);
+            let mut w = s.phase_at(x0 + (run * RESTART) as f64 * h);
             slots[0] = node(w);
             for slot in &mut slots[1..] {
                 w = (w.0 * step.0 - w.1 * step.1, w.0 * step.1 + w.1 * step.0);
@@ -303,28 +310,20 @@ mod tests {
     }
 
     /// The nodes a run of [`RESTART`] at a time are, bit for bit, those of one loop over the
-    /// nodes that sets the phase afresh every [`RESTART`] nodes (the table before issue 31's
-    /// runs, written out here): 2 × RESTART + 300 nodes, two restarts and a short last run.
+    /// nodes that sets the phase afresh every [`RESTART`] nodes (the table's loop before issue
+    /// 31's runs, written out here on the same phase and step): 2 × RESTART + 300 nodes, two
+    /// restarts and a short last run.
     #[test]
     fn the_nodes_by_runs_are_the_one_loop_recurrence() {
         let s = Settling::new(-0.5, 0.5, 0.1, 2.0, 0.28);
         let (x0, h, n) = (0.37, 0.002, 2 * RESTART + 300);
         let table = Table::new(&s, x0, h, n);
-        let exact = |x: f64| {
-            let ex = (-s.decay * x).exp();
-            let (sn, cs) = (s.omega * x).sin_cos();
-            (ex * (s.a0 * cs + s.b0 * sn), ex * (s.a0 * sn - s.b0 * cs))
-        };
-        let step = {
-            let ex = (-s.decay * h).exp();
-            let (sn, cs) = (s.omega * h).sin_cos();
-            (ex * cs, ex * sn)
-        };
+        let step = s.phase_step(h);
         let (mut w, mut since, mut want) = ((0.0, 0.0), RESTART, Vec::new());
         for j in 0..n {
             w = if since == RESTART {
                 since = 0;
-                exact(x0 + j as f64 * h)
+                s.phase_at(x0 + j as f64 * h)
             } else {
                 (w.0 * step.0 - w.1 * step.1, w.0 * step.1 + w.1 * step.0)
             };
