@@ -8,7 +8,7 @@
 use std::io::IsTerminal;
 
 use testpiece::analysis::{
-    analyse_parts, analyse_parts_with, Analysis, AnalysisOptions, Fitted, Progress, Session,
+    analyse_parts_once_with, silent, Analysis, AnalysisOptions, Fitted, Progress,
 };
 use testpiece::identify::monte_carlo::CmmMpe;
 use testpiece::machine::Branch;
@@ -126,7 +126,8 @@ pub fn read(path: &str) -> Result<Vec<u8>, String> {
 }
 
 /// Reads FILE and its repeats (the same points measured again) and analyses their mean
-/// ([`analyse_parts`]) on the settings prepared once for the command; errors name the file.
+/// ([`analyse_parts_once_with`]) on the settings prepared once for the command, while the files
+/// are read; errors name the file.
 /// When stderr is a terminal, the analysis's stages are written there on one line, overwritten
 /// as each begins and cleared at the end ([`stage_line`]); piped or redirected, nothing is
 /// written (the outputs stay byte for byte what they were).
@@ -143,15 +144,15 @@ pub fn analyse_files(
         .iter()
         .map(|(b, n)| (b.as_slice(), n.as_str()))
         .collect();
-    let session = Session::new(settings).map_err(|e| format!("{file}: {e}"))?;
+    // the settings prepared while the files are read (`analyse_parts_once_with`)
     let result = if std::io::stderr().is_terminal() {
         let name = file_name(file);
         let mut show = |p: Progress| eprint!("\r\x1b[K{}", stage_line(&name, &p));
-        let r = analyse_parts_with(&session, &files, settings, &mut show);
+        let r = analyse_parts_once_with(&files, settings, &mut show);
         eprint!("\r\x1b[K");
         r
     } else {
-        analyse_parts(&session, &files, settings)
+        analyse_parts_once_with(&files, settings, &mut silent)
     };
     result.map_err(|e| format!("{file}: {e}"))
 }
