@@ -16,37 +16,30 @@ use crate::parameter::{Effect, ParamId, Shape};
 use crate::part::points::MeasurementPoint;
 use crate::part::{SShape, Surface};
 use crate::sensitivity::reversal::{
-    backlash_gains, grid_places, lagged_columns_at, GridPlace, GridSpots, Lag,
+    backlash_gains, grid_places_with, lagged_columns_at, GridPlace, GridSpots, Lag,
 };
 use crate::sensitivity::servo::{RateTable, ServoColumns, RATE_TABLE_POINTS};
 use crate::sensitivity::SensitivityOptions;
 use crate::toolpath::envelope::{points_deviation_on, FlankPath};
-use crate::toolpath::tip_length::TipLength;
+use crate::toolpath::tip_length::{PassLengths, TipLength};
 
 /// Effect points (point, normal, h, s) of measurement points.
 pub fn effect_points(part: &SShape, points: &[MeasurementPoint]) -> Vec<EffectPoint> {
-    effect_points_on(
-        part,
-        points,
-        [
-            &TipLength::new(part, Surface::A),
-            &TipLength::new(part, Surface::B),
-        ],
-    )
+    let (a, b) = (
+        TipLength::new(part, Surface::A),
+        TipLength::new(part, Surface::B),
+    );
+    effect_points_on(points, &PassLengths::Tables(part, [&a, &b]))
 }
 
 /// [`effect_points`] with the tool-tip path lengths of A and B already tabulated.
-fn effect_points_on(
-    part: &SShape,
-    points: &[MeasurementPoint],
-    lengths: [&TipLength; 2],
-) -> Vec<EffectPoint> {
+fn effect_points_on(points: &[MeasurementPoint], lengths: &PassLengths) -> Vec<EffectPoint> {
     points
         .iter()
         .map(|m| {
             let s = match m.surface {
-                Surface::A => lengths[0].at(part, m.u),
-                Surface::B => lengths[0].total() + lengths[1].at(part, m.u),
+                Surface::A => lengths.at(0, m.u),
+                Surface::B => lengths.total(0) + lengths.at(1, m.u),
             };
             EffectPoint {
                 p: m.point,
@@ -269,6 +262,14 @@ pub(crate) fn every_candidate_model(
     } else {
         None
     };
+    // ... and its path lengths from the passes' series (built in ~2,600 speed evaluations a
+    // pass, where the points' lengths take five each: [`PassLengths`])
+    let [la, lb] = path.lengths();
+    let series = (points.len() >= LENGTH_SERIES_POINTS).then(|| [la.series(part), lb.series(part)]);
+    let lengths = match &series {
+        Some(s) => PassLengths::Series(s),
+        None => PassLengths::Tables(part, [la, lb]),
+    };
     let pieces = map(threads, &jobs, |job| -> Result<Piece, GapError> {
         Ok(match job {
             Job::Design(r) => {
@@ -292,7 +293,7 @@ pub(crate) fn every_candidate_model(
                     &m.columns(errors.len(), motion_params.params.len())
                         .into_owned(),
                 );
-                let eps = effect_points_on(part, points, path.lengths());
+                let eps = effect_points_on(points, &lengths);
                 let flank =
                     |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
                 let envelope = points_deviation_on(&[flank(0), flank(1)], points, 0.0)?
@@ -320,7 +321,7 @@ pub(crate) fn every_candidate_model(
                     rate_table.as_ref(),
                 )?;
                 // where each point falls on the passes' grid, shared by every lag
-                Piece::Axes(gains, servo, grid_places(&path.lags, part, points))
+                Piece::Axes(gains, servo, grid_places_with(&lengths, points))
             }
         })
     });
@@ -424,6 +425,12 @@ pub(crate) fn every_candidate_model(
         nuisance,
     })
 }
+
+/// From this many points on, [`every_candidate_model`] reads the points' path lengths from the
+/// passes' Chebyshev series ([`TipLength::series`], 1e-12 mm from the tables' Gauss–Legendre):
+/// a series costs about the lengths of 1,000 points to build; fewer points (the built-in 100,
+/// the reference's test vectors) keep the tables' own rule.
+pub const LENGTH_SERIES_POINTS: usize = 2000;
 
 /// Blocks of points per thread in [`every_candidate_model`]'s jobs: a block's design columns
 /// take about twice its axes' gains and servo columns, so with two blocks a thread the jobs end

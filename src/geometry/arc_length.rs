@@ -68,6 +68,11 @@ impl LengthTable {
         self.cumulative[self.cumulative.len() - 1]
     }
 
+    /// The pieces' boundaries and the length at each ([`super::length_series`]).
+    pub(super) fn pieces(&self) -> (&[f64], &[f64]) {
+        (&self.nodes, &self.cumulative)
+    }
+
     /// Index of the piece holding `u` (clamped).
     fn piece(&self, u: f64) -> usize {
         let k = self.nodes.partition_point(|n| *n <= u);

@@ -3,6 +3,7 @@
 
 pub mod arc_length;
 pub mod bspline;
+pub mod length_series;
 
 pub use arc_length::ArcLength;
 pub use bspline::{BSplineCurve, CurveDerivs};

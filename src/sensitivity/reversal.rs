@@ -37,7 +37,7 @@ use crate::machine::rates::axis_rates;
 use crate::machine::{AxisName, AxisValues, ErrorParam, MachineErrors, PathSample};
 use crate::part::{MeasurementPoint, SShape, Surface};
 use crate::toolpath::flank::tool_pose_derivs;
-use crate::toolpath::tip_length::TipLength;
+use crate::toolpath::tip_length::{PassLengths, TipLength};
 
 use super::defect::axis_values;
 use super::defect::{Mode, SensitivityOptions};
@@ -881,21 +881,35 @@ pub struct GridPlace {
 /// points that share it (a scan's heights often do: 22,317 samples for the 40,000 ends of 20,000
 /// points).
 pub fn grid_places(lags: &[Lag; 2], part: &SShape, points: &[MeasurementPoint]) -> Vec<GridPlace> {
-    let mut lengths: HashMap<(usize, usize), f64> = HashMap::new();
+    grid_places_with(
+        &PassLengths::Tables(part, [&lags[0].length, &lags[1].length]),
+        points,
+    )
+}
+
+/// [`grid_places`] with the passes' path lengths from `lengths` (the lags' own: every lag of a
+/// part has its passes' lengths); a length of a series ([`PassLengths::is_cheap`]) is
+/// evaluated at each point, not looked up.
+pub fn grid_places_with(lengths: &PassLengths, points: &[MeasurementPoint]) -> Vec<GridPlace> {
+    let mut seen: HashMap<(usize, usize), f64> = HashMap::new();
+    let cheap = lengths.is_cheap();
     points
         .iter()
         .map(|pt| {
             let surface = pt.surface.index();
-            let p = &lags[surface];
             // Linear interpolation in u between the grid samples around the point (the
             // reference's convention; the exact lag from sample k-1 differs by < 1e-4
             // relative): k the first sample at or after u.
             let k = grid_after(pt.u);
             let (u0, u1) = (grid_u(k - 1), grid_u(k));
             let mut at = |k: usize, u: f64| {
-                *lengths
-                    .entry((surface, k))
-                    .or_insert_with(|| p.length.at(part, u))
+                if cheap {
+                    lengths.at(surface, u)
+                } else {
+                    *seen
+                        .entry((surface, k))
+                        .or_insert_with(|| lengths.at(surface, u))
+                }
             };
             GridPlace {
                 surface,
