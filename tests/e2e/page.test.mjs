@@ -244,9 +244,11 @@ test('the single-file build works from file:// with no server, its core in a Blo
   const gaps = await page.evaluate(() => { clearInterval(window.__tick); return window.__gaps; });
   console.log(`single file: first plot ${firstPlot} ms wall clock; re-analysis ${Date.now() - t1} ms, longest main-thread gap while busy ${gaps.max.toFixed(0)} ms over ${gaps.busyTicks} ticks; typed while busy: ${typedWhileBusy}`);
   // No freeze: the page's own loop kept ticking while the core computed. The longest gap is a
-  // speed, printed above and timed by the benchmark (scripts/page-marks.mjs, BENCHMARKS.md), not
-  // bounded here: a test asserts what holds on any machine (it had been < 250 ms, and took
-  // 154-258 ms on the nineteenth session's slower machine, the page unchanged).
+  // speed (on two cores it holds the worker's and the browser's own processes' scheduling as
+  // much as the page's work), printed above, not bounded here: a test asserts what holds on any
+  // machine. It had been bounded at 250 ms and took 154-258 ms on the nineteenth session's
+  // slower machine, the page unchanged; the page's long tasks are timed by
+  // scripts/page-upload.mjs (BENCHMARKS.md).
   assert.ok(gaps.busyTicks > 0, 'the page ticked while the core computed');
   // Cancel: the worker is terminated and a new one made from the same inline source and bytes.
   await page.fill('#sigma', '');
