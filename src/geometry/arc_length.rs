@@ -74,15 +74,20 @@ impl LengthTable {
     }
 
     /// Index of the piece holding `u` (clamped).
-    fn piece(&self, u: f64) -> usize {
+    pub(super) fn piece(&self, u: f64) -> usize {
         let k = self.nodes.partition_point(|n| *n <= u);
         k.saturating_sub(1).min(self.nodes.len() - 2)
+    }
+
+    /// `u` clamped to the domain.
+    pub(super) fn clamp(&self, u: f64) -> f64 {
+        u.clamp(self.nodes[0], self.nodes[self.nodes.len() - 1])
     }
 
     /// `L(u)` from the start of the domain (mm), `speed` the one the table was built with; `u`
     /// is clamped to the domain.
     pub fn length_at(&self, speed: &impl Fn(f64) -> f64, u: f64) -> f64 {
-        let u = u.clamp(self.nodes[0], self.nodes[self.nodes.len() - 1]);
+        let u = self.clamp(u);
         let k = self.piece(u);
         self.cumulative[k] + gauss5(speed, self.nodes[k], u)
     }

@@ -20,10 +20,8 @@ pub const SERIES_DEGREE: usize = 16;
 /// The arc length of a [`LengthTable`] as a series a piece.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LengthSeries {
-    /// Piece boundaries, increasing (the table's).
-    nodes: Vec<f64>,
-    /// `L(nodes[i])` (the table's).
-    cumulative: Vec<f64>,
+    /// The table whose pieces and lengths at their starts the series completes.
+    table: LengthTable,
     /// The antiderivative's coefficients, [`SERIES_DEGREE`] a piece, piece after piece.
     coefficients: Vec<f64>,
 }
@@ -32,7 +30,7 @@ impl LengthSeries {
     /// The series of `table`, `speed` the one the table was built with.
     pub fn new(table: &LengthTable, speed: &impl Fn(f64) -> f64) -> Self {
         let n = SERIES_DEGREE;
-        let (nodes, cumulative) = table.pieces();
+        let (nodes, _) = table.pieces();
         let mut coefficients = Vec::with_capacity(n * (nodes.len() - 1));
         // cos(π k (j + ½)/n): the same for every piece
         let cosines: Vec<f64> = (0..n * n)
@@ -70,27 +68,23 @@ impl LengthSeries {
             coefficients.extend(integral);
         }
         Self {
-            nodes: nodes.to_vec(),
-            cumulative: cumulative.to_vec(),
+            table: table.clone(),
             coefficients,
         }
     }
 
     /// Total length (the table's).
     pub fn total(&self) -> f64 {
-        self.cumulative[self.cumulative.len() - 1]
+        self.table.total()
     }
 
-    /// `L(u)` from the start of the domain; `u` is clamped to the domain.
+    /// `L(u)` from the start of the domain; `u` is clamped to the domain (the table's piece and
+    /// clamp).
     pub fn length_at(&self, u: f64) -> f64 {
-        let last = self.nodes.len() - 1;
-        let u = u.clamp(self.nodes[0], self.nodes[last]);
-        let k = self
-            .nodes
-            .partition_point(|x| *x <= u)
-            .saturating_sub(1)
-            .min(last - 1);
-        let (a, b) = (self.nodes[k], self.nodes[k + 1]);
+        let u = self.table.clamp(u);
+        let k = self.table.piece(u);
+        let (nodes, cumulative) = self.table.pieces();
+        let (a, b) = (nodes[k], nodes[k + 1]);
         let c = &self.coefficients[k * SERIES_DEGREE..(k + 1) * SERIES_DEGREE];
         // chebev (Clenshaw)
         let y = (2.0 * u - a - b) / (b - a);
@@ -98,7 +92,7 @@ impl LengthSeries {
         for &cj in c[1..].iter().rev() {
             (d, dd) = (2.0 * y * d - dd + cj, d);
         }
-        self.cumulative[k] + (y * d - dd + 0.5 * c[0])
+        cumulative[k] + (y * d - dd + 0.5 * c[0])
     }
 }
 
