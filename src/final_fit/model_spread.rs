@@ -41,6 +41,7 @@ use serde::Serialize;
 use crate::effects::data::Candidate;
 use crate::effects::nuisance::Nuisance;
 use crate::final_fit::pooled::pooled_fit;
+use crate::identify::added_fits::{AddedFit, AddedFits};
 use crate::identify::correlated::Whitener;
 use crate::identify::solve::{hstack, Factor};
 use crate::numerics::parallel::{map, Threads};
@@ -101,6 +102,28 @@ fn factor(x: DMatrix<f64>) -> Factor {
 fn factor_on(x: DMatrix<f64>, threads: Threads) -> Factor {
     let scale = column_norms(&x);
     Factor::of_on(x, Some(&scale), threads)
+}
+
+/// The least-squares [`Fit`] of `[x | s]` on `y` (`shared`: `x` and `y`, factorised once, on a
+/// tall design: [`AddedFits`]), its first `p` coefficients kept.
+fn fit_added(
+    x: &DMatrix<f64>,
+    shared: Option<&AddedFits>,
+    s: &DMatrix<f64>,
+    y: &DVector<f64>,
+    p: usize,
+) -> Fit {
+    match shared {
+        Some(f) if f.takes(s.ncols()) => {
+            let AddedFit { beta, rss, rank } = f.fit(s, &column_norms(s));
+            Fit {
+                beta: beta.rows(0, p).into_owned(),
+                rss,
+                rank,
+            }
+        }
+        _ => fit(hstack(x, s), y, p),
+    }
 }
 
 /// The least-squares [`Fit`] of `x` on `y`, its first `p` coefficients kept.
@@ -200,6 +223,18 @@ pub fn model_spread(
         }
     };
     let b0 = whitened_b0.unwrap_or(ols_b0);
+    // the location errors' columns and the answer's factorised once for all the alternatives
+    // beside them (a dense scan: [`AddedFits`]), side by side
+    let (shared_base, shared_answer) = crate::numerics::parallel::join(
+        threads,
+        || AddedFits::new(&au, &column_norms(&au), &yu),
+        || {
+            chosen
+                .is_some()
+                .then(|| AddedFits::new(&answer, &column_norms(&answer), &yu))
+                .flatten()
+        },
+    );
     // each candidate's fits (side by side on the threads given), taken in the candidates' order
     let alts: Vec<(String, &DMatrix<f64>)> = candidates
         .iter()
@@ -209,10 +244,13 @@ pub fn model_spread(
     let fitted = map(threads, &alts, |(_, m)| {
         let s = m.select_rows(used);
         let single = au.ncols() + s.ncols();
-        let fs = fit(hstack(&au, &s), &yu, p);
+        let fs = fit_added(&au, shared_base.as_ref(), &s, &yu, p);
         // with the baseline as the answer, the answer with the candidate is the single model
         let (with, fw) = match chosen {
-            Some(_) => (answer.ncols() + s.ncols(), fit(hstack(&answer, &s), &yu, p)),
+            Some(_) => (
+                answer.ncols() + s.ncols(),
+                fit_added(&answer, shared_answer.as_ref(), &s, &yu, p),
+            ),
             None => (single, fs.clone()),
         };
         // the fits and their column counts (the designs dropped: 91 MB each at 200,000 points)

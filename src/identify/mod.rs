@@ -20,11 +20,13 @@
 //!
 //! Units: mm and rad. Sign convention: `deviation = (machined - nominal)·N`.
 
+pub mod added_fits;
 pub mod correlated;
 mod design;
 mod error;
 pub mod export;
 pub mod groups;
+mod householder;
 mod least_squares;
 pub mod monte_carlo;
 mod observations;

@@ -20,6 +20,7 @@
 
 use nalgebra::{DMatrix, DMatrixView, DMatrixViewMut, DVector};
 
+use super::householder::HouseholderQr;
 use crate::numerics::parallel::{map, map_mut, Threads};
 
 /// Singular values (of the unit-column-scaled matrix) below this count as zero.
@@ -79,10 +80,12 @@ impl Factor {
             scaled.column_mut(j).scale_mut(1.0 / dj);
         }
         let (u, sv, vt) = svd_tall(scaled, threads);
-        let keep: Vec<usize> = (0..sv.len()).filter(|&k| sv[k] > RANK_TOL).collect();
+        let Kept {
+            keep,
+            vsi,
+            condition,
+        } = kept(&sv, &vt, &d);
         let rank = keep.len();
-        let smax = keep.iter().map(|&k| sv[k]).fold(0.0, f64::max);
-        let smin = keep.iter().map(|&k| sv[k]).fold(f64::INFINITY, f64::min);
         // every column kept (a design of full rank): U itself, not a copy of it (115 MB at
         // 200,000 points, a tenth of a second of one thread, issue 31)
         let basis = if keep.iter().copied().eq(0..u.ncols()) {
@@ -90,20 +93,13 @@ impl Factor {
         } else {
             u.select_columns(&keep)
         };
-        // V Σ⁻¹ (p × r), then unscale rows by D⁻¹.
-        let mut vsi = DMatrix::zeros(p, rank);
-        for (c, &k) in keep.iter().enumerate() {
-            for j in 0..p {
-                vsi[(j, c)] = vt[(k, j)] / sv[k] / d[j];
-            }
-        }
         let cov = &vsi * vsi.transpose();
         Self {
             basis,
             vsi,
             cov,
             rank,
-            condition: if rank > 0 { smax / smin } else { 1.0 },
+            condition,
         }
     }
 
@@ -174,9 +170,39 @@ impl Factor {
     }
 }
 
+/// What a scaled design's SVD keeps: the singular values above [`RANK_TOL`] (their indices),
+/// `V Σ⁻¹` on them with its rows unscaled by `D⁻¹` (`p × r`), and the condition number of the
+/// kept part (1 with none).
+pub(crate) struct Kept {
+    pub(crate) keep: Vec<usize>,
+    pub(crate) vsi: DMatrix<f64>,
+    pub(crate) condition: f64,
+}
+
+/// [`Kept`] from the singular values `sv` and `Vᵀ` of the design scaled by `d`.
+pub(crate) fn kept(sv: &DVector<f64>, vt: &DMatrix<f64>, d: &[f64]) -> Kept {
+    let p = d.len();
+    let keep: Vec<usize> = (0..sv.len()).filter(|&k| sv[k] > RANK_TOL).collect();
+    let smax = keep.iter().map(|&k| sv[k]).fold(0.0, f64::max);
+    let smin = keep.iter().map(|&k| sv[k]).fold(f64::INFINITY, f64::min);
+    // V Σ⁻¹ (p × r), then unscale rows by D⁻¹.
+    let mut vsi = DMatrix::zeros(p, keep.len());
+    for (c, &k) in keep.iter().enumerate() {
+        for j in 0..p {
+            vsi[(j, c)] = vt[(k, j)] / sv[k] / d[j];
+        }
+    }
+    let condition = if keep.is_empty() { 1.0 } else { smax / smin };
+    Kept {
+        keep,
+        vsi,
+        condition,
+    }
+}
+
 /// The norm each column of `a` is measured against: `scale[j]` when given, else the column's
 /// norm; 1 where that is 0 or not finite ([`usable_scale`]).
-fn column_scales(a: &DMatrix<f64>, scale: Option<&[f64]>) -> Vec<f64> {
+pub(crate) fn column_scales(a: &DMatrix<f64>, scale: Option<&[f64]>) -> Vec<f64> {
     (0..a.ncols())
         .map(|j| usable_scale(scale.map_or_else(|| a.column(j).norm(), |s| s[j])))
         .collect()
@@ -231,20 +257,20 @@ fn svd_tall(a: DMatrix<f64>, threads: Threads) -> (DMatrix<f64>, DVector<f64>, D
         (n / TALL_QR_ROWS.max(2 * p)).max(1)
     };
     if m == 1 {
-        let qr = a.qr();
+        let qr = HouseholderQr::new(a);
         let (u, sv, vt) = jacobi_svd(qr.r());
         return (qr.q() * u, sv, vt);
     }
     let bounds: Vec<(usize, usize)> = (0..m).map(|i| (i * n / m, (i + 1) * n / m)).collect();
     let blocks = map(threads, &bounds, |&(start, end)| {
-        a.rows(start, end - start).clone_owned().qr()
+        HouseholderQr::new(a.rows(start, end - start).clone_owned())
     });
     drop(a);
     let mut stacked = DMatrix::zeros(m * p, p);
     for (i, qr) in blocks.iter().enumerate() {
         stacked.view_mut((i * p, 0), (p, p)).copy_from(&qr.r());
     }
-    let top = stacked.qr();
+    let top = HouseholderQr::new(stacked);
     let (u_r, sv, vt) = jacobi_svd(top.r());
     let w = top.q() * u_r;
     // U's rows a block at a time, each written by the thread that computes them (its piece of
@@ -288,7 +314,7 @@ fn svd_tall(a: DMatrix<f64>, threads: Threads) -> (DMatrix<f64>, DVector<f64>, D
 /// normalised ones (zero for `σ_k = 0`), sorted by decreasing `σ`. nalgebra's bidiagonal SVD
 /// can return wrong singular values (its issue 1172): 1.4252 for 1.4143 on the `R` of a
 /// 120,000 × 9 design in blocks (issue 31), which `Factor` would divide by.
-fn jacobi_svd(r: DMatrix<f64>) -> (DMatrix<f64>, DVector<f64>, DMatrix<f64>) {
+pub(crate) fn jacobi_svd(r: DMatrix<f64>) -> (DMatrix<f64>, DVector<f64>, DMatrix<f64>) {
     let (m, p) = r.shape();
     let mut a = r;
     let mut v = DMatrix::<f64>::identity(p, p);
