@@ -462,6 +462,16 @@ pub fn jacobian_body_point(
     jacobian_of(chain, q, errors, params, &f, vp)
 }
 
+/// The columns of [`jacobian`] and [`jacobian_body_point`] from the factors `f` and the tool
+/// point `vp` (homogeneous, tool frame): with the tip at `p = W⁻¹ T v` (`W`, `T` the products of
+/// the workpiece's and the tool's factor lists), a parameter of factor `k` of a list whose
+/// products before and after it are `P` and `S` (`∂F_k = D`) moves it by `W⁻¹ P D S v` on the
+/// tool side and by `−W⁻¹ P D S W⁻¹ T v` on the workpiece side (`∂W⁻¹ = −W⁻¹ ∂W W⁻¹`), the
+/// direction `v = ẑ` alike. Evaluated right to left, as matrix-vector products: `W⁻¹P` and the
+/// vectors `S v` (`S W⁻¹ T v`) once for the parameters of one factor (the location errors of an
+/// axis share them), then `D` and `W⁻¹P` on each parameter's two vectors (64 multiplications a
+/// parameter, where the products of 4 × 4 matrices had been 224: a dense scan's 38 columns at
+/// every point, issue 31).
 fn jacobian_of(
     chain: &Chain,
     q: &AxisValues,
@@ -473,39 +483,36 @@ fn jacobian_of(
     let wi = inverse_product(&f.w)?;
     let t = product(&f.t);
     let vd = Vector4::new(0.0, 0.0, 1.0, 0.0);
-    let tp = t * vp;
-    let td = t * vd;
+    // the tool's point and direction in the workpiece's frame before `W⁻¹`, then after it
+    let (tp, td) = (t * vp, t * vd);
+    let (wtp, wtd) = (wi * tp, wi * td);
     let mut jp = Matrix3xX::zeros(params.len());
     let mut jd = Matrix3xX::zeros(params.len());
-    // the products before and after each factor, once per factor: the location errors of one
-    // axis share theirs (the same products, so the same numbers)
-    type Around = ((bool, usize), Matrix4<f64>, Matrix4<f64>);
+    // per factor: `W⁻¹P` and the two vectors `D` acts on
+    type Around = ((bool, usize), Matrix4<f64>, Vector4<f64>, Vector4<f64>);
     let mut around: Vec<Around> = Vec::new();
     for (k, p) in params.iter().enumerate() {
         let fd = derivative_factor(chain, q, errors, p)?;
         let key = (fd.tool_side, fd.factor);
-        let (pre, post) = match around.iter().find(|a| a.0 == key) {
-            Some(a) => (a.1, a.2),
+        let (left, xp, xd) = match around.iter().find(|a| a.0 == key) {
+            Some(a) => (a.1, a.2, a.3),
             None => {
                 let list = if fd.tool_side { &f.t } else { &f.w };
-                let pre = product(&list[..fd.factor]);
+                let left = wi * product(&list[..fd.factor]);
                 let post = product(&list[fd.factor + 1..]);
-                around.push((key, pre, post));
-                (pre, post)
+                let (xp, xd) = if fd.tool_side {
+                    (post * vp, post * vd)
+                } else {
+                    (post * wtp, post * wtd)
+                };
+                around.push((key, left, xp, xd));
+                (left, xp, xd)
             }
         };
-        let dm = pre * fd.d * post;
-        // `wi·dm` (and `wi·dm·wi`) once for the point and the direction: the same products,
-        // in the same order, as written out for each
-        let wdm = wi * dm;
-        let (dp, dd) = if fd.tool_side {
-            (wdm * vp, wdm * vd)
-        } else {
-            let wdmw = wdm * wi;
-            (-(wdmw * tp), -(wdmw * td))
-        };
-        jp.set_column(k, &dp.xyz());
-        jd.set_column(k, &dd.xyz());
+        let (dp, dd) = (left * (fd.d * xp), left * (fd.d * xd));
+        let sign = if fd.tool_side { 1.0 } else { -1.0 };
+        jp.set_column(k, &(dp.xyz() * sign));
+        jd.set_column(k, &(dd.xyz() * sign));
     }
     Ok((jp, jd))
 }
