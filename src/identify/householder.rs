@@ -90,7 +90,7 @@ impl HouseholderQr {
             }
         }
         added_in(self, &mut s);
-        let diag = own_reflections(self.qr.ncols(), &mut s);
+        let (diag, _) = own_reflections(self.qr.ncols(), &mut s);
         AddedQr { qr: s, diag }
     }
 
@@ -167,7 +167,7 @@ unsafe fn q_avx2(f: &HouseholderQr) -> DMatrix<f64> {
 #[target_feature(enable = "avx2")]
 unsafe fn added_avx2(base: &HouseholderQr, mut s: DMatrix<f64>) -> AddedQr {
     added_in(base, &mut s);
-    let diag = own_reflections(base.qr.ncols(), &mut s);
+    let (diag, _) = own_reflections(base.qr.ncols(), &mut s);
     AddedQr { qr: s, diag }
 }
 
@@ -187,11 +187,12 @@ fn added_in(base: &HouseholderQr, s: &mut DMatrix<f64>) {
 
 /// The QR of `s`'s rows from `offset` on, as the whole matrix's goes on from its column
 /// `offset`: column `k`'s axis on rows `offset + k..`, the columns right of it reflected; the
-/// diagonal entries.
+/// diagonal entries and whether each column was reflected.
 #[inline(always)]
-fn own_reflections(offset: usize, s: &mut DMatrix<f64>) -> Vec<f64> {
+fn own_reflections(offset: usize, s: &mut DMatrix<f64>) -> (Vec<f64>, Vec<bool>) {
     let (n, q) = s.shape();
     let mut diag = Vec::with_capacity(q);
+    let mut done = Vec::with_capacity(q);
     let out = s.as_mut_slice();
     for k in 0..q {
         let i = offset + k;
@@ -205,33 +206,20 @@ fn own_reflections(offset: usize, s: &mut DMatrix<f64>) -> Vec<f64> {
             reflect_columns(axis, right, n, i, norm.signum());
         }
         diag.push(norm);
+        done.push(reflected);
     }
-    diag
+    (diag, done)
 }
 
 /// nalgebra's `QR::new`: column `i`'s axis (`clear_column_unchecked`), then the columns right of
 /// it reflected on rows `i..`.
 #[inline(always)]
 fn new_in(mut a: DMatrix<f64>) -> HouseholderQr {
-    let (n, p) = a.shape();
-    let dim = n.min(p);
-    let mut diag = Vec::with_capacity(dim);
-    let mut done = Vec::with_capacity(dim);
-    let s = a.as_mut_slice();
-    for i in 0..dim {
-        let (left, right) = s.split_at_mut((i + 1) * n);
-        let axis = &mut left[i * n + i..];
-        let (norm, reflected) = reflection_axis(axis);
-        if reflected {
-            reflect_columns(axis, right, n, i, norm.signum());
-        }
-        diag.push(norm);
-        done.push(reflected);
-    }
+    let (diag, reflected) = own_reflections(0, &mut a);
     HouseholderQr {
         qr: a,
         diag,
-        reflected: done,
+        reflected,
     }
 }
 
@@ -481,7 +469,7 @@ mod tests {
             // the portable kernels too
             let mut s2 = s;
             added_in(&base, &mut s2);
-            let diag = own_reflections(p, &mut s2);
+            let (diag, _) = own_reflections(p, &mut s2);
             let portable = AddedQr { qr: s2, diag };
             assert_eq!(bits(&base.r_with(&portable)), bits(&whole.r()));
         }
