@@ -467,11 +467,13 @@ pub fn jacobian_body_point(
 /// the workpiece's and the tool's factor lists), a parameter of factor `k` of a list whose
 /// products before and after it are `P` and `S` (`∂F_k = D`) moves it by `W⁻¹ P D S v` on the
 /// tool side and by `−W⁻¹ P D S W⁻¹ T v` on the workpiece side (`∂W⁻¹ = −W⁻¹ ∂W W⁻¹`), the
-/// direction `v = ẑ` alike. Evaluated right to left, as matrix-vector products: `W⁻¹P` and the
-/// vectors `S v` (`S W⁻¹ T v`) once for the parameters of one factor (the location errors of an
-/// axis share them), then `D` and `W⁻¹P` on each parameter's two vectors (64 multiplications a
-/// parameter, where the products of 4 × 4 matrices had been 224: a dense scan's 38 columns at
-/// every point, issue 31).
+/// direction `v = ẑ` alike. Evaluated right to left, as matrix-vector products: each list's
+/// products before its factors ([`prefix_products`]) and the vectors after them
+/// ([`suffix_vectors`]: `S v`, `S W⁻¹ T v`) once for all its factors, `W⁻¹P` once per factor
+/// (the location errors of an axis share it), then `D` and `W⁻¹P` on each parameter's two
+/// vectors (64 multiplications a parameter, where the products of 4 × 4 matrices had been 224,
+/// and a list's products once instead of once per factor: a dense scan's 38 columns at every
+/// point, issue 31).
 fn jacobian_of(
     chain: &Chain,
     q: &AxisValues,
@@ -481,40 +483,67 @@ fn jacobian_of(
     vp: Vector4<f64>,
 ) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
     let wi = inverse_product(&f.w)?;
-    let t = product(&f.t);
+    let (pre_w, pre_t) = (prefix_products(&f.w), prefix_products(&f.t));
+    let t = pre_t[f.t.len()];
     let vd = Vector4::new(0.0, 0.0, 1.0, 0.0);
     // the tool's point and direction in the workpiece's frame before `W⁻¹`, then after it
     let (tp, td) = (t * vp, t * vd);
     let (wtp, wtd) = (wi * tp, wi * td);
+    // the vectors each side's factors act on, after each factor
+    let (post_tp, post_td) = (suffix_vectors(&f.t, vp), suffix_vectors(&f.t, vd));
+    let (post_wp, post_wd) = (suffix_vectors(&f.w, wtp), suffix_vectors(&f.w, wtd));
     let mut jp = Matrix3xX::zeros(params.len());
     let mut jd = Matrix3xX::zeros(params.len());
-    // per factor: `W⁻¹P` and the two vectors `D` acts on
-    type Around = ((bool, usize), Matrix4<f64>, Vector4<f64>, Vector4<f64>);
-    let mut around: Vec<Around> = Vec::new();
+    // `W⁻¹P` per factor
+    let mut left_of: Vec<((bool, usize), Matrix4<f64>)> = Vec::new();
     for (k, p) in params.iter().enumerate() {
         let fd = derivative_factor(chain, q, errors, p)?;
         let key = (fd.tool_side, fd.factor);
-        let (left, xp, xd) = match around.iter().find(|a| a.0 == key) {
-            Some(a) => (a.1, a.2, a.3),
+        let left = match left_of.iter().find(|a| a.0 == key) {
+            Some(a) => a.1,
             None => {
-                let list = if fd.tool_side { &f.t } else { &f.w };
-                let left = wi * product(&list[..fd.factor]);
-                let post = product(&list[fd.factor + 1..]);
-                let (xp, xd) = if fd.tool_side {
-                    (post * vp, post * vd)
-                } else {
-                    (post * wtp, post * wtd)
-                };
-                around.push((key, left, xp, xd));
-                (left, xp, xd)
+                let pre = if fd.tool_side { &pre_t } else { &pre_w };
+                let left = wi * pre[fd.factor];
+                left_of.push((key, left));
+                left
             }
         };
+        let (xp, xd, sign) = if fd.tool_side {
+            (post_tp[fd.factor + 1], post_td[fd.factor + 1], 1.0)
+        } else {
+            (post_wp[fd.factor + 1], post_wd[fd.factor + 1], -1.0)
+        };
         let (dp, dd) = (left * (fd.d * xp), left * (fd.d * xd));
-        let sign = if fd.tool_side { 1.0 } else { -1.0 };
         jp.set_column(k, &(dp.xyz() * sign));
         jd.set_column(k, &(dd.xyz() * sign));
     }
     Ok((jp, jd))
+}
+
+/// The products of the first `k` factors of `f`, `k = 0..=f.len()` ([`product`]'s, the same bits:
+/// each the one before it times the next factor).
+fn prefix_products(f: &[Matrix4<f64>]) -> Vec<Matrix4<f64>> {
+    let mut out = Vec::with_capacity(f.len() + 1);
+    let mut acc = Matrix4::identity();
+    out.push(acc);
+    for m in f {
+        // `product`'s own expression (not `*=`), so its bits
+        #[allow(clippy::assign_op_pattern)]
+        {
+            acc = acc * m;
+        }
+        out.push(acc);
+    }
+    out
+}
+
+/// `f[k..]·v` for `k = 0..=f.len()` (the last `v` itself), each from the one after it.
+fn suffix_vectors(f: &[Matrix4<f64>], v: Vector4<f64>) -> Vec<Vector4<f64>> {
+    let mut out = vec![v; f.len() + 1];
+    for k in (0..f.len()).rev() {
+        out[k] = f[k] * out[k + 1];
+    }
+    out
 }
 
 /// All 6 location errors and the constant error motions of every axis of the chain, in chain
@@ -542,6 +571,37 @@ pub fn all_params(chain: &Chain) -> Vec<ErrorParam> {
 pub(crate) mod tests {
     use super::*;
     use crate::machine::chain::PAPER000_L0;
+
+    /// The prefix products are [`product`]'s of each prefix bit for bit, and the suffix vectors
+    /// the products of each suffix times the vector to 1e-12 (another order of the same sums),
+    /// on the three chains' factor lists at spread poses with errors.
+    #[test]
+    fn prefix_products_and_suffix_vectors() {
+        let errors = MachineErrors::none().with(
+            ErrorParam::Location(LocationError::new(AxisName::X, AxisName::C)),
+            1e-3,
+        );
+        for (chain, q) in spread_poses(true).iter().step_by(37) {
+            let f = factors(chain, q, &errors);
+            for list in [&f.w, &f.t] {
+                let pre = prefix_products(list);
+                let v = Vector4::new(12.5, -3.0, 40.0, 1.0);
+                let post = suffix_vectors(list, v);
+                for k in 0..=list.len() {
+                    let want = product(&list[..k]);
+                    assert!(pre[k]
+                        .iter()
+                        .zip(want.iter())
+                        .all(|(a, b)| a.to_bits() == b.to_bits()));
+                    let want = product(&list[k..]) * v;
+                    assert!(
+                        (post[k] - want).norm() <= 1e-12 * (1.0 + want.norm()),
+                        "{k}"
+                    );
+                }
+            }
+        }
+    }
 
     /// The three chains of the papers, each with 200 axis values spread over its axes: rotary
     /// angles within ±3 rad, linear values within ±80 mm (or 0 when `linear` is false).
