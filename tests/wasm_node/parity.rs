@@ -154,6 +154,13 @@ fn tilting_table_not_separable_values_match_native() {
         if let Some(e) = v.pointer_mut("/refinement/evaluations") {
             *e = serde_json::Value::Null;
         }
+        // so is which of LM's tests stopped it first (ftol or xtol, both met to their
+        // tolerances): both must have converged, the values are compared below
+        if let Some(t) = v.pointer_mut("/refinement/termination") {
+            if t.as_str().is_some_and(|s| s.starts_with("Converged")) {
+                *t = serde_json::Value::String("Converged".into());
+            }
+        }
         v.pointer_mut("/correction/shift")
             .map(serde_json::Value::take)
             .unwrap_or_default()
