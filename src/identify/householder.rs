@@ -81,7 +81,7 @@ impl HouseholderQr {
     /// only, and `A`'s axes on `A` only. `s`'s columns take `A`'s reflections, then the QR of
     /// their rows below `A`'s goes on as the whole one's would: the columns of `A` are not
     /// factorised again for each `s` (a model's alternatives, issue 31).
-    pub fn added(&self, mut s: DMatrix<f64>) -> AddedQr {
+    pub fn added(&self, s: DMatrix<f64>) -> AddedQr {
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx2") {
@@ -89,9 +89,7 @@ impl HouseholderQr {
                 return unsafe { added_avx2(self, s) };
             }
         }
-        added_in(self, &mut s);
-        let (diag, _) = own_reflections(self.qr.ncols(), &mut s);
-        AddedQr { qr: s, diag }
+        added_qr(self, s)
     }
 
     /// `R` of `[A | S]` (that of [`HouseholderQr::new`] of the whole).
@@ -165,7 +163,13 @@ unsafe fn q_avx2(f: &HouseholderQr) -> DMatrix<f64> {
 /// The processor must have AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn added_avx2(base: &HouseholderQr, mut s: DMatrix<f64>) -> AddedQr {
+unsafe fn added_avx2(base: &HouseholderQr, s: DMatrix<f64>) -> AddedQr {
+    added_qr(base, s)
+}
+
+/// [`HouseholderQr::added`]: `s` reflected by `base`'s reflections, then by its own.
+#[inline(always)]
+fn added_qr(base: &HouseholderQr, mut s: DMatrix<f64>) -> AddedQr {
     added_in(base, &mut s);
     let (diag, _) = own_reflections(base.qr.ncols(), &mut s);
     AddedQr { qr: s, diag }
@@ -356,9 +360,10 @@ fn dot_two(a: &[f64], b0: &[f64], b1: &[f64]) -> (f64, f64) {
     (r0, r1)
 }
 
-/// nalgebra's sum of a dot product's eight partial sums.
+/// nalgebra's sum of a dot product's eight partial sums (also [`super::solve`]'s fused
+/// few-column product's).
 #[inline(always)]
-fn finish(acc: &[f64; 8]) -> f64 {
+pub(super) fn finish(acc: &[f64; 8]) -> f64 {
     let mut res = 0.0;
     res += acc[0] + acc[4];
     res += acc[1] + acc[5];

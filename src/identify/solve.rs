@@ -20,7 +20,7 @@
 
 use nalgebra::{DMatrix, DMatrixView, DMatrixViewMut, DVector};
 
-use super::householder::HouseholderQr;
+use super::householder::{finish, HouseholderQr};
 use crate::numerics::parallel::{map, map_mut, Threads};
 
 /// Singular values (of the unit-column-scaled matrix) below this count as zero.
@@ -543,12 +543,7 @@ fn unabsorbed_few_in(q: &DMatrix<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
     let mut c = DMatrix::zeros(p, w);
     for k in 0..p {
         for j in 0..w {
-            let acc = &partial[k * w + j];
-            let mut res = 0.0;
-            res += acc[0] + acc[4];
-            res += acc[1] + acc[5];
-            res += acc[2] + acc[6];
-            res += acc[3] + acc[7];
+            let mut res = finish(&partial[k * w + j]);
             for i in body..n {
                 res += qs[k * n + i] * xs[j * n + i];
             }

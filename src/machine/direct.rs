@@ -439,7 +439,7 @@ pub fn jacobian(
     errors.validate(chain)?;
     let f = factors(chain, q, errors);
     let (vp, _) = tool_vectors(chain, h);
-    jacobian_of(chain, q, errors, params, &f, vp)
+    jacobian_of(chain, q, errors, params, &f, &Prefixes::of(&f), vp)
 }
 
 /// Jacobian of the displacement of the **tool-body point** that sits at `x` (workpiece frame, mm)
@@ -454,17 +454,18 @@ pub fn jacobian_body_point(
 ) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
     errors.validate(chain)?;
     let f = factors(chain, q, errors);
-    let t = product(&f.t);
+    let pre = Prefixes::of(&f);
+    let t = pre.t[f.t.len()];
     let ti = affine_inverse(&t).ok_or_else(|| MachineError::SingularErrorMatrix {
         det: t.fixed_view::<3, 3>(0, 0).determinant(),
     })?;
-    let vp = ti * product(&f.w) * Vector4::new(x.x, x.y, x.z, 1.0);
-    jacobian_of(chain, q, errors, params, &f, vp)
+    let vp = ti * pre.w[f.w.len()] * Vector4::new(x.x, x.y, x.z, 1.0);
+    jacobian_of(chain, q, errors, params, &f, &pre, vp)
 }
 
 /// The columns of [`jacobian`] and [`jacobian_body_point`] from the factors `f` and the tool
 /// point `vp` (homogeneous, tool frame): with the tip at `p = W⁻¹ T v` (`W`, `T` the products of
-/// the workpiece's and the tool's factor lists), a parameter of factor `k` of a list whose
+/// the workpiece's and the tool's factor lists, `pre` their prefix products), a parameter of factor `k` of a list whose
 /// products before and after it are `P` and `S` (`∂F_k = D`) moves it by `W⁻¹ P D S v` on the
 /// tool side and by `−W⁻¹ P D S W⁻¹ T v` on the workpiece side (`∂W⁻¹ = −W⁻¹ ∂W W⁻¹`), the
 /// direction `v = ẑ` alike. Evaluated right to left, as matrix-vector products: each list's
@@ -480,11 +481,11 @@ fn jacobian_of(
     errors: &MachineErrors,
     params: &[ErrorParam],
     f: &Factors,
+    pre: &Prefixes,
     vp: Vector4<f64>,
 ) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
     let wi = inverse_product(&f.w)?;
-    let (pre_w, pre_t) = (prefix_products(&f.w), prefix_products(&f.t));
-    let t = pre_t[f.t.len()];
+    let t = pre.t[f.t.len()];
     let vd = Vector4::new(0.0, 0.0, 1.0, 0.0);
     // the tool's point and direction in the workpiece's frame before `W⁻¹`, then after it
     let (tp, td) = (t * vp, t * vd);
@@ -502,8 +503,8 @@ fn jacobian_of(
         let left = match left_of.iter().find(|a| a.0 == key) {
             Some(a) => a.1,
             None => {
-                let pre = if fd.tool_side { &pre_t } else { &pre_w };
-                let left = wi * pre[fd.factor];
+                let before = if fd.tool_side { &pre.t } else { &pre.w };
+                let left = wi * before[fd.factor];
                 left_of.push((key, left));
                 left
             }
@@ -518,6 +519,23 @@ fn jacobian_of(
         jd.set_column(k, &(dd.xyz() * sign));
     }
     Ok((jp, jd))
+}
+
+/// The prefix products of each factor list ([`prefix_products`]; the last, the list's
+/// [`product`]), made once for a pose: the Jacobian's products before each factor and, for a
+/// tool-body point, the two sides' whole products.
+struct Prefixes {
+    w: Vec<Matrix4<f64>>,
+    t: Vec<Matrix4<f64>>,
+}
+
+impl Prefixes {
+    fn of(f: &Factors) -> Self {
+        Self {
+            w: prefix_products(&f.w),
+            t: prefix_products(&f.t),
+        }
+    }
 }
 
 /// The products of the first `k` factors of `f`, `k = 0..=f.len()` ([`product`]'s, the same bits:
