@@ -13,7 +13,8 @@ use crate::gap::pairs::best_pair;
 use crate::gap::report::{summary, BaselineReport, DiagnosisReport};
 use crate::gap::verdict::{decide, pair_verdict, DecisionInput, Finding, ALPHA};
 use crate::gap::which::{
-    cross_validate, cv_score, estimates, fit_searched, per_curve, BaselineFit, Context, SmoothFit,
+    cross_validate, cv_score, estimates, fit_all_searched, per_curve, BaselineFit, Context,
+    SmoothFit,
 };
 use crate::identify::solve::{max_abs, rms, Factor};
 use crate::measurement::layout::curve_degree;
@@ -27,7 +28,7 @@ use crate::measurement::smooth_noise::{
     smooth_factor, smooth_sigmas, with_smooth_basis, SMOOTH_DEGREE,
 };
 use crate::numerics::order::sort_by_key_f64;
-use crate::numerics::parallel::{map, Threads};
+use crate::numerics::parallel::Threads;
 use crate::parameter::Effect;
 
 /// Options of a diagnosis (defaults: α = 0.05 family-wise, 2.5 σ).
@@ -225,9 +226,7 @@ pub fn diagnose_with_smooth(
         threads: opts.threads,
     };
     let searched: Vec<_> = input.candidates.iter().zip(scans).collect();
-    let mut fits: Vec<_> = map(opts.threads, &searched, |(c, scan)| {
-        fit_searched(&ctx, c, scan.clone())
-    });
+    let mut fits = fit_all_searched(&ctx, &searched, opts.threads);
     sort_by_key_f64(&mut fits, |f| f.cv_score);
     let spans: Vec<_> = fits
         .iter()

@@ -19,7 +19,7 @@
 //!   (≈ 4.7 % in mean square for 100 points), so a nested candidate (`tool_taper` ⊃
 //!   `tool_radius`) only wins when its extra parameter is real.
 
-use crate::numerics::parallel::Threads;
+use crate::numerics::parallel::{map, map_mut, Threads};
 use std::collections::BTreeMap;
 
 use nalgebra::{DMatrix, DVector};
@@ -83,6 +83,14 @@ pub struct CvResult {
 }
 
 impl CvResult {
+    /// Adds the prediction errors `pred_err` of fold `f`'s withheld points.
+    fn add(&mut self, f: &FoldFactor, pred_err: &DVector<f64>) {
+        for (k, &i) in f.test.iter().enumerate() {
+            self.ss[i] += pred_err[k] * pred_err[k];
+            self.count[i] += 1;
+        }
+    }
+
     pub fn mse(&self) -> f64 {
         let c: usize = self.count.iter().sum();
         if c == 0 {
@@ -104,27 +112,75 @@ impl CvResult {
 
 /// Cross-validates the baseline plus signature `s` (`n × q`, may have 0 columns).
 pub fn cross_validate(folds: &[FoldFactor], s: &DMatrix<f64>, n: usize) -> CvResult {
-    let mut ss = vec![0.0; n];
-    let mut count = vec![0; n];
+    let mut cv = CvResult {
+        ss: vec![0.0; n],
+        count: vec![0; n],
+    };
     for f in folds {
         let pred_err = if s.ncols() == 0 {
             let beta = f.base.solve(&f.y_train);
             &f.y_test - &f.a_test * beta
         } else {
             let s_train = s.select_rows(&f.train);
-            let scale: Vec<f64> = (0..s.ncols()).map(|j| s_train.column(j).norm()).collect();
-            let fu = Factor::of(f.base.unabsorbed(&s_train), Some(&scale));
-            let theta = fu.solve(&f.r0_train);
-            let beta = f.base.solve(&(&f.y_train - &s_train * &theta));
-            let s_test = s.select_rows(&f.test);
-            &f.y_test - &f.a_test * beta - s_test * theta
+            let u = f.base.unabsorbed(&s_train);
+            fold_error(f, s, &s_train, u)
         };
-        for (k, &i) in f.test.iter().enumerate() {
-            ss[i] += pred_err[k] * pred_err[k];
-            count[i] += 1;
+        cv.add(f, &pred_err);
+    }
+    cv
+}
+
+/// [`cross_validate`] of each of `ss` (each with columns), a fold at a time: the training rows
+/// of every signature off the fold's baseline together ([`Factor::unabsorbed_each`]: the fold's
+/// basis read twice a thread instead of twice a candidate, issue 31), then each candidate's
+/// prediction on `threads` threads. The same numbers as [`cross_validate`] of each.
+pub fn cross_validate_each(
+    folds: &[FoldFactor],
+    ss: &[&DMatrix<f64>],
+    n: usize,
+    threads: Threads,
+) -> Vec<CvResult> {
+    let mut cvs: Vec<CvResult> = ss
+        .iter()
+        .map(|_| CvResult {
+            ss: vec![0.0; n],
+            count: vec![0; n],
+        })
+        .collect();
+    for f in folds {
+        let trains: Vec<DMatrix<f64>> = ss.iter().map(|s| s.select_rows(&f.train)).collect();
+        let refs: Vec<&DMatrix<f64>> = trains.iter().collect();
+        let us = f.base.unabsorbed_each(&refs, threads);
+        let mut items: Vec<(&DMatrix<f64>, &DMatrix<f64>, DMatrix<f64>)> = ss
+            .iter()
+            .zip(&trains)
+            .zip(us)
+            .map(|((&s, t), u)| (s, t, u))
+            .collect();
+        let errors = map_mut(threads, &mut items, |(s, t, u)| {
+            fold_error(f, s, t, std::mem::replace(u, DMatrix::zeros(0, 0)))
+        });
+        for (cv, e) in cvs.iter_mut().zip(&errors) {
+            cv.add(f, e);
         }
     }
-    CvResult { ss, count }
+    cvs
+}
+
+/// The prediction error on fold `f`'s withheld points of the baseline plus `s` (with columns)
+/// fitted on its training points (`s_train`, and `u` its part outside the fold's baseline).
+fn fold_error(
+    f: &FoldFactor,
+    s: &DMatrix<f64>,
+    s_train: &DMatrix<f64>,
+    u: DMatrix<f64>,
+) -> DVector<f64> {
+    let scale: Vec<f64> = (0..s.ncols()).map(|j| s_train.column(j).norm()).collect();
+    let fu = Factor::of(u, Some(&scale));
+    let theta = fu.solve(&f.r0_train);
+    let beta = f.base.solve(&(&f.y_train - s_train * &theta));
+    let s_test = s.select_rows(&f.test);
+    &f.y_test - &f.a_test * beta - s_test * theta
 }
 
 /// Evidence for one candidate.
@@ -380,6 +436,103 @@ pub fn fit_candidate(ctx: &Context, c: &Candidate) -> CandidateFit {
 /// [`fit_candidate`] with the family already scanned on the baseline and its residual
 /// ([`scan_family`]: its effectively independent shapes, counted, and each member's fit).
 pub fn fit_searched(ctx: &Context, c: &Candidate, scan: FamilyScan) -> CandidateFit {
+    let (at, shape) = searched_shape(ctx, c, scan);
+    let mut fit = fit_one_shape(ctx, &at, Projected::default());
+    fit.shape = shape;
+    fit
+}
+
+/// From this many points on, [`fit_all_searched`] projects the candidates' columns off the
+/// smooth fit's basis and each fold's baseline together ([`Factor::unabsorbed_each`]); below,
+/// a candidate at a time (the same numbers).
+pub const TOGETHER_ROWS: usize = 2000;
+
+/// The most columns [`fit_all_searched`] projects together: the candidates are taken in runs of
+/// at most this many columns (a candidate of more alone), so what a run holds at once (its
+/// signatures, their parts off the smooth basis, a fold's training rows and their parts off its
+/// baseline: four copies, 20 MB a column at 200,000 points) stays bounded whatever the
+/// candidates.
+pub const TOGETHER_COLUMNS: usize = 6;
+
+/// [`fit_searched`] of each candidate with its scan, side by side on `threads` threads: the
+/// same fits. On a dense scan (more than [`TOGETHER_ROWS`] points) the signatures at their
+/// fitted shapes are projected off the smooth fit's basis (for σ under the smooth basis) and
+/// off each fold's baseline (cross-validation) together, in runs of [`TOGETHER_COLUMNS`]
+/// columns: each basis read twice a thread and a run instead of twice a candidate (at 200,000
+/// points the smooth fit's is 90 MB, its reads and the folds' a tenth of the diagnosis's CPU,
+/// issue 31).
+pub fn fit_all_searched(
+    ctx: &Context,
+    searched: &[(&Candidate, FamilyScan)],
+    threads: Threads,
+) -> Vec<CandidateFit> {
+    let n = ctx.y.len();
+    if n <= TOGETHER_ROWS {
+        return map(threads, searched, |(c, scan)| {
+            fit_searched(ctx, c, scan.clone())
+        });
+    }
+    let mut fits = Vec::with_capacity(searched.len());
+    let mut start = 0;
+    while start < searched.len() {
+        // the next run: candidates while their columns stay within the bound (one at least)
+        let mut end = start + 1;
+        let mut width = searched[start].0.signature.ncols();
+        while end < searched.len() && width + searched[end].0.signature.ncols() <= TOGETHER_COLUMNS
+        {
+            width += searched[end].0.signature.ncols();
+            end += 1;
+        }
+        fits.extend(fit_run(ctx, &searched[start..end], threads));
+        start = end;
+    }
+    fits
+}
+
+/// [`fit_all_searched`]'s fits of one run of candidates, their columns projected together.
+fn fit_run(
+    ctx: &Context,
+    searched: &[(&Candidate, FamilyScan)],
+    threads: Threads,
+) -> Vec<CandidateFit> {
+    let n = ctx.y.len();
+    let shaped: Vec<(Candidate, Option<ShapeFit>)> = map(threads, searched, |(c, scan)| {
+        searched_shape(ctx, c, scan.clone())
+    });
+    let mut pre: Vec<Projected> = shaped.iter().map(|_| Projected::default()).collect();
+    // (a candidate of no column takes its own path: none is projected)
+    let with: Vec<usize> = (0..shaped.len())
+        .filter(|&i| shaped[i].0.signature.ncols() > 0)
+        .collect();
+    let cols: Vec<&DMatrix<f64>> = with
+        .iter()
+        .map(|&i| &shaped[i].0.signature.matrix)
+        .collect();
+    if ctx.given_sigma.is_none() {
+        let us = ctx.smooth.factor.unabsorbed_each(&cols, threads);
+        for (&i, u) in with.iter().zip(us) {
+            pre[i].smooth = Some(u);
+        }
+    }
+    let cvs = cross_validate_each(ctx.folds, &cols, n, threads);
+    for (&i, cv) in with.iter().zip(cvs) {
+        pre[i].cv = Some(cv);
+    }
+    let mut items: Vec<(Candidate, Option<ShapeFit>, Projected)> = shaped
+        .into_iter()
+        .zip(pre)
+        .map(|((c, shape), p)| (c, shape, p))
+        .collect();
+    map_mut(threads, &mut items, |(at, shape, pre)| {
+        let mut fit = fit_one_shape(ctx, at, std::mem::take(pre));
+        fit.shape = shape.take();
+        fit
+    })
+}
+
+/// The candidate at the shape of its family that fits best (itself for a candidate of one
+/// shape), and that shape's fit.
+fn searched_shape(ctx: &Context, c: &Candidate, scan: FamilyScan) -> (Candidate, Option<ShapeFit>) {
     let shape = c.family.as_ref().and_then(|_| {
         fit_shape(
             &ctx.baseline.factor,
@@ -392,13 +545,19 @@ pub fn fit_searched(ctx: &Context, c: &Candidate, scan: FamilyScan) -> Candidate
         )
     });
     let at = c.at_shape(shape.as_ref().map(|f| f.grid_index));
-    let mut fit = fit_one_shape(ctx, &at);
-    fit.shape = shape;
-    fit
+    (at, shape)
 }
 
-/// [`fit_candidate`] for the signature of `c` as it is.
-fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
+/// What [`fit_all_searched`] has computed of a candidate's fit beforehand: its signature's
+/// part outside the smooth fit, its cross-validation; `None` for what the fit computes itself.
+#[derive(Default)]
+struct Projected {
+    smooth: Option<DMatrix<f64>>,
+    cv: Option<CvResult>,
+}
+
+/// [`fit_candidate`] for the signature of `c` as it is, with what `pre` holds computed.
+fn fit_one_shape(ctx: &Context, c: &Candidate, pre: Projected) -> CandidateFit {
     let n = ctx.y.len();
     let nf = n as f64;
     let s = &c.signature.matrix;
@@ -417,7 +576,9 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
     // σ independent of smooth structure under this candidate's hypothesis: residual of
     // [A | smooth basis | S], by FWL on the factor of [A | smooth basis] computed once.
     let sigma_smooth = ctx.given_sigma.unwrap_or_else(|| {
-        let us = ctx.smooth.factor.unabsorbed(s);
+        let us = pre
+            .smooth
+            .unwrap_or_else(|| ctx.smooth.factor.unabsorbed(s));
         let fs = Factor::new(&us, Some(&scale));
         let th = fs.solve(&ctx.smooth.residual);
         let rss = (&ctx.smooth.residual - us * th).norm_squared();
@@ -482,7 +643,7 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
         );
     }
     let unabsorbed_rms = unabsorbed_effect.norm() / nf.sqrt();
-    let cv = cross_validate(ctx.folds, s, n);
+    let cv = pre.cv.unwrap_or_else(|| cross_validate(ctx.folds, s, n));
     let cv_mse = cv.mse();
     let score = cv_score(cv_mse, q, n);
     let residual: Vec<f64> = r1.iter().copied().collect();
@@ -536,5 +697,62 @@ fn fit_one_shape(ctx: &Context, c: &Candidate) -> CandidateFit {
         residual,
         unabsorbed_effect,
         unabsorbed_basis: fu.basis,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gap::folds::build_folds;
+    use crate::part::Surface;
+
+    /// [`cross_validate_each`] is [`cross_validate`] of each signature bit for bit, on 1, 2 and
+    /// 3 threads: 2,400 points of a scan (2 surfaces × 6 lines, height-band and region folds),
+    /// a baseline of 5 columns (each fold's basis: the few-column kernel for the candidates of
+    /// at most 5 columns) and signatures of 1, 2, 6 and 1 columns (the one of 6 by the blocked
+    /// product, as alone). Tolerance: none.
+    #[test]
+    fn cross_validate_each_is_cross_validate_of_each_bit_for_bit() {
+        let n = 2400;
+        let points: Vec<PointMeta> = (0..n)
+            .map(|i| {
+                let (surface, line, k) = (i / 1200, (i % 1200) / 200, i % 200);
+                let u = k as f64 / 199.0;
+                PointMeta {
+                    id: i as u32,
+                    curve: format!("{}_L{line}", ["A", "B"][surface]),
+                    surface: Surface::BOTH[surface],
+                    u,
+                    h: 2.0 + 4.0 * line as f64,
+                    s: 300.0 * (surface as f64 + u),
+                    order: i,
+                    nz: 0.1,
+                }
+            })
+            .collect();
+        let f = |i: usize, j: usize| ((i * 7 + j * 13) % 17) as f64 - 8.0 + (0.01 * i as f64).sin();
+        let a = DMatrix::from_fn(n, 5, |i, j| {
+            f(i, j) + (j as f64) * points[i].u.powi(j as i32)
+        });
+        let y = DVector::from_fn(n, |i, _| (0.03 * i as f64).cos() + 0.1 * f(i, 9));
+        let folds = build_folds(&points, &a, &y, 12, Threads::ONE);
+        assert!(folds.len() >= 4, "{} folds", folds.len());
+        let ss: Vec<DMatrix<f64>> = [1, 2, 6, 1]
+            .iter()
+            .enumerate()
+            .map(|(m, &w)| DMatrix::from_fn(n, w, |i, j| f(i + 5 * m, j + 3 * m) * 1e-3))
+            .collect();
+        let refs: Vec<&DMatrix<f64>> = ss.iter().collect();
+        let want: Vec<CvResult> = ss.iter().map(|s| cross_validate(&folds, s, n)).collect();
+        for t in [1, 2, 3] {
+            let got = cross_validate_each(&folds, &refs, n, Threads::new(t));
+            assert_eq!(got.len(), want.len());
+            for (g, w) in got.iter().zip(&want) {
+                assert_eq!(g.count, w.count, "{t} threads");
+                for (a, b) in g.ss.iter().zip(&w.ss) {
+                    assert_eq!(a.to_bits(), b.to_bits(), "{t} threads");
+                }
+            }
+        }
     }
 }

@@ -147,6 +147,47 @@ impl Factor {
         x - &self.basis * tr_mul(&self.basis, x)
     }
 
+    /// [`Self::unabsorbed`] of each of `xs`, the same bits as a call for each: the columns of
+    /// those that a call would give to [`unabsorbed_few`] go through it together, in one group a
+    /// thread, so `Q` is read twice a group instead of twice a matrix (a dense scan's candidates
+    /// off the smooth fit's basis, 90 MB at 200,000 × 56, once a candidate, issue 31); the
+    /// others as a call each.
+    pub fn unabsorbed_each(&self, xs: &[&DMatrix<f64>], threads: Threads) -> Vec<DMatrix<f64>> {
+        let (n, p) = self.basis.shape();
+        let few = |x: &DMatrix<f64>| {
+            n > SMALL_PRODUCT && (p <= SMALL_PRODUCT || x.ncols() <= SMALL_PRODUCT)
+        };
+        let mut out: Vec<DMatrix<f64>> = xs
+            .iter()
+            .map(|&x| {
+                if few(x) {
+                    assert_eq!(n, x.nrows(), "unabsorbed: {n} rows against {}", x.nrows());
+                    x.clone()
+                } else {
+                    self.unabsorbed(x)
+                }
+            })
+            .collect();
+        let mut cols: Vec<&mut [f64]> = out
+            .iter_mut()
+            .zip(xs)
+            .filter(|(_, &x)| few(x))
+            .flat_map(|(u, _)| u.as_mut_slice().chunks_mut(n.max(1)))
+            .collect();
+        if n == 0 || cols.is_empty() {
+            return out;
+        }
+        let per = cols.len().div_ceil(threads.get().max(1));
+        let mut groups: Vec<Vec<&mut [f64]>> = Vec::new();
+        while !cols.is_empty() {
+            let rest = cols.split_off(per.min(cols.len()));
+            groups.push(std::mem::replace(&mut cols, rest));
+        }
+        map_mut(threads, &mut groups, |g| unabsorb_columns(&self.basis, g));
+        drop(groups);
+        out
+    }
+
     /// [`Self::unabsorbed`] in place: `x ← x − Q Qᵀ x` on a view (the columns of a larger
     /// matrix, without a copy of `x` and of the product: a dense scan's family members, issue 31),
     /// the same bits. Where `Q (Qᵀx)` is a blocked product (more than [`SMALL_PRODUCT`] rows,
@@ -481,45 +522,61 @@ const FEW_BLOCK_ROWS: usize = 512;
 /// nalgebra takes for such shapes, bit for bit: its `tr_mul`'s dot products (eight partial sums
 /// over the rows ≡ m mod 8 of the first 8⌊n/8⌋ rows, added in pairs `(0, 4), (1, 5), (2, 6),
 /// (3, 7)`, then the rows left one by one) and its product column by column (`y ← Q₀c₀`, then
-/// `y ← Q_k c_k + y` in the order of `Q`'s columns; `+` commutes exactly), then `x − y`. In two passes over blocks of
-/// rows: `Q` is read twice, where nalgebra's two calls read it once a column of `x` each (a
-/// dense scan's baseline basis, 16 MB at 200,000 points, had been streamed from memory 2·q times
-/// for a candidate's q columns, issue 31).
+/// `y ← Q_k c_k + y` in the order of `Q`'s columns; `+` commutes exactly), then `x − y`. In two
+/// passes over blocks of rows: `Q` is read twice, where nalgebra's two calls read it once a
+/// column of `x` each (a dense scan's baseline basis, 16 MB at 200,000 points, had been streamed
+/// from memory 2·q times for a candidate's q columns, issue 31). Each column's numbers depend on
+/// that column and `Q` alone: [`unabsorb_columns`] takes any set of columns together.
+fn unabsorbed_few(q: &DMatrix<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
+    let n = q.nrows();
+    assert_eq!(n, x.nrows(), "unabsorbed: {n} rows against {}", x.nrows());
+    let mut out = x.clone();
+    if n > 0 {
+        let mut cols: Vec<&mut [f64]> = out.as_mut_slice().chunks_mut(n).collect();
+        unabsorb_columns(q, &mut cols);
+    }
+    out
+}
+
+/// `x ← x − Q(Qᵀx)` on each of the columns `cols` (each `Q`'s rows long), [`unabsorbed_few`]'s
+/// operations: each column the same bits whatever the others beside it.
 ///
 /// On a processor with AVX2 the same code is compiled for it (chosen at run time): four rows
 /// an instruction instead of two, each lane the same multiplications and additions in the same
 /// order (no fused multiply-add), so the same bits.
-fn unabsorbed_few(q: &DMatrix<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
+fn unabsorb_columns(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor has AVX2, checked just above
-            return unsafe { unabsorbed_few_avx2(q, x) };
+            return unsafe { unabsorb_columns_avx2(q, cols) };
         }
     }
-    unabsorbed_few_in(q, x)
+    unabsorb_columns_in(q, cols)
 }
 
-/// [`unabsorbed_few_in`] compiled for AVX2 (without FMA: the same roundings).
+/// [`unabsorb_columns_in`] compiled for AVX2 (without FMA: the same roundings).
 ///
 /// # Safety
 /// The processor must have AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn unabsorbed_few_avx2(q: &DMatrix<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
-    unabsorbed_few_in(q, x)
+unsafe fn unabsorb_columns_avx2(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
+    unabsorb_columns_in(q, cols)
 }
 
-/// [`unabsorbed_few`]'s two passes.
+/// [`unabsorb_columns`]'s two passes.
 #[inline(always)]
-fn unabsorbed_few_in(q: &DMatrix<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
+fn unabsorb_columns_in(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
     let (n, p) = q.shape();
-    let w = x.ncols();
-    assert_eq!(n, x.nrows(), "unabsorbed: {n} rows against {}", x.nrows());
-    if p == 0 {
-        return x.clone();
+    let w = cols.len();
+    if let Some(c) = cols.iter().find(|c| c.len() != n) {
+        panic!("unabsorbed: {n} rows against {}", c.len());
     }
-    let (qs, xs) = (q.as_slice(), x.as_slice());
+    if p == 0 || w == 0 {
+        return;
+    }
+    let qs = q.as_slice();
     // pass 1: Qᵀx, each entry's eight partial sums carried from block to block
     let body = n - n % 8;
     let mut partial = vec![[0.0f64; 8]; p * w];
@@ -527,8 +584,8 @@ fn unabsorbed_few_in(q: &DMatrix<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
         let end = (start + FEW_BLOCK_ROWS).min(body);
         for k in 0..p {
             let qk = &qs[k * n + start..k * n + end];
-            for j in 0..w {
-                let xj = &xs[j * n + start..j * n + end];
+            for (j, col) in cols.iter().enumerate() {
+                let xj = &col[start..end];
                 // the partial sums in registers through the block
                 let mut acc = partial[k * w + j];
                 for (a, b) in qk.chunks_exact(8).zip(xj.chunks_exact(8)) {
@@ -542,22 +599,20 @@ fn unabsorbed_few_in(q: &DMatrix<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
     }
     let mut c = DMatrix::zeros(p, w);
     for k in 0..p {
-        for j in 0..w {
+        for (j, col) in cols.iter().enumerate() {
             let mut res = finish(&partial[k * w + j]);
             for i in body..n {
-                res += qs[k * n + i] * xs[j * n + i];
+                res += qs[k * n + i] * col[i];
             }
             c[(k, j)] = res;
         }
     }
     // pass 2: x − Q c, a block of rows at a time
-    let mut out = x.clone();
-    let os = out.as_mut_slice();
     let mut y = vec![0.0; FEW_BLOCK_ROWS.min(n)];
     for start in (0..n).step_by(FEW_BLOCK_ROWS) {
         let end = (start + FEW_BLOCK_ROWS).min(n);
         let y = &mut y[..end - start];
-        for j in 0..w {
+        for (j, col) in cols.iter_mut().enumerate() {
             let c0 = c[(0, j)];
             for (yi, a) in y.iter_mut().zip(&qs[start..end]) {
                 *yi = a * c0;
@@ -568,12 +623,11 @@ fn unabsorbed_few_in(q: &DMatrix<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
                     *yi += a * ck;
                 }
             }
-            for (o, yi) in os[j * n + start..j * n + end].iter_mut().zip(y.iter()) {
+            for (o, yi) in col[start..end].iter_mut().zip(y.iter()) {
                 *o -= *yi;
             }
         }
     }
-    out
 }
 
 /// Root mean square of a slice (0 for an empty one).
@@ -616,10 +670,47 @@ mod tests {
             }
             let want = &x - &q * q.tr_mul(&x);
             // the dispatched kernel (AVX2 where the processor has it) and the portable one
-            for got in [unabsorbed_few(&q, &x), unabsorbed_few_in(&q, &x)] {
+            let portable = {
+                let mut out = x.clone();
+                let mut cols: Vec<&mut [f64]> = out.as_mut_slice().chunks_mut(n).collect();
+                unabsorb_columns_in(&q, &mut cols);
+                out
+            };
+            for got in [unabsorbed_few(&q, &x), portable] {
                 assert_eq!(got.shape(), want.shape());
                 for (g, w) in got.iter().zip(want.iter()) {
                     assert_eq!(g.to_bits(), w.to_bits(), "{n} × {p}, {} columns", x.ncols());
+                }
+            }
+        }
+    }
+
+    /// [`Factor::unabsorbed_each`] is [`Factor::unabsorbed`] of each matrix bit for bit, on 1, 2
+    /// and 3 threads, with matrices of 0, 1, 3 and 9 columns (the last by the blocked product
+    /// against a basis of 12 columns) and a basis of 4 columns (every matrix by the few-column
+    /// kernel). Tolerance: none.
+    #[test]
+    fn unabsorbed_each_is_unabsorbed_of_each_bit_for_bit() {
+        let f = |i: usize, j: usize| ((i * 7 + j * 13) % 17) as f64 - 8.0 + 0.1 * (i as f64).sin();
+        let n = 2051;
+        let xs: Vec<DMatrix<f64>> = [1, 3, 0, 9, 1, 2]
+            .iter()
+            .enumerate()
+            .map(|(m, &w)| DMatrix::from_fn(n, w, |i, j| f(i + 3 * m, j + m) * 1e-3))
+            .collect();
+        let refs: Vec<&DMatrix<f64>> = xs.iter().collect();
+        for p in [12, 4] {
+            let a = DMatrix::from_fn(n, p, |i, j| f(i, j) + (i % (j + 2)) as f64);
+            let factor = Factor::of(a, None);
+            let want: Vec<DMatrix<f64>> = xs.iter().map(|x| factor.unabsorbed(x)).collect();
+            for t in [1, 2, 3] {
+                let got = factor.unabsorbed_each(&refs, Threads::new(t));
+                assert_eq!(got.len(), want.len());
+                for (g, w) in got.iter().zip(&want) {
+                    assert_eq!(g.shape(), w.shape());
+                    for (a, b) in g.iter().zip(w.iter()) {
+                        assert_eq!(a.to_bits(), b.to_bits(), "{p} columns, {t} threads");
+                    }
                 }
             }
         }
