@@ -148,7 +148,7 @@ pub fn cross_validate_each(
         })
         .collect();
     for f in folds {
-        let trains: Vec<DMatrix<f64>> = ss.iter().map(|s| s.select_rows(&f.train)).collect();
+        let trains: Vec<DMatrix<f64>> = map(threads, ss, |s| s.select_rows(&f.train));
         let refs: Vec<&DMatrix<f64>> = trains.iter().collect();
         let us = f.base.unabsorbed_each(&refs, threads);
         let mut items: Vec<(&DMatrix<f64>, &DMatrix<f64>, DMatrix<f64>)> = ss
@@ -447,18 +447,20 @@ pub fn fit_searched(ctx: &Context, c: &Candidate, scan: FamilyScan) -> Candidate
 /// a candidate at a time (the same numbers).
 pub const TOGETHER_ROWS: usize = 2000;
 
-/// The most columns [`fit_all_searched`] projects together: the candidates are taken in runs of
-/// at most this many columns (a candidate of more alone), so what a run holds at once (its
-/// signatures, their parts off the smooth basis, a fold's training rows and their parts off its
-/// baseline: four copies, 20 MB a column at 200,000 points) stays bounded whatever the
-/// candidates.
-pub const TOGETHER_COLUMNS: usize = 6;
+/// The most entries (rows × columns) of the signatures [`fit_all_searched`] projects together:
+/// the candidates are taken in runs of at most this many (a candidate of more alone), so what a
+/// run holds at once (its signatures, their parts off the smooth basis, each one's withheld
+/// errors, a fold's training rows and their parts off its baseline: about six copies) stays
+/// bounded whatever the points: every candidate of a 20,000-point scan in one run (26 columns),
+/// six columns a run at 200,000 points (a run of every candidate had been 70 MB more at the
+/// peak there, issue 31).
+pub const TOGETHER_ENTRIES: usize = 1_200_000;
 
 /// [`fit_searched`] of each candidate with its scan, side by side on `threads` threads: the
 /// same fits. On a dense scan (more than [`TOGETHER_ROWS`] points) the signatures at their
 /// fitted shapes are projected off the smooth fit's basis (for σ under the smooth basis) and
-/// off each fold's baseline (cross-validation) together, in runs of [`TOGETHER_COLUMNS`]
-/// columns: each basis read twice a thread and a run instead of twice a candidate (at 200,000
+/// off each fold's baseline (cross-validation) together, in runs of [`TOGETHER_ENTRIES`]
+/// entries: each basis read twice a thread and a run instead of twice a candidate (at 200,000
 /// points the smooth fit's is 90 MB, its reads and the folds' a tenth of the diagnosis's CPU,
 /// issue 31).
 pub fn fit_all_searched(
@@ -478,7 +480,8 @@ pub fn fit_all_searched(
         // the next run: candidates while their columns stay within the bound (one at least)
         let mut end = start + 1;
         let mut width = searched[start].0.signature.ncols();
-        while end < searched.len() && width + searched[end].0.signature.ncols() <= TOGETHER_COLUMNS
+        while end < searched.len()
+            && (width + searched[end].0.signature.ncols()) * n <= TOGETHER_ENTRIES
         {
             width += searched[end].0.signature.ncols();
             end += 1;

@@ -157,17 +157,14 @@ impl Factor {
         let few = |x: &DMatrix<f64>| {
             n > SMALL_PRODUCT && (p <= SMALL_PRODUCT || x.ncols() <= SMALL_PRODUCT)
         };
-        let mut out: Vec<DMatrix<f64>> = xs
-            .iter()
-            .map(|&x| {
-                if few(x) {
-                    assert_eq!(n, x.nrows(), "unabsorbed: {n} rows against {}", x.nrows());
-                    x.clone()
-                } else {
-                    self.unabsorbed(x)
-                }
-            })
-            .collect();
+        let mut out: Vec<DMatrix<f64>> = map(threads, xs, |&x| {
+            if few(x) {
+                assert_eq!(n, x.nrows(), "unabsorbed: {n} rows against {}", x.nrows());
+                x.clone()
+            } else {
+                self.unabsorbed(x)
+            }
+        });
         let mut cols: Vec<&mut [f64]> = out
             .iter_mut()
             .zip(xs)
