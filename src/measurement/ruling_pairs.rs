@@ -171,7 +171,8 @@ pub fn pair_sigma_kept(
     if pairs < MIN_PAIRS {
         return None;
     }
-    let h = |i: usize, j: usize| q.row(i).dot(&q.row(j));
+    let rows = RowProducts::new(q);
+    let h = |i: usize, j: usize| rows.at(i, j);
     let deltas: Vec<Vec<f64>> = seqs
         .iter()
         .map(|seq| {
@@ -191,6 +192,38 @@ pub fn pair_sigma_kept(
         differences,
         dof: PAIR_DOF_PER_DIFFERENCE * differences as f64,
     })
+}
+
+/// The products `q_i·q_j` of a matrix's rows, from a copy of its rows side by side (in `q` a
+/// row's terms are a column's length apart: each pair's three products had read `3·2·rank`
+/// cache lines across a dense scan's basis, issue 31), each summed from 0 in the columns'
+/// order as nalgebra's `row(i).dot(&row(j))` sums it: the same bits.
+struct RowProducts {
+    rows: Vec<f64>,
+    p: usize,
+}
+
+impl RowProducts {
+    fn new(q: &DMatrix<f64>) -> Self {
+        let p = q.ncols();
+        let mut rows = vec![0.0; q.nrows() * p];
+        for (k, col) in q.column_iter().enumerate() {
+            for (i, v) in col.iter().enumerate() {
+                rows[i * p + k] = *v;
+            }
+        }
+        Self { rows, p }
+    }
+
+    /// `q_i·q_j`.
+    fn at(&self, i: usize, j: usize) -> f64 {
+        let p = self.p;
+        let (a, b) = (
+            &self.rows[i * p..(i + 1) * p],
+            &self.rows[j * p..(j + 1) * p],
+        );
+        a.iter().zip(b).fold(0.0, |s, (x, y)| s + x * y)
+    }
 }
 
 #[cfg(test)]
@@ -217,6 +250,24 @@ mod tests {
                 }
             })
             .collect()
+    }
+
+    /// [`RowProducts`] are nalgebra's `row(i).dot(&row(j))` bit for bit (rows of 9 terms of many
+    /// magnitudes, signed zeros among them). Tolerance: none.
+    #[test]
+    fn row_products_side_by_side_are_the_rows_dots_bit_for_bit() {
+        let q = DMatrix::from_fn(500, 9, |i, j| {
+            if (i + 2 * j) % 13 == 0 {
+                -0.0
+            } else {
+                ((i * 7 + j * 13) % 17) as f64 * 10f64.powi((i % 5) as i32 - 2) - 0.3 * j as f64
+            }
+        });
+        let rows = RowProducts::new(&q);
+        for (i, j) in [(0, 1), (3, 3), (499, 7), (42, 250), (13, 26)] {
+            let got = rows.at(i, j);
+            assert_eq!(got.to_bits(), q.row(i).dot(&q.row(j)).to_bits(), "{i}, {j}");
+        }
     }
 
     #[test]
