@@ -462,14 +462,16 @@ pub const TOGETHER_ENTRIES: usize = 1_200_000;
 /// off each fold's baseline (cross-validation) together, in runs of [`TOGETHER_ENTRIES`]
 /// entries: each basis read twice a thread and a run instead of twice a candidate (at 200,000
 /// points the smooth fit's is 90 MB, its reads and the folds' a tenth of the diagnosis's CPU,
-/// issue 31).
+/// issue 31). The page's wasm fits a candidate at a time (the same numbers).
 pub fn fit_all_searched(
     ctx: &Context,
     searched: &[(&Candidate, FamilyScan)],
     threads: Threads,
 ) -> Vec<CandidateFit> {
     let n = ctx.y.len();
-    if n <= TOGETHER_ROWS {
+    // (the page's wasm, on one thread, takes a candidate at a time: the same numbers, and the
+    // batches' code kept out of its module, which is at its size cap)
+    if n <= TOGETHER_ROWS || cfg!(target_arch = "wasm32") {
         return map(threads, searched, |(c, scan)| {
             fit_searched(ctx, c, scan.clone())
         });

@@ -613,8 +613,9 @@ fn with_best_candidate<'a, 'x>(
     let plain = robust_sigma(&base.r, &base.h, keep);
     let mut best = (CANDIDATE_GAIN * plain, None);
     // each candidate's σ on its own thread's turn, the least taken in the candidates' order (on
-    // a dense scan their columns off the fit together, [`Base::with_each`])
-    let sigmas: Vec<f64> = if keep.len() > UPDATE_ROWS {
+    // a dense scan their columns off the fit together, [`Base::with_each`]: the same numbers;
+    // not in the page's wasm, on one thread and at its module's size cap)
+    let sigmas: Vec<f64> = if keep.len() > UPDATE_ROWS && !cfg!(target_arch = "wasm32") {
         let cs: Vec<&DMatrix<f64>> = input
             .candidates
             .iter()
