@@ -83,6 +83,14 @@ pub struct CvResult {
 }
 
 impl CvResult {
+    /// No fold yet, for `n` points.
+    fn zeros(n: usize) -> Self {
+        Self {
+            ss: vec![0.0; n],
+            count: vec![0; n],
+        }
+    }
+
     /// Adds the prediction errors `pred_err` of fold `f`'s withheld points.
     fn add(&mut self, f: &FoldFactor, pred_err: &DVector<f64>) {
         for (k, &i) in f.test.iter().enumerate() {
@@ -112,10 +120,7 @@ impl CvResult {
 
 /// Cross-validates the baseline plus signature `s` (`n × q`, may have 0 columns).
 pub fn cross_validate(folds: &[FoldFactor], s: &DMatrix<f64>, n: usize) -> CvResult {
-    let mut cv = CvResult {
-        ss: vec![0.0; n],
-        count: vec![0; n],
-    };
+    let mut cv = CvResult::zeros(n);
     for f in folds {
         let pred_err = if s.ncols() == 0 {
             let beta = f.base.solve(&f.y_train);
@@ -140,13 +145,7 @@ pub fn cross_validate_each(
     n: usize,
     threads: Threads,
 ) -> Vec<CvResult> {
-    let mut cvs: Vec<CvResult> = ss
-        .iter()
-        .map(|_| CvResult {
-            ss: vec![0.0; n],
-            count: vec![0; n],
-        })
-        .collect();
+    let mut cvs: Vec<CvResult> = ss.iter().map(|_| CvResult::zeros(n)).collect();
     for f in folds {
         let trains: Vec<DMatrix<f64>> = map(threads, ss, |s| s.select_rows(&f.train));
         let refs: Vec<&DMatrix<f64>> = trains.iter().collect();

@@ -140,11 +140,16 @@ impl Factor {
     /// With few columns on either side, by [`unabsorbed_few`] (the same bits, `Q` read twice
     /// instead of twice a column of `x`).
     pub fn unabsorbed(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
-        let (n, p) = self.basis.shape();
-        if n > SMALL_PRODUCT && (p <= SMALL_PRODUCT || x.ncols() <= SMALL_PRODUCT) {
+        if self.takes_few(x) {
             return unabsorbed_few(&self.basis, x);
         }
         x - &self.basis * tr_mul(&self.basis, x)
+    }
+
+    /// Whether [`Self::unabsorbed`] of `x` is [`unabsorbed_few`]'s: few columns on either side.
+    fn takes_few(&self, x: &DMatrix<f64>) -> bool {
+        let (n, p) = self.basis.shape();
+        n > SMALL_PRODUCT && (p <= SMALL_PRODUCT || x.ncols() <= SMALL_PRODUCT)
     }
 
     /// [`Self::unabsorbed`] of each of `xs`, the same bits as a call for each: the columns of
@@ -153,12 +158,9 @@ impl Factor {
     /// off the smooth fit's basis, 90 MB at 200,000 × 56, once a candidate, issue 31); the
     /// others as a call each.
     pub fn unabsorbed_each(&self, xs: &[&DMatrix<f64>], threads: Threads) -> Vec<DMatrix<f64>> {
-        let (n, p) = self.basis.shape();
-        let few = |x: &DMatrix<f64>| {
-            n > SMALL_PRODUCT && (p <= SMALL_PRODUCT || x.ncols() <= SMALL_PRODUCT)
-        };
+        let n = self.basis.nrows();
         let mut out: Vec<DMatrix<f64>> = map(threads, xs, |&x| {
-            if few(x) {
+            if self.takes_few(x) {
                 assert_eq!(n, x.nrows(), "unabsorbed: {n} rows against {}", x.nrows());
                 x.clone()
             } else {
@@ -168,7 +170,7 @@ impl Factor {
         let mut cols: Vec<&mut [f64]> = out
             .iter_mut()
             .zip(xs)
-            .filter(|(_, &x)| few(x))
+            .filter(|(_, &x)| self.takes_few(x))
             .flat_map(|(u, _)| u.as_mut_slice().chunks_mut(n.max(1)))
             .collect();
         if n == 0 || cols.is_empty() {
@@ -181,7 +183,6 @@ impl Factor {
             groups.push(std::mem::replace(&mut cols, rest));
         }
         map_mut(threads, &mut groups, |g| unabsorb_columns(&self.basis, g));
-        drop(groups);
         out
     }
 
