@@ -104,12 +104,42 @@ pub fn warm_up(x: f64, f: f64) -> f64 {
 /// `(1 − exp(−x'/f)) / (1 − exp(−(1 + pause)/f))`, `x'/(1 + pause)` for `f = ∞`. With no pause
 /// it is [`warm_up`] to the bit.
 pub fn warm_up_paused(x: f64, second: bool, f: f64, pause: f64) -> f64 {
-    let x = if second { x + pause } else { x };
-    let end = 1.0 + pause;
-    if f.is_infinite() {
-        x / end
-    } else {
-        (-x / f).exp_m1() / (-end / f).exp_m1()
+    WarmUp::new(f, pause).at(x, second)
+}
+
+/// [`warm_up_paused`] at one warm-up constant and pause, for many points: its denominator, the
+/// drift at the end of B, computed once (a family's member evaluates it at every point of a
+/// dense scan: one `exp_m1` a point of two, issue 31), the same bits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WarmUp {
+    f: f64,
+    pause: f64,
+    /// `1 + pause`, where B ends.
+    end: f64,
+    /// `exp_m1(−end/f)` (unused for `f = ∞`).
+    at_end: f64,
+}
+
+impl WarmUp {
+    /// The law of warm-up constant `f` and pause `pause` (a share of the cutting path).
+    pub fn new(f: f64, pause: f64) -> Self {
+        let end = 1.0 + pause;
+        Self {
+            f,
+            pause,
+            end,
+            at_end: (-end / f).exp_m1(),
+        }
+    }
+
+    /// The share of the drift at the share `x` of the path, on B when `second`.
+    pub fn at(&self, x: f64, second: bool) -> f64 {
+        let x = if second { x + self.pause } else { x };
+        if self.f.is_infinite() {
+            x / self.end
+        } else {
+            (-x / self.f).exp_m1() / self.at_end
+        }
     }
 }
 

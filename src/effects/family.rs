@@ -15,7 +15,7 @@ use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
-use crate::effects::effect::warm_up_paused;
+use crate::effects::effect::WarmUp;
 use crate::machine::AxisName;
 use crate::parameter::Shape;
 use crate::sensitivity::reversal::{lagged_column_at, GridSpots, Lag};
@@ -103,7 +103,7 @@ impl LagMembers {
 /// of the tool-tip path machined before it, whether it lies on the second pass (B, machined
 /// after the pause), and `z`, the deviation per unit of machine-Z growth (`(R_W(q)ᵀẑ)·N`). The
 /// member at warm-up constant `f` and pause `π` is `−warm_up_paused(x, second, f, π)·z`
-/// ([`warm_up_paused`]).
+/// ([`crate::effects::effect::warm_up_paused`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct WarmUpBasis {
     pub x: Vec<f64>,
@@ -114,11 +114,12 @@ pub struct WarmUpBasis {
 impl WarmUpBasis {
     /// The column at warm-up constant `f` and pause `pause` (a share of the cutting path).
     pub fn column(&self, f: f64, pause: f64) -> Vec<f64> {
+        let law = WarmUp::new(f, pause);
         self.x
             .iter()
             .zip(&self.second)
             .zip(&self.z)
-            .map(|((&x, &second), &z)| -warm_up_paused(x, second, f, pause) * z)
+            .map(|((&x, &second), &z)| -law.at(x, second) * z)
             .collect()
     }
 

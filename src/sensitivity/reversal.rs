@@ -675,6 +675,35 @@ fn offset_in(g: &Segment, s: f64, tau: f64) -> f64 {
     }
 }
 
+/// The path length from which [`offset_in`] is `g.target` to the last bit: where the settling's
+/// remainder `|e₀ − e*|·exp(−x/τ)` has fallen below `|e*|·2⁻⁶⁰`, a sixteenth of half an ulp of
+/// `e*` (so `e* + remainder` rounds to `e*` whatever the rounding of the exponential and of the
+/// product), from the take-up's end when there is one; infinite when `e* = 0` (no ulp to hide
+/// in). A dense scan's first-order members need no exponential past it (most of a short lag's
+/// sites, issue 31): the same offsets.
+fn settled_from(g: &Segment, tau: f64) -> f64 {
+    let (start, left) = match &g.ramp {
+        Some(r) => (r.end(), r.end_offset() - g.target),
+        None => (g.s0, g.from - g.target),
+    };
+    if g.target == 0.0 || !g.target.is_finite() || !left.is_finite() || tau.is_nan() || tau <= 0.0 {
+        return f64::INFINITY;
+    }
+    if left == 0.0 {
+        return start;
+    }
+    let x = tau * (left.abs() / (g.target.abs() * SETTLED_SHARE)).ln();
+    if x.is_finite() {
+        start + x.max(0.0)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// `2⁻⁶⁰`: the share of `|e*|` below which a first-order settling's remainder leaves the offset
+/// `e*` to the bit ([`settled_from`]).
+const SETTLED_SHARE: f64 = 1.0 / (1u64 << 60) as f64;
+
 /// The offset `e` and its slope `de/ds` of a second-order settling on the segment holding `k`
 /// (no take-up), where the path length is `s`: with `a = ζ/τ`, `ω = √(1 − ζ²)/τ`, `A = e₀ − e*`
 /// and `B = (e'₀ + aA)/ω` from the segment's start,
@@ -1059,8 +1088,8 @@ fn first_order_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64>
         return Vec::new();
     }
     let mut out = Vec::with_capacity(spots.linear.len());
-    // the segment of the last site, on its surface
-    let mut at: Option<(usize, usize)> = None;
+    // the segment of the last site, on its surface, and where that segment has settled
+    let mut at: Option<(usize, usize, f64)> = None;
     for x in &spots.linear {
         let p = &lags[x.surface];
         if p.zeta.is_some() {
@@ -1070,15 +1099,20 @@ fn first_order_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64>
         let segs = &p.segments[a];
         // [`segment_of`]'s segment: the last whose step is at most the site's (the first when
         // none is), found from the last site's on the same surface (the sites' steps increase)
-        let mut g = match at {
-            Some((surface, g)) if surface == x.surface => g,
-            _ => 0,
+        let (mut g, mut settled) = match at {
+            Some((surface, g, settled)) if surface == x.surface => (g, settled),
+            _ => (0, settled_from(&segs[0], p.tau)),
         };
         while g + 1 < segs.len() && segs[g + 1].k <= x.k {
             g += 1;
+            settled = settled_from(&segs[g], p.tau);
         }
-        at = Some((x.surface, g));
-        out.push(offset_in(&segs[g], x.s, p.tau));
+        at = Some((x.surface, g, settled));
+        out.push(if x.s >= settled {
+            segs[g].target
+        } else {
+            offset_in(&segs[g], x.s, p.tau)
+        });
     }
     out
 }

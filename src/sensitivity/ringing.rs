@@ -25,6 +25,9 @@ pub const TABLE_STEP: f64 = 1.0 / 40.0;
 /// Nodes between two restarts of the recurrence from the closed form.
 pub const RESTART: usize = 512;
 
+/// Runs of the recurrence a [`Table`] advances side by side.
+const INTERLEAVED: usize = 4;
+
 /// A segment is tabulated when it needs at most this many nodes a point it holds (a node costs
 /// a complex product, about 3 ns; a point in closed form an exponential and a sine and cosine,
 /// about 40 ns; a point from the table about 5 ns).
@@ -186,13 +189,37 @@ impl Table {
         // a run of RESTART nodes at a time: its first exactly, the others by the recurrence in a
         // loop with no call in it (the phase stays in registers: a call to `exp` inside the loop
         // had kept it in memory, ~1 % of a 20,000-point scan's CPU, issue 31)
+        // (runs are independent: [`INTERLEAVED`] of them advance together, one complex product
+        // each a step, so the products' latencies overlap instead of chaining, issue 31; each
+        // run's numbers are its own, the same bits)
         let mut nodes = vec![[0.0; 2]; n];
-        for (run, slots) in nodes.chunks_mut(RESTART).enumerate() {
-            let mut w = s.phase_at(x0 + (run * RESTART) as f64 * h);
-            slots[0] = node(w);
-            for slot in &mut slots[1..] {
-                w = (w.0 * step.0 - w.1 * step.1, w.0 * step.1 + w.1 * step.0);
-                *slot = node(w);
+        let mut runs: Vec<&mut [[f64; 2]]> = nodes.chunks_mut(RESTART).collect();
+        for (group, lanes) in runs.chunks_mut(INTERLEAVED).enumerate() {
+            let first = group * INTERLEAVED;
+            let mut w = [(0.0, 0.0); INTERLEAVED];
+            for (i, slots) in lanes.iter_mut().enumerate() {
+                w[i] = s.phase_at(x0 + ((first + i) * RESTART) as f64 * h);
+                slots[0] = node(w[i]);
+            }
+            let together = lanes.iter().map(|l| l.len()).min().unwrap_or(0);
+            if lanes.len() == INTERLEAVED {
+                for j in 1..together {
+                    for (wi, slots) in w.iter_mut().zip(lanes.iter_mut()) {
+                        *wi = (wi.0 * step.0 - wi.1 * step.1, wi.0 * step.1 + wi.1 * step.0);
+                        slots[j] = node(*wi);
+                    }
+                }
+            }
+            let done = if lanes.len() == INTERLEAVED {
+                together.max(1)
+            } else {
+                1
+            };
+            for (wi, slots) in w.iter_mut().zip(lanes.iter_mut()) {
+                for slot in &mut slots[done..] {
+                    *wi = (wi.0 * step.0 - wi.1 * step.1, wi.0 * step.1 + wi.1 * step.0);
+                    *slot = node(*wi);
+                }
             }
         }
         Self {
