@@ -40,9 +40,13 @@ opt=node_modules/.bin/wasm-opt
 # and 1,436,288 bytes against 75.2 s and 1,435,265 bytes, 1,023 bytes (0.07 %) for ~40 s of
 # every cold build of each module (issue 33 item 5, BENCHMARKS.md);
 # rustc's own level for this crate is in Cargo.toml [profile.wasm-release].
+# --enable-simd: the dense scans' kernels are compiled for wasm's 128-bit SIMD (functions marked
+# `simd128` in src/identify/ and src/numerics/products.rs; not the whole crate: 19 kB more,
+# over the first module's cap), so the page needs a browser with it (Chrome/Edge 91, Firefox
+# 89, Safari 16.4 and later).
 opt_flags=(-Oz --strip-debug --strip-producers
   --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext
-  --enable-mutable-globals --enable-reference-types --enable-multivalue)
+  --enable-mutable-globals --enable-reference-types --enable-multivalue --enable-simd)
 cache="$target/wasm-opt-cache"
 keep=6   # cache entries kept (the newest used): both modules of a few builds
 put() { if ! cmp -s "$1" "$2"; then mkdir -p "$(dirname "$2")"; cp "$1" "$2.tmp.$BASHPID" && mv "$2.tmp.$BASHPID" "$2"; fi; }

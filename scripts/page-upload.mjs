@@ -2,7 +2,8 @@
 // item 3): the time from `setInputFiles` to the verdict painted (`verdict_ms`: the page's mark
 // `tp-verdict-painted`, www/app.js) and to the page idle with every view drawn
 // (`upload_to_verdict_ms`: the summary names the file and `body[data-busy]` is gone), the main thread's long tasks over that
-// whole span (PerformanceObserver 'longtask': count and longest, ms), and then the time to draw
+// whole span (PerformanceObserver 'longtask': count and longest, ms), the progress line's
+// texts with their times (`stages`: the core's stages, ms after the upload), and then the time to draw
 // the Identification view (the tab clicked, the next two frames). A fresh profile, the service
 // worker blocked, the page served by scripts/serve.mjs; needs www/pkg (scripts/build-wasm.sh).
 // Usage: node scripts/page-upload.mjs FILE [TIMEOUT_S] [WWW_DIR]  (a scan: testpiece simulate
@@ -26,6 +27,10 @@ try {
   await page.evaluate(() => new Promise((r) => setTimeout(r, 500))); // the example's cone curves settle
   await page.evaluate(() => {
     window.__long = [];
+    // the progress line's texts as they change (the core's stages: where the time goes)
+    window.__stages = [];
+    new MutationObserver(() => window.__stages.push([performance.now(), document.querySelector('#progress-text').textContent]))
+      .observe(document.querySelector('#progress-text'), { childList: true, characterData: true, subtree: true });
     new PerformanceObserver((l) => { for (const e of l.getEntries()) window.__long.push({ start: e.startTime, ms: e.duration }); }).observe({ type: 'longtask', buffered: false });
   });
   const t0 = await page.evaluate(() => performance.now());
@@ -52,6 +57,8 @@ try {
     // each long task: [its start after the verdict was painted (ms; from the upload without the mark), its length (ms)]
     tasks: during.map((e) => [Math.round(e.start - (tv ?? t0)), Math.round(e.ms)]),
     identification_tab_ms: Math.round(t3 - t2), identification_long_tasks: tab.length, identification_longest_task_ms: longest(tab),
+    // the progress line's texts: [ms after the upload, text]
+    stages: await page.evaluate((a) => window.__stages.map(([t, x]) => [Math.round(t - a), x]), t0),
     page_errors: errors,
   }));
 } finally {

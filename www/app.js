@@ -377,7 +377,20 @@ function setupInputs() {
   });
 }
 
+/** Whether this browser's WebAssembly has 128-bit SIMD, which the core's dense-scan kernels are
+ * compiled for (scripts/build-wasm.sh): a module of one function `() -> v128` made of
+ * `i32.const 0; i8x16.splat`, validated. */
+function wasmHasSimd() {
+  const bytes = [0, 0x61, 0x73, 0x6d, 1, 0, 0, 0, 1, 5, 1, 0x60, 0, 1, 0x7b, 3, 2, 1, 0,
+    0x0a, 8, 1, 6, 0, 0x41, 0, 0xfd, 0x0f, 0x0b];
+  try { return WebAssembly.validate(new Uint8Array(bytes)); } catch { return false; }
+}
+
 async function main() {
+  if (!wasmHasSimd()) {
+    throw new Error("this browser's WebAssembly has no SIMD, which testpiece's core is compiled for: "
+      + 'use Chrome or Edge 91, Firefox 89, Safari 16.4 or later');
+  }
   setupTabs();
   setupInputs();
   setupBudget($('view-budget'), { ...toolsCtx, st, withProgress }); // issue 10

@@ -44,6 +44,9 @@ impl HouseholderQr {
                 return unsafe { new_avx2(a) };
             }
         }
+        #[cfg(target_arch = "wasm32")]
+        return new_simd128(a);
+        #[cfg(not(target_arch = "wasm32"))]
         new_in(a)
     }
 
@@ -73,6 +76,9 @@ impl HouseholderQr {
                 return unsafe { q_avx2(self) };
             }
         }
+        #[cfg(target_arch = "wasm32")]
+        return q_simd128(self);
+        #[cfg(not(target_arch = "wasm32"))]
         q_in(self)
     }
 
@@ -89,6 +95,9 @@ impl HouseholderQr {
                 return unsafe { added_avx2(self, s) };
             }
         }
+        #[cfg(target_arch = "wasm32")]
+        return added_simd128(self, s);
+        #[cfg(not(target_arch = "wasm32"))]
         added_qr(self, s)
     }
 
@@ -164,6 +173,28 @@ unsafe fn q_avx2(f: &HouseholderQr) -> DMatrix<f64> {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn added_avx2(base: &HouseholderQr, s: DMatrix<f64>) -> AddedQr {
+    added_qr(base, s)
+}
+
+/// [`new_in`] compiled for wasm's 128-bit SIMD (two rows an instruction; wasm has no fused
+/// multiply-add in it: the same roundings, the same bits as the scalar code).
+#[cfg(target_arch = "wasm32")]
+#[target_feature(enable = "simd128")]
+fn new_simd128(a: DMatrix<f64>) -> HouseholderQr {
+    new_in(a)
+}
+
+/// [`q_in`] compiled for wasm's 128-bit SIMD.
+#[cfg(target_arch = "wasm32")]
+#[target_feature(enable = "simd128")]
+fn q_simd128(f: &HouseholderQr) -> DMatrix<f64> {
+    q_in(f)
+}
+
+/// [`HouseholderQr::added`] compiled for wasm's 128-bit SIMD.
+#[cfg(target_arch = "wasm32")]
+#[target_feature(enable = "simd128")]
+fn added_simd128(base: &HouseholderQr, s: DMatrix<f64>) -> AddedQr {
     added_qr(base, s)
 }
 

@@ -196,7 +196,14 @@ impl Factor {
         let c = tr_mul_view(&self.basis, x.as_view());
         let (n, w) = x.shape();
         let r = self.basis.ncols();
-        if n > SMALL_PRODUCT && w > SMALL_PRODUCT && r > SMALL_PRODUCT && r <= PRODUCT_DEPTH {
+        if cfg!(target_arch = "wasm32") && n > SMALL_PRODUCT && r > SMALL_PRODUCT {
+            // the browser's: `x − Qc` a column at a time (crate::numerics::products)
+            let q: Vec<&[f64]> = self.basis.as_slice().chunks_exact(n).collect();
+            for (mut col, cj) in x.column_iter_mut().zip(c.column_iter()) {
+                crate::numerics::products::sub_mul(col.as_mut_slice(), &q, cj.as_slice());
+            }
+        } else if n > SMALL_PRODUCT && w > SMALL_PRODUCT && r > SMALL_PRODUCT && r <= PRODUCT_DEPTH
+        {
             x.gemm(-1.0, &self.basis, &c, 1.0);
         } else {
             x -= &self.basis * c;
@@ -298,7 +305,7 @@ fn svd_tall(a: DMatrix<f64>, threads: Threads) -> (DMatrix<f64>, DVector<f64>, D
     if m == 1 {
         let qr = HouseholderQr::new(a);
         let (u, sv, vt) = jacobi_svd(qr.r());
-        return (qr.q() * u, sv, vt);
+        return (mul_tall(&qr.q(), u.as_view()), sv, vt);
     }
     let bounds: Vec<(usize, usize)> = (0..m).map(|i| (i * n / m, (i + 1) * n / m)).collect();
     let blocks = map(threads, &bounds, |&(start, end)| {
@@ -335,7 +342,7 @@ fn svd_tall(a: DMatrix<f64>, threads: Threads) -> (DMatrix<f64>, DVector<f64>, D
         .collect();
     map_mut(threads, &mut jobs, |(i, qr, piece)| {
         if let Some(qr) = qr.take() {
-            let part = qr.q() * w.rows(*i * p, p);
+            let part = mul_tall(&qr.q(), w.rows(*i * p, p));
             let rows = part.nrows();
             for (c, column) in piece.iter_mut().enumerate() {
                 column.copy_from_slice(&part.as_slice()[c * rows..(c + 1) * rows]);
@@ -344,6 +351,30 @@ fn svd_tall(a: DMatrix<f64>, threads: Threads) -> (DMatrix<f64>, DVector<f64>, D
     });
     drop(jobs);
     (u, sv, vt)
+}
+
+/// `a·b` for a tall `a` (`n × p`) and a small `b` (`p × q`): nalgebra's product natively; in the
+/// browser a column at a time by [`crate::numerics::products::mul_into`] (wasm has only
+/// `matrixmultiply`'s portable kernel, slow on such shapes, issue 31).
+fn mul_tall(a: &DMatrix<f64>, b: DMatrixView<'_, f64>) -> DMatrix<f64> {
+    let (n, p) = a.shape();
+    assert_eq!(
+        p,
+        b.nrows(),
+        "product: {p} columns against {} rows",
+        b.nrows()
+    );
+    if cfg!(target_arch = "wasm32") && n > SMALL_PRODUCT && p > SMALL_PRODUCT {
+        let cols: Vec<&[f64]> = a.as_slice().chunks_exact(n).collect();
+        let mut out = DMatrix::zeros(n, b.ncols());
+        let mut c = vec![0.0; p];
+        for (mut col, bj) in out.column_iter_mut().zip(b.column_iter()) {
+            c.iter_mut().zip(bj.iter()).for_each(|(x, y)| *x = *y);
+            crate::numerics::products::mul_into(col.as_mut_slice(), &cols, &c);
+        }
+        return out;
+    }
+    a * b
 }
 
 /// The SVD `R = U Σ Vᵀ` of a small square `R` (a tall design's `R` after its QR) by one-sided
@@ -459,10 +490,19 @@ pub fn gram_on(a: &DMatrix<f64>, threads: Threads) -> DMatrix<f64> {
 pub fn gram_of_columns(a: &[f64], n: usize, p: usize, threads: Threads) -> DMatrix<f64> {
     assert!(a.len() >= n * p, "gram of {n} × {p} on {} values", a.len());
     sum_over_row_blocks(n, p, threads, |r0, rows| {
+        let mut out = DMatrix::zeros(p, p);
+        if cfg!(target_arch = "wasm32") {
+            // the browser's: the block's columns' dot products (module doc of
+            // crate::numerics::products)
+            let cols: Vec<&[f64]> = (0..p).map(|j| &a[j * n + r0..j * n + r0 + rows]).collect();
+            let o = out.as_mut_slice();
+            crate::numerics::products::tr_mul_into(&cols, &cols, o, p, Some(0));
+            crate::numerics::products::mirror_upper(o, p, p);
+            return out;
+        }
         // the block's rows of aᵀ (p × rows) and of a, viewed in place
         let at = DMatrixView::from_slice_with_strides(&a[r0..], p, rows, n, 1);
         let block = DMatrixView::from_slice_with_strides(&a[r0..], rows, p, 1, n);
-        let mut out = DMatrix::zeros(p, p);
         out.gemm(1.0, &at, &block, 0.0);
         out
     })
@@ -504,9 +544,22 @@ pub fn tr_mul_view(a: &DMatrix<f64>, b: DMatrixView<'_, f64>) -> DMatrix<f64> {
     if p <= FEW || b.ncols() <= FEW || n <= FEW {
         return a.tr_mul(&b);
     }
+    let mut out = DMatrix::zeros(p, b.ncols());
+    if cfg!(target_arch = "wasm32") {
+        // the browser's: dot products of the columns (crate::numerics::products)
+        let a_cols: Vec<&[f64]> = a.as_slice().chunks_exact(n).collect();
+        let (rs, cs) = b.strides();
+        assert_eq!(rs, 1, "tr_mul: a view with a row stride of {rs}");
+        // SAFETY: the slice from the view's first entry to its last (nalgebra's
+        // `as_slice_unchecked`), inside the matrix it views; only the view's own entries are
+        // read from it, a column (`n` entries from `j·cs`) at a time
+        let all = unsafe { nalgebra::RawStorage::as_slice_unchecked(&b.data) };
+        let b_cols: Vec<&[f64]> = (0..b.ncols()).map(|j| &all[j * cs..j * cs + n]).collect();
+        crate::numerics::products::tr_mul_into(&a_cols, &b_cols, out.as_mut_slice(), p, None);
+        return out;
+    }
     // aᵀ (p × n) on a's column-major storage: entry (j, i) at i + j·n
     let at = nalgebra::DMatrixView::from_slice_with_strides(a.as_slice(), p, n, n, 1);
-    let mut out = DMatrix::zeros(p, b.ncols());
     out.gemm(1.0, &at, &b, 0.0);
     out
 }
@@ -550,6 +603,17 @@ fn unabsorb_columns(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
             return unsafe { unabsorb_columns_avx2(q, cols) };
         }
     }
+    #[cfg(target_arch = "wasm32")]
+    return unabsorb_columns_simd128(q, cols);
+    #[cfg(not(target_arch = "wasm32"))]
+    unabsorb_columns_in(q, cols)
+}
+
+/// [`unabsorb_columns_in`] compiled for wasm's 128-bit SIMD (two rows an instruction, no fused
+/// multiply-add: the same bits).
+#[cfg(target_arch = "wasm32")]
+#[target_feature(enable = "simd128")]
+fn unabsorb_columns_simd128(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
     unabsorb_columns_in(q, cols)
 }
 

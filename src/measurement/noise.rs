@@ -879,8 +879,25 @@ pub fn projected_whiteness_on(
                 );
                 akb_norm2 += akb.column(c).norm_squared();
             }
-            bt_akb.columns_mut(start, w).gemm(1.0, &bt, &akb, 0.0);
+            if cfg!(target_arch = "wasm32") {
+                // the browser's: dot products of the columns (crate::numerics::products), the
+                // upper triangle only (A_k is symmetric, so is Bᵀ A_k B: mirrored below)
+                let b_cols: Vec<&[f64]> = basis.as_slice().chunks_exact(n).collect();
+                let k_cols: Vec<&[f64]> = akb.as_slice().chunks_exact(n).collect();
+                crate::numerics::products::tr_mul_into(
+                    &b_cols,
+                    &k_cols,
+                    &mut bt_akb.as_mut_slice()[start * p..],
+                    p,
+                    Some(start),
+                );
+            } else {
+                bt_akb.columns_mut(start, w).gemm(1.0, &bt, &akb, 0.0);
+            }
             start += w;
+        }
+        if cfg!(target_arch = "wasm32") {
+            crate::numerics::products::mirror_upper(bt_akb.as_mut_slice(), p, p);
         }
         // tr(A_k M) = −tr(Bᵀ A_k B); ‖A_k‖_F² = pairs/2
         let tr_am = -bt_akb.trace();

@@ -7,6 +7,7 @@ pub mod fast_hash;
 pub mod memo;
 pub mod order;
 pub mod parallel;
+pub mod products;
 pub mod random;
 pub mod stats;
 pub mod terms;

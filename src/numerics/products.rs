@@ -1,0 +1,330 @@
+//! The two matrix products of a dense scan's diagnosis, written for the browser's wasm:
+//! `C = AᵀB` (the Gram matrices of the families' members, `Qᵀx` of a projection, the
+//! whiteness test's `Bᵀ A_k B`) and `X ← X − QC` (a projection's second half), on column-major
+//! storage with any column stride.
+//!
+//! Matrices are given as their columns (slices of one length `n`).
+//!
+//! Natively these are `matrixmultiply`'s blocked products (nalgebra's `gemm`), whose kernels
+//! for AVX2/AVX-512 are fast. In wasm that crate has only its portable kernel, and a tall
+//! product with a few columns (a 20,000 × 54 Gram in blocks of 4,096 rows, `Qᵀx` of 8 columns)
+//! spends most of its time in the masked edge tiles: 0.57 s of the page's 2.2 s on a
+//! 20,000-point scan under Node (issue 31). Here each entry is a dot product of two columns,
+//! the rows two at a time (one 128-bit lane pair each, compiled with wasm's `simd128` by the
+//! callers: [`tr_mul_into`], [`sub_mul`]), tiles of 2 × 2 entries so each column read serves
+//! two entries. Plain Rust: the same code runs natively in the tests, against nalgebra's
+//! products to 1e-14 relative (a different order of the sums, so not the same bits).
+//!
+//! Units: whatever the matrices carry.
+
+/// Rows of the blocks in which [`sub_mul`] forms `QC` (its rows of `Q`, 32 kB at 8 columns,
+/// stay in the first-level cache while every column of `X` is updated).
+const SUB_BLOCK_ROWS: usize = 512;
+
+/// `out ← AᵀB` (`out` column-major `p × q` with column stride `ld`) for `A`'s columns `a` and
+/// `B`'s columns `b` (all of one length `n`): entry `(i, j)` the dot product of `a[i]` and
+/// `b[j]`. With `upper = Some(o)` (a symmetric product whose columns `b` are its columns
+/// `o..o + q`) only the entries on and above its diagonal, `i ≤ o + j`, are computed, the others
+/// left as they are ([`mirror_upper`] fills them in once every column is done).
+pub fn tr_mul_into(a: &[&[f64]], b: &[&[f64]], out: &mut [f64], ld: usize, upper: Option<usize>) {
+    #[cfg(target_arch = "wasm32")]
+    return tr_mul_simd128(a, b, out, ld, upper);
+    #[cfg(not(target_arch = "wasm32"))]
+    tr_mul_in(a, b, out, ld, upper)
+}
+
+/// [`tr_mul_in`] compiled for wasm's 128-bit SIMD.
+#[cfg(target_arch = "wasm32")]
+#[target_feature(enable = "simd128")]
+fn tr_mul_simd128(a: &[&[f64]], b: &[&[f64]], out: &mut [f64], ld: usize, upper: Option<usize>) {
+    tr_mul_in(a, b, out, ld, upper)
+}
+
+#[inline(always)]
+fn tr_mul_in(a: &[&[f64]], b: &[&[f64]], out: &mut [f64], ld: usize, upper: Option<usize>) {
+    let n = a.first().or(b.first()).map_or(0, |c| c.len());
+    if let Some(c) = a.iter().chain(b).find(|c| c.len() != n) {
+        panic!("AᵀB: a column of {} rows among columns of {n}", c.len());
+    }
+    let (p, q) = (a.len(), b.len());
+    assert!(
+        q == 0 || (ld >= p && (q - 1) * ld + p <= out.len()),
+        "AᵀB: a {p} × {q} result with stride {ld} in {} values",
+        out.len()
+    );
+    let wanted = |i: usize, j: usize| upper.is_none_or(|o| i <= o + j);
+    for j in (0..q).step_by(2) {
+        let j2 = (j + 2).min(q);
+        for i in (0..p).step_by(2) {
+            // (the tile's last column the furthest down: none below the diagonal further on)
+            if !wanted(i, j2 - 1) {
+                break;
+            }
+            let i2 = (i + 2).min(p);
+            let t = tile(a, b, i, i2, j, j2);
+            for (jj, col) in (j..j2).enumerate() {
+                for (ii, row) in (i..i2).enumerate() {
+                    if wanted(row, col) {
+                        out[row + col * ld] = t[jj][ii];
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The entries below the diagonal of the square `p × p` matrix `out` (column stride `ld`) from
+/// those above it: a symmetric product after [`tr_mul_into`] with `upper`.
+pub fn mirror_upper(out: &mut [f64], p: usize, ld: usize) {
+    for j in 0..p {
+        for i in j + 1..p {
+            out[i + j * ld] = out[j + i * ld];
+        }
+    }
+}
+
+/// The entries `(i, j)`, `i ∈ i0..i1`, `j ∈ j0..j1` (at most 2 × 2) of `AᵀB`: per entry two
+/// partial sums (even and odd rows), added at the end, then the last row when `n` is odd.
+#[inline(always)]
+fn tile(a: &[&[f64]], b: &[&[f64]], i0: usize, i1: usize, j0: usize, j1: usize) -> [[f64; 2]; 2] {
+    // (a missing column of a tile reads its first one again; its sums are not written)
+    let a0 = a[i0];
+    let a1 = a[if i1 - i0 > 1 { i0 + 1 } else { i0 }];
+    let b0 = b[j0];
+    let b1 = b[if j1 - j0 > 1 { j0 + 1 } else { j0 }];
+    let n = a0.len();
+    let body = n - n % 2;
+    let [s00, s10, s01, s11] = pair_sums(&a0[..body], &a1[..body], &b0[..body], &b1[..body]);
+    let mut t = [
+        [s00[0] + s00[1], s10[0] + s10[1]],
+        [s01[0] + s01[1], s11[0] + s11[1]],
+    ];
+    for r in body..n {
+        t[0][0] += a0[r] * b0[r];
+        t[0][1] += a1[r] * b0[r];
+        t[1][0] += a0[r] * b1[r];
+        t[1][1] += a1[r] * b1[r];
+    }
+    t
+}
+
+/// The even- and odd-row partial sums of `x0·y0`, `x1·y0`, `x0·y1`, `x1·y1` (slices of one even
+/// length).
+#[cfg(not(target_arch = "wasm32"))]
+#[inline(always)]
+fn pair_sums(x0: &[f64], x1: &[f64], y0: &[f64], y1: &[f64]) -> [[f64; 2]; 4] {
+    let mut s = [[0.0f64; 2]; 4];
+    for (((x0, x1), y0), y1) in x0
+        .chunks_exact(2)
+        .zip(x1.chunks_exact(2))
+        .zip(y0.chunks_exact(2))
+        .zip(y1.chunks_exact(2))
+    {
+        for m in 0..2 {
+            s[0][m] += x0[m] * y0[m];
+            s[1][m] += x1[m] * y0[m];
+            s[2][m] += x0[m] * y1[m];
+            s[3][m] += x1[m] * y1[m];
+        }
+    }
+    s
+}
+
+/// [`pair_sums`] in wasm's 128-bit lanes (the compiler leaves the portable loop scalar): a
+/// lane each for the even and odd rows, the same products and sums in the same order.
+#[cfg(target_arch = "wasm32")]
+#[inline(always)]
+fn pair_sums(x0: &[f64], x1: &[f64], y0: &[f64], y1: &[f64]) -> [[f64; 2]; 4] {
+    use core::arch::wasm32::{
+        f64x2_add, f64x2_extract_lane, f64x2_mul, f64x2_splat, v128, v128_load,
+    };
+    let n = x0.len();
+    assert!(
+        n % 2 == 0 && x1.len() == n && y0.len() == n && y1.len() == n,
+        "pair sums of {n}, {}, {}, {} rows",
+        x1.len(),
+        y0.len(),
+        y1.len()
+    );
+    let load = |x: &[f64], r: usize| -> v128 {
+        // SAFETY: r + 1 < n = x.len() (r even, n even); wasm's v128 loads need no alignment
+        unsafe { v128_load(x.as_ptr().add(r) as *const v128) }
+    };
+    let mut s = [f64x2_splat(0.0); 4];
+    for r in (0..n).step_by(2) {
+        let (a0, a1, c0, c1) = (load(x0, r), load(x1, r), load(y0, r), load(y1, r));
+        s[0] = f64x2_add(s[0], f64x2_mul(a0, c0));
+        s[1] = f64x2_add(s[1], f64x2_mul(a1, c0));
+        s[2] = f64x2_add(s[2], f64x2_mul(a0, c1));
+        s[3] = f64x2_add(s[3], f64x2_mul(a1, c1));
+    }
+    s.map(|v| [f64x2_extract_lane::<0>(v), f64x2_extract_lane::<1>(v)])
+}
+
+/// `x ← x − Qc` for one column `x` (`n` rows), `Q`'s columns `q` (each `n` rows) and `c` (as
+/// many entries as `q`): `Qc` formed a block of rows at a time and subtracted once.
+pub fn sub_mul(x: &mut [f64], q: &[&[f64]], c: &[f64]) {
+    #[cfg(target_arch = "wasm32")]
+    return combine_simd128(x, q, c, true);
+    #[cfg(not(target_arch = "wasm32"))]
+    combine(x, q, c, true)
+}
+
+/// `x ← Qc` (as [`sub_mul`], the product written instead of subtracted).
+pub fn mul_into(x: &mut [f64], q: &[&[f64]], c: &[f64]) {
+    #[cfg(target_arch = "wasm32")]
+    return combine_simd128(x, q, c, false);
+    #[cfg(not(target_arch = "wasm32"))]
+    combine(x, q, c, false)
+}
+
+/// [`combine`] compiled for wasm's 128-bit SIMD.
+#[cfg(target_arch = "wasm32")]
+#[target_feature(enable = "simd128")]
+fn combine_simd128(x: &mut [f64], q: &[&[f64]], c: &[f64], subtract: bool) {
+    combine(x, q, c, subtract)
+}
+
+/// `x ← x − Qc` when `subtract`, else `x ← Qc`.
+#[inline(always)]
+fn combine(x: &mut [f64], q: &[&[f64]], c: &[f64], subtract: bool) {
+    let n = x.len();
+    assert_eq!(
+        q.len(),
+        c.len(),
+        "Qc: {} columns against {} entries",
+        q.len(),
+        c.len()
+    );
+    if let Some(col) = q.iter().find(|col| col.len() != n) {
+        panic!("Qc: a column of {} rows against {n}", col.len());
+    }
+    let mut y = [0.0; SUB_BLOCK_ROWS];
+    for start in (0..n).step_by(SUB_BLOCK_ROWS) {
+        let end = (start + SUB_BLOCK_ROWS).min(n);
+        let y = &mut y[..end - start];
+        y.fill(0.0);
+        for (qk, &ck) in q.iter().zip(c) {
+            for (yi, a) in y.iter_mut().zip(&qk[start..end]) {
+                *yi += a * ck;
+            }
+        }
+        let x = &mut x[start..end];
+        if subtract {
+            for (o, yi) in x.iter_mut().zip(y.iter()) {
+                *o -= *yi;
+            }
+        } else {
+            x.copy_from_slice(y);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    fn filled(n: usize, m: usize, seed: u64) -> DMatrix<f64> {
+        let mut s = seed;
+        DMatrix::from_fn(n, m, |_, _| {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+    }
+
+    fn cols(m: &DMatrix<f64>) -> Vec<&[f64]> {
+        let n = m.nrows();
+        (0..m.ncols())
+            .map(|j| &m.as_slice()[j * n..(j + 1) * n])
+            .collect()
+    }
+
+    /// `AᵀB` against nalgebra's `tr_mul` for odd and even shapes (rows, both column counts),
+    /// with a result stride larger than its rows: equal to 1e-14 of the sums of |products|
+    /// (the sums taken in another order).
+    #[test]
+    fn tr_mul_is_nalgebras() {
+        for (n, p, q) in [
+            (0, 3, 2),
+            (1, 1, 1),
+            (7, 3, 5),
+            (8, 4, 4),
+            (513, 9, 6),
+            (1000, 2, 7),
+        ] {
+            let a = filled(n, p, 1);
+            let b = filled(n, q, 2);
+            let want = a.tr_mul(&b);
+            let scale = a.abs().tr_mul(&b.abs());
+            let ld = p + 3;
+            let mut out = vec![f64::NAN; ld * q.max(1)];
+            tr_mul_into(&cols(&a), &cols(&b), &mut out, ld, None);
+            for j in 0..q {
+                for i in 0..p {
+                    let d = (out[i + j * ld] - want[(i, j)]).abs();
+                    assert!(
+                        d <= 1e-14 * scale[(i, j)].max(1.0),
+                        "{n}×{p}×{q} ({i}, {j}): {d:e}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// A symmetric product (the Gram matrix `AᵀA`) from its upper triangle, its columns in two
+    /// blocks, mirrored: symmetric, and the general product's numbers (each entry's sums in the
+    /// same order) above the diagonal.
+    #[test]
+    fn the_gram_is_symmetric_and_the_general_product() {
+        for (n, p) in [(5, 1), (9, 5), (64, 6), (301, 11)] {
+            let a = filled(n, p, 3);
+            let mut full = vec![0.0; p * p];
+            let mut sym = vec![f64::NAN; p * p];
+            tr_mul_into(&cols(&a), &cols(&a), &mut full, p, None);
+            // the columns in two blocks, as the whiteness test's products come
+            let all = cols(&a);
+            let (left, right) = all.split_at(p / 2);
+            tr_mul_into(&all, left, &mut sym, p, Some(0));
+            tr_mul_into(&all, right, &mut sym[p / 2 * p..], p, Some(p / 2));
+            mirror_upper(&mut sym, p, p);
+            for j in 0..p {
+                for i in 0..p {
+                    assert_eq!(sym[i + j * p], sym[j + i * p], "{n}×{p} ({i}, {j})");
+                    if i <= j {
+                        assert_eq!(sym[i + j * p], full[i + j * p], "{n}×{p} ({i}, {j})");
+                    }
+                }
+            }
+        }
+    }
+
+    /// `x − Qc` and `Qc` against nalgebra's, across a block boundary of [`SUB_BLOCK_ROWS`]: to 1e-14 of
+    /// the sums of |terms|.
+    #[test]
+    fn sub_mul_is_nalgebras() {
+        for (n, r) in [(1, 1), (10, 3), (1100, 8), (513, 1), (7, 0)] {
+            let q = filled(n, r, 4);
+            let c = filled(r, 1, 5);
+            let x = filled(n, 1, 6);
+            let want = &x - &q * &c;
+            let scale = x.abs() + q.abs() * c.abs();
+            let mut got = x.as_slice().to_vec();
+            sub_mul(&mut got, &cols(&q), c.as_slice());
+            let mut product = vec![f64::NAN; n];
+            mul_into(&mut product, &cols(&q), c.as_slice());
+            let qc = &q * &c;
+            for i in 0..n {
+                let d = (got[i] - want[(i, 0)]).abs();
+                assert!(d <= 1e-14 * scale[(i, 0)].max(1.0), "{n}×{r} ({i}): {d:e}");
+                let d = (product[i] - qc[(i, 0)]).abs();
+                assert!(
+                    d <= 1e-14 * scale[(i, 0)].max(1.0),
+                    "Qc {n}×{r} ({i}): {d:e}"
+                );
+            }
+        }
+    }
+}
