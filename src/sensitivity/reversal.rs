@@ -1171,6 +1171,15 @@ fn grid_after(u: f64) -> usize {
 mod tests {
     use super::*;
 
+    /// The five axes of the default chain.
+    const FIVE_AXES: [AxisName; 5] = [
+        AxisName::X,
+        AxisName::Y,
+        AxisName::Z,
+        AxisName::B,
+        AxisName::C,
+    ];
+
     /// The closed form between turns is the grid's recursion `e_k = e* + (e_{k−1} − e*)·
     /// exp(−(s_k − s_{k−1})/2)` from a settled start, written out over all 20,001 samples with
     /// the same path lengths: equal to 1e-13 (the products of decays against one exp).
@@ -1178,13 +1187,7 @@ mod tests {
     fn the_closed_form_lag_is_the_recursion_of_its_definition() {
         let part = SShape::iso();
         let opts = SensitivityOptions::default();
-        let axes = [
-            AxisName::X,
-            AxisName::Y,
-            AxisName::Z,
-            AxisName::B,
-            AxisName::C,
-        ];
+        let axes = FIVE_AXES;
         for p in passes(&part, &opts).unwrap() {
             let lag = Lag::of(&part, &p, &axes);
             let s: Vec<f64> = (0..=REVERSAL_GRID)
@@ -1216,13 +1219,7 @@ mod tests {
     fn past_the_settled_length_the_offset_is_the_target_bit_for_bit() {
         let part = SShape::iso();
         let opts = SensitivityOptions::default();
-        let axes = [
-            AxisName::X,
-            AxisName::Y,
-            AxisName::Z,
-            AxisName::B,
-            AxisName::C,
-        ];
+        let axes = FIVE_AXES;
         let mut checked = 0;
         for p in passes(&part, &opts).unwrap() {
             for tau in [0.1, 1.0, 2.0, 7.5, 30.0] {
