@@ -198,7 +198,7 @@ impl Factor {
         let r = self.basis.ncols();
         if cfg!(target_arch = "wasm32") && n > SMALL_PRODUCT && r > SMALL_PRODUCT {
             // the browser's: `x − Qc` a column at a time (crate::numerics::products)
-            let q: Vec<&[f64]> = self.basis.as_slice().chunks_exact(n).collect();
+            let q = crate::numerics::products::columns(&self.basis);
             for (mut col, cj) in x.column_iter_mut().zip(c.column_iter()) {
                 crate::numerics::products::sub_mul(col.as_mut_slice(), &q, cj.as_slice());
             }
@@ -365,12 +365,10 @@ fn mul_tall(a: &DMatrix<f64>, b: DMatrixView<'_, f64>) -> DMatrix<f64> {
         b.nrows()
     );
     if cfg!(target_arch = "wasm32") && n > SMALL_PRODUCT && p > SMALL_PRODUCT {
-        let cols: Vec<&[f64]> = a.as_slice().chunks_exact(n).collect();
+        let cols = crate::numerics::products::columns(a);
         let mut out = DMatrix::zeros(n, b.ncols());
-        let mut c = vec![0.0; p];
         for (mut col, bj) in out.column_iter_mut().zip(b.column_iter()) {
-            c.iter_mut().zip(bj.iter()).for_each(|(x, y)| *x = *y);
-            crate::numerics::products::mul_into(col.as_mut_slice(), &cols, &c);
+            crate::numerics::products::mul_into(col.as_mut_slice(), &cols, bj.as_slice());
         }
         return out;
     }
@@ -547,14 +545,10 @@ pub fn tr_mul_view(a: &DMatrix<f64>, b: DMatrixView<'_, f64>) -> DMatrix<f64> {
     let mut out = DMatrix::zeros(p, b.ncols());
     if cfg!(target_arch = "wasm32") {
         // the browser's: dot products of the columns (crate::numerics::products)
-        let a_cols: Vec<&[f64]> = a.as_slice().chunks_exact(n).collect();
-        let (rs, cs) = b.strides();
-        assert_eq!(rs, 1, "tr_mul: a view with a row stride of {rs}");
-        // SAFETY: the slice from the view's first entry to its last (nalgebra's
-        // `as_slice_unchecked`), inside the matrix it views; only the view's own entries are
-        // read from it, a column (`n` entries from `j·cs`) at a time
-        let all = unsafe { nalgebra::RawStorage::as_slice_unchecked(&b.data) };
-        let b_cols: Vec<&[f64]> = (0..b.ncols()).map(|j| &all[j * cs..j * cs + n]).collect();
+        let a_cols = crate::numerics::products::columns(a);
+        // (the views of b's columns kept, so their slices may be borrowed)
+        let views: Vec<_> = b.column_iter().collect();
+        let b_cols: Vec<&[f64]> = views.iter().map(|c| c.as_slice()).collect();
         crate::numerics::products::tr_mul_into(&a_cols, &b_cols, out.as_mut_slice(), p, None);
         return out;
     }

@@ -854,6 +854,8 @@ pub fn projected_whiteness_on(
     // 200,000 points; the product reads it through its strides as it read the copy
     let bt = nalgebra::DMatrixView::from_slice_with_strides(basis.as_slice(), p, n, n, 1);
     let rv: Vec<f64> = r.iter().copied().collect();
+    // (the browser's product reads the basis by its columns: crate::numerics::products)
+    let b_cols = crate::numerics::products::columns(basis);
     // lag k's z (`None` where its variance vanishes), at a lag some curve is longer than
     let z_of = |&k: &usize| -> Option<f64> {
         let pairs: usize = curves.iter().map(|c| c.len().saturating_sub(k)).sum();
@@ -882,11 +884,9 @@ pub fn projected_whiteness_on(
             if cfg!(target_arch = "wasm32") {
                 // the browser's: dot products of the columns (crate::numerics::products), the
                 // upper triangle only (A_k is symmetric, so is Bᵀ A_k B: mirrored below)
-                let b_cols: Vec<&[f64]> = basis.as_slice().chunks_exact(n).collect();
-                let k_cols: Vec<&[f64]> = akb.as_slice().chunks_exact(n).collect();
                 crate::numerics::products::tr_mul_into(
                     &b_cols,
-                    &k_cols,
+                    &crate::numerics::products::columns(&akb),
                     &mut bt_akb.as_mut_slice()[start * p..],
                     p,
                     Some(start),

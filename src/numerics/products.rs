@@ -1,24 +1,33 @@
 //! The two matrix products of a dense scan's diagnosis, written for the browser's wasm:
-//! `C = AᵀB` (the Gram matrices of the families' members, `Qᵀx` of a projection, the
-//! whiteness test's `Bᵀ A_k B`) and `X ← X − QC` (a projection's second half), on column-major
-//! storage with any column stride.
-//!
-//! Matrices are given as their columns (slices of one length `n`).
+//! `C = AᵀB` ([`tr_mul_into`]: the Gram matrices of the families' members, `Qᵀx` of a
+//! projection, the whiteness test's `Bᵀ A_k B`) and `x − Qc` or `Qc` a column at a time
+//! ([`sub_mul`], [`mul_into`]: a projection's second half, the tall SVD's `QW`). Matrices are
+//! given as their columns, slices of one length `n` ([`columns`]).
 //!
 //! Natively these are `matrixmultiply`'s blocked products (nalgebra's `gemm`), whose kernels
 //! for AVX2/AVX-512 are fast. In wasm that crate has only its portable kernel, and a tall
 //! product with a few columns (a 20,000 × 54 Gram in blocks of 4,096 rows, `Qᵀx` of 8 columns)
 //! spends most of its time in the masked edge tiles: 0.57 s of the page's 2.2 s on a
-//! 20,000-point scan under Node (issue 31). Here each entry is a dot product of two columns,
-//! the rows two at a time (one 128-bit lane pair each, compiled with wasm's `simd128` by the
-//! callers: [`tr_mul_into`], [`sub_mul`]), tiles of 2 × 2 entries so each column read serves
-//! two entries. Plain Rust: the same code runs natively in the tests, against nalgebra's
-//! products to 1e-14 relative (a different order of the sums, so not the same bits).
+//! 20,000-point scan under Node (issue 31). Here each entry of `AᵀB` is a dot product of two
+//! columns, the rows two at a time (a 128-bit lane pair), tiles of 2 × 2 entries so each column
+//! read serves two entries; in wasm each function is compiled for `simd128`. Plain Rust beside
+//! the lanes: the same code runs natively in the tests, against nalgebra's products to 1e-14
+//! relative (a different order of the sums, so not the same bits).
 //!
 //! Units: whatever the matrices carry.
 
-/// Rows of the blocks in which [`sub_mul`] forms `QC` (its rows of `Q`, 32 kB at 8 columns,
-/// stay in the first-level cache while every column of `X` is updated).
+use nalgebra::DMatrix;
+
+/// The columns of `m` as slices of its column-major storage (any number of rows, 0 too).
+pub fn columns(m: &DMatrix<f64>) -> Vec<&[f64]> {
+    let n = m.nrows();
+    (0..m.ncols())
+        .map(|j| &m.as_slice()[j * n..(j + 1) * n])
+        .collect()
+}
+
+/// Rows of the blocks in which [`sub_mul`] and [`mul_into`] form `Qc` (the block's sums stay
+/// in the first-level cache while each column of `Q` is added in).
 const SUB_BLOCK_ROWS: usize = 512;
 
 /// `out ← AᵀB` (`out` column-major `p × q` with column stride `ld`) for `A`'s columns `a` and
@@ -223,7 +232,6 @@ fn combine(x: &mut [f64], q: &[&[f64]], c: &[f64], subtract: bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::DMatrix;
 
     fn filled(n: usize, m: usize, seed: u64) -> DMatrix<f64> {
         let mut s = seed;
@@ -233,13 +241,6 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         })
-    }
-
-    fn cols(m: &DMatrix<f64>) -> Vec<&[f64]> {
-        let n = m.nrows();
-        (0..m.ncols())
-            .map(|j| &m.as_slice()[j * n..(j + 1) * n])
-            .collect()
     }
 
     /// `AᵀB` against nalgebra's `tr_mul` for odd and even shapes (rows, both column counts),
@@ -261,7 +262,7 @@ mod tests {
             let scale = a.abs().tr_mul(&b.abs());
             let ld = p + 3;
             let mut out = vec![f64::NAN; ld * q.max(1)];
-            tr_mul_into(&cols(&a), &cols(&b), &mut out, ld, None);
+            tr_mul_into(&columns(&a), &columns(&b), &mut out, ld, None);
             for j in 0..q {
                 for i in 0..p {
                     let d = (out[i + j * ld] - want[(i, j)]).abs();
@@ -283,9 +284,9 @@ mod tests {
             let a = filled(n, p, 3);
             let mut full = vec![0.0; p * p];
             let mut sym = vec![f64::NAN; p * p];
-            tr_mul_into(&cols(&a), &cols(&a), &mut full, p, None);
+            tr_mul_into(&columns(&a), &columns(&a), &mut full, p, None);
             // the columns in two blocks, as the whiteness test's products come
-            let all = cols(&a);
+            let all = columns(&a);
             let (left, right) = all.split_at(p / 2);
             tr_mul_into(&all, left, &mut sym, p, Some(0));
             tr_mul_into(&all, right, &mut sym[p / 2 * p..], p, Some(p / 2));
@@ -312,9 +313,9 @@ mod tests {
             let want = &x - &q * &c;
             let scale = x.abs() + q.abs() * c.abs();
             let mut got = x.as_slice().to_vec();
-            sub_mul(&mut got, &cols(&q), c.as_slice());
+            sub_mul(&mut got, &columns(&q), c.as_slice());
             let mut product = vec![f64::NAN; n];
-            mul_into(&mut product, &cols(&q), c.as_slice());
+            mul_into(&mut product, &columns(&q), c.as_slice());
             let qc = &q * &c;
             for i in 0..n {
                 let d = (got[i] - want[(i, 0)]).abs();

@@ -1099,14 +1099,19 @@ fn first_order_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64>
         let segs = &p.segments[a];
         // [`segment_of`]'s segment: the last whose step is at most the site's (the first when
         // none is), found from the last site's on the same surface (the sites' steps increase)
-        let (mut g, mut settled) = match at {
-            Some((surface, g, settled)) if surface == x.surface => (g, settled),
-            _ => (0, settled_from(&segs[0], p.tau)),
+        let last = match at {
+            Some((surface, g, settled)) if surface == x.surface => Some((g, settled)),
+            _ => None,
         };
+        let mut g = last.map_or(0, |(g, _)| g);
         while g + 1 < segs.len() && segs[g + 1].k <= x.k {
             g += 1;
-            settled = settled_from(&segs[g], p.tau);
         }
+        // (computed once a segment a site lands in, not for those passed over)
+        let settled = match last {
+            Some((h, settled)) if h == g => settled,
+            _ => settled_from(&segs[g], p.tau),
+        };
         at = Some((x.surface, g, settled));
         out.push(if x.s >= settled {
             segs[g].target

@@ -201,22 +201,20 @@ impl Table {
                 w[i] = s.phase_at(x0 + ((first + i) * RESTART) as f64 * h);
                 slots[0] = node(w[i]);
             }
-            let together = lanes.iter().map(|l| l.len()).min().unwrap_or(0);
-            if lanes.len() == INTERLEAVED {
-                for j in 1..together {
-                    for (wi, slots) in w.iter_mut().zip(lanes.iter_mut()) {
-                        *wi = (wi.0 * step.0 - wi.1 * step.1, wi.0 * step.1 + wi.1 * step.0);
-                        slots[j] = node(*wi);
-                    }
-                }
-            }
-            let done = if lanes.len() == INTERLEAVED {
-                together.max(1)
+            // the nodes every lane has advanced together (a last, short group each alone)
+            let together = if lanes.len() == INTERLEAVED {
+                lanes.iter().map(|l| l.len()).min().unwrap_or(1)
             } else {
                 1
             };
+            for j in 1..together {
+                for (wi, slots) in w.iter_mut().zip(lanes.iter_mut()) {
+                    *wi = (wi.0 * step.0 - wi.1 * step.1, wi.0 * step.1 + wi.1 * step.0);
+                    slots[j] = node(*wi);
+                }
+            }
             for (wi, slots) in w.iter_mut().zip(lanes.iter_mut()) {
-                for slot in &mut slots[done..] {
+                for slot in &mut slots[together..] {
                     *wi = (wi.0 * step.0 - wi.1 * step.1, wi.0 * step.1 + wi.1 * step.0);
                     *slot = node(*wi);
                 }
