@@ -1,6 +1,6 @@
 // The Data view: the files loaded, and the current one as read and matched by the core (format,
 // excluded rows, warnings, the matched points), or the reader's message when it was refused.
-import { h, table, DENSE_POINTS, TABLE_ROWS } from './ui.js';
+import { h, table, pagedTable, DENSE_POINTS, TABLE_ROWS } from './ui.js';
 import { toCsv } from './export.js';
 
 export function dataView(root, st) {
@@ -41,11 +41,13 @@ export function dataView(root, st) {
     ...[0, 1, 2].map((j) => ({ text: foot[3 * i + j].toFixed(4), num: true, value: foot[3 * i + j] })),
     ...[0, 1, 2].map((j) => ({ text: normal[3 * i + j].toFixed(5), num: true, value: normal[3 * i + j] })),
     { text: (dev[i] * 1000).toFixed(2), num: true, value: dev[i] * 1000 }];
-  const rows = (n) => Array.from({ length: n }, (_, i) => row(i));
-  // a scan's table: its first rows; the CSV has every point
-  const dense = file.points.length > DENSE_POINTS;
-  const shown = rows(dense ? TABLE_ROWS : file.points.length);
-  const csv = dense ? () => toCsv(header, rows(file.points.length).map((r) => r.map((c) => (typeof c === 'object' ? c.value ?? c.text : c)))) : undefined;
-  root.append(table('points', `Matched points: nominal foot on the surface, outward normal, measured normal deviation (+ = material left, − = overcut)${dense ? `; the first ${TABLE_ROWS} of ${file.points.length} (the CSV has every point)` : ''}`,
-    header, shown, csv));
+  const count = file.points.length;
+  const caption = 'Matched points: nominal foot on the surface, outward normal, measured normal deviation (+ = material left, − = overcut)';
+  if (count <= DENSE_POINTS) {
+    root.append(table('points', caption, header, Array.from({ length: count }, (_, i) => row(i))));
+    return;
+  }
+  // a scan's table a page at a time; the CSV has every point
+  const csv = () => toCsv(header, Array.from({ length: count }, (_, i) => row(i).map((c) => (typeof c === 'object' ? c.value ?? c.text : c))));
+  root.append(pagedTable('points', `${caption}; ${count} points, ${TABLE_ROWS} a page (the CSV has every point)`, header, count, row, csv));
 }

@@ -7,11 +7,14 @@ import { denseChart } from './densechart.js';
 import { exportButtons, toCsv } from './export.js';
 
 /** Files of more points than this (a scan) get their per-point charts and the plan view on a
- * canvas (densechart.js, plancanvas.js) and the first TABLE_ROWS rows of their points table:
- * an SVG element or a table row per point stops being fluid at a few thousand. */
+ * canvas (densechart.js, plancanvas.js) and their points table a page of TABLE_ROWS rows at a
+ * time: an SVG element or a table row per point stops being fluid at a few thousand. */
 export const DENSE_POINTS = 3000;
-/** Rows of a points table shown for a file of more than DENSE_POINTS points (its CSV has all). */
-export const TABLE_ROWS = 500;
+/** Rows of a page of a points table of more than DENSE_POINTS points (pagedTable; its CSV has
+ * every row). 100: the browser lays a page out in a few ms, where the 500 rows shown before had
+ * taken one task of 150-260 ms of style and layout after a 20,000-point upload (a Chromium
+ * trace: issue 31's bound on a task is 200 ms). */
+export const TABLE_ROWS = 100;
 
 /** What the core's `start()` answered (set once by app.js before the first view is drawn). */
 export const core = { machines: [], curves: [], words: {}, thresholds: {}, paths: { cones: [], cone_offsets: [], surfaces: [] } };
@@ -71,11 +74,51 @@ export function table(name, caption, header, rows, csv) {
   const t = h('table', { 'data-table': name },
     h('caption', {}, caption),
     h('thead', {}, h('tr', {}, header.map((c) => h('th', { scope: 'col' }, c)))),
-    h('tbody', {}, rows.map((r) => h('tr', {}, r.map((c) => (typeof c === 'object' && c !== null && !(c instanceof Node)
-      ? h('td', { class: c.num ? 'num' : c.class, 'data-value': c.value ?? undefined }, c.text)
-      : h('td', {}, c)))))));
+    h('tbody', {}, rows.map(tableRow)));
   const bar = h('div', { class: 'bar' });
   exportButtons(bar, csv ? { name, csv } : { name, table: () => t });
+  return h('div', {}, bar, h('div', { class: 'scroll' }, t));
+}
+
+/** A table row of [text, {num, value}] cells. */
+const tableRow = (r) => h('tr', {}, r.map((c) => (typeof c === 'object' && c !== null && !(c instanceof Node)
+  ? h('td', { class: c.num ? 'num' : c.class, 'data-value': c.value ?? undefined }, c.text)
+  : h('td', {}, c))));
+
+/** A table of `count` rows shown a page of `pageRows` at a time (`rowAt(i)`: row i's cells, as
+ * for `table`): First, Previous, Next and Last, a row number to go to, "rows a–b of count"
+ * (`data-rows` on the table: `a-b`); the CSV button saves every row (`csv()`). */
+export function pagedTable(name, caption, header, count, rowAt, csv, pageRows = TABLE_ROWS) {
+  const body = h('tbody', {});
+  const t = h('table', { 'data-table': name }, h('caption', {}, caption),
+    h('thead', {}, h('tr', {}, header.map((c) => h('th', { scope: 'col' }, c)))), body);
+  const pages = Math.max(1, Math.ceil(count / pageRows));
+  const where = h('span', { class: 'page-where', 'aria-live': 'polite' });
+  const go = h('input', { type: 'number', min: 1, max: Math.max(1, count), step: 1, 'aria-label': `row to show (1 to ${count})`, class: 'page-go' });
+  const buttons = {};
+  let page = 0;
+  const show = (k) => {
+    page = Math.min(pages - 1, Math.max(0, k));
+    const from = page * pageRows, to = Math.min(count, from + pageRows);
+    body.replaceChildren(...Array.from({ length: to - from }, (_, i) => tableRow(rowAt(from + i))));
+    t.dataset.rows = `${from + 1}-${to}`;
+    where.textContent = `rows ${from + 1}–${to} of ${count} (page ${page + 1} of ${pages})`;
+    buttons.first.disabled = buttons.prev.disabled = page === 0;
+    buttons.next.disabled = buttons.last.disabled = page === pages - 1;
+  };
+  const nav = (key, label, to) => {
+    buttons[key] = h('button', { type: 'button', class: 'page', 'data-page': key, onclick: () => show(to()) }, label);
+    return buttons[key];
+  };
+  go.addEventListener('change', () => {
+    const row = Math.round(Number(go.value));
+    if (Number.isFinite(row) && row >= 1) show(Math.floor((Math.min(row, count) - 1) / pageRows));
+  });
+  const bar = h('div', { class: 'bar' },
+    nav('first', 'First', () => 0), nav('prev', 'Previous', () => page - 1), nav('next', 'Next', () => page + 1),
+    nav('last', 'Last', () => pages - 1), h('label', {}, 'row ', go), where, h('span', { class: 'spacer' }));
+  exportButtons(bar, { name, csv });
+  show(0);
   return h('div', {}, bar, h('div', { class: 'scroll' }, t));
 }
 

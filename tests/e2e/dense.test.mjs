@@ -3,7 +3,7 @@
 // DENSE_POINTS, 3,000) is uploaded; its residual chart and plan view are canvases (no element per
 // point), the wheel zooms the chart in (fewer points drawn, a narrower x range) and double-click
 // goes back; the cursor reads out the nearest point with its position and residual in µm; the
-// points table shows its first 500 rows and says so. The 100-point example keeps its SVG charts.
+// points table shows 100 rows a page, every row reachable (Next, Last, a row number). The 100-point example keeps its SVG charts.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
@@ -21,9 +21,26 @@ test('a dense scan\'s charts are canvases with zoom and a read-out', async () =>
   await page.setInputFiles('#file', file);
   await page.waitForFunction(() => document.querySelector('#summary')?.textContent.includes('scan_10x400.csv') && !document.body.dataset.busy, null, { timeout: 180000 });
 
+  // the points table a page of 100 rows at a time, every row reachable: Next, Last, a row number
   await page.click('#tab-data');
-  assert.equal(await page.locator('[data-table="points"] tbody tr').count(), 500);
-  assert.match(await page.textContent('[data-table="points"] caption'), /the first 500 of 8000/);
+  const points = page.locator('[data-table="points"]');
+  const lineOf = async (k) => Number(await points.locator(`tbody tr:nth-child(${k}) td:nth-child(2)`).textContent());
+  assert.equal(await points.locator('tbody tr').count(), 100);
+  assert.match(await points.locator('caption').textContent(), /8000 points, 100 a page \(the CSV has every point\)/);
+  assert.equal(await points.getAttribute('data-rows'), '1-100');
+  assert.equal(await lineOf(1), 2, 'the first point is the file\'s line 2 (line 1: the header)');
+  assert.equal(await page.locator('[data-page="prev"]').isDisabled(), true);
+  await page.click('[data-page="next"]');
+  assert.equal(await points.getAttribute('data-rows'), '101-200');
+  await page.click('[data-page="last"]');
+  assert.equal(await points.getAttribute('data-rows'), '7901-8000');
+  assert.equal(await lineOf(100), 8001, 'the last point: the file\'s last line');
+  assert.equal(await page.locator('[data-page="next"]').isDisabled(), true);
+  await page.fill('.page-go', '4321');
+  await page.locator('.page-go').dispatchEvent('change');
+  assert.equal(await points.getAttribute('data-rows'), '4301-4400');
+  assert.equal(await lineOf(21), 4322, 'row 4,321 on its page');
+  assert.match(await page.textContent('.page-where'), /rows 4301–4400 of 8000 \(page 44 of 80\)/);
 
   await page.click('#tab-identify');
   const block = page.locator('[data-chart="measured-simulated-residual"]');
