@@ -37,6 +37,7 @@
 //! Units: mm (deviations, residuals, RMS), parameters in their own units. Sign: deviation =
 //! `(measured − nominal)·N`, + = material left, − = overcut.
 
+pub mod beside;
 pub mod diagnose;
 pub mod equivalence;
 pub mod folds;

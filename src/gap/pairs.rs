@@ -16,7 +16,7 @@
 //! its own, its F-test's denominator holding the first effect, or is crowded out of the pool by
 //! look-alikes of the first); pairs that the part cannot tell apart from one candidate (cosine ≥
 //! [`EQUIVALENT_COS`] between their unabsorbed spans) are skipped. Each pair `{c₁, c₂}` is
-//! refitted jointly with the baseline ([`fit_candidate`] on the stacked signature `[S₁ | S₂]`),
+//! refitted jointly with the baseline ([`fit_in_sample`] on the stacked signature `[S₁ | S₂]`),
 //! and accepted when, with `RSS₁`, `RSS₂`, `RSS₁₂` the residual sums of squares of `c₁` alone,
 //! `c₂` alone and the pair, `p` the baseline rank and `q₁₂` the pair's added rank:
 //! - (a) each member adds significantly to the other:
@@ -49,9 +49,10 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 
 use crate::effects::data::{Candidate, NamedColumns};
+use crate::gap::beside::{Beside, Members};
 use crate::gap::equivalence::{cos_to_span, EQUIVALENT_COS};
 use crate::gap::shape::Unabsorbed;
-use crate::gap::which::{fit_candidate, CandidateFit, Context};
+use crate::gap::which::{fit_in_sample, CandidateFit, Context, InSample};
 use crate::numerics::order::sort_by_key_f64;
 use crate::numerics::stats;
 use crate::numerics::stats::CHI2_1_95;
@@ -112,33 +113,32 @@ fn joint_shapes(
             let fixed = other.at_shape(idx[1 - which]);
             // the other member's part outside the baseline once for the whole grid
             let fixed = Unabsorbed::of(factor, &fixed.signature.matrix);
-            // each member's fit on its own (side by side on the threads given: a backlash's 54
-            // members at a scan's 20,000 points are most of a named backlash's diagnosis), the
-            // least taken in the members' order; the members' parts outside the baseline kept
-            // for the next search of the same family when they fit in the budget
-            let members: Vec<usize> = (0..family.len()).collect();
+            // the members' parts outside the baseline kept for the next search of the same
+            // family when they fit in the budget (else made a block at a time, [`Members`])
             let bytes = family.len() * ctx.y.len() * me.signature.ncols() * 8;
             if kept.get(me.effect).is_none() && kept.bytes + bytes <= KEPT_MEMBERS_BYTES {
+                let members: Vec<usize> = (0..family.len()).collect();
                 let un = map(ctx.threads, &members, |&k| {
                     Unabsorbed::of(factor, &family.member(k))
                 });
                 kept.bytes += bytes;
                 kept.families.push((me.effect, un));
             }
-            let stored = kept.get(me.effect);
-            let fits = map(ctx.threads, &members, |&k| {
-                let rss = |u: &Unabsorbed| u.beside(&fixed).rss(&ctx.baseline.residual).0;
-                let r = match stored {
-                    Some(un) => rss(&un[k]),
-                    None => rss(&Unabsorbed::of(factor, &family.member(k))),
-                };
-                (k, r)
-            });
-            let best = fits
-                .into_iter()
-                .min_by(|x, y| x.1.total_cmp(&y.1))
-                .map(|(k, _)| k);
-            idx[which] = best;
+            // the member of least RSS beside the other, the first of equal ones: each screened
+            // in one pass, the closest fitted exactly (the member of the exact fit of each,
+            // side by side on the threads given, [`Beside`]: a backlash's 54 members searched
+            // four times a pair had been a third of a named backlash's diagnosis on a scan)
+            let beside = Beside::new(&fixed, &ctx.baseline.residual);
+            let make = |k: usize| family.member(k);
+            let members = match kept.get(me.effect) {
+                Some(un) => Members::Kept(un),
+                None => Members::Made {
+                    len: family.len(),
+                    columns: &make,
+                    baseline: factor,
+                },
+            };
+            idx[which] = beside.least(&members, ctx.threads);
         }
     }
     (a.at_shape(idx[0]), b.at_shape(idx[1]), idx)
@@ -261,9 +261,15 @@ pub fn best_pair(
             b.shape.as_ref().map(|s| s.grid_index),
         ];
         let (ca, cb, shapes) = joint_shapes(ctx, ca, cb, start, &mut kept);
-        let mut fit = fit_candidate(&pair_ctx, &stacked(&ca, &cb));
-        let q = fit.evidence.added_rank;
-        let rss_ab = rss(&fit);
+        let joint = stacked(&ca, &cb);
+        // (a) and (b) from the in-sample fit; the withheld points only for a pair that meets
+        // them (the same fit: a pair's withheld points were most of its cost on a scan)
+        let in_sample = InSample::of(&pair_ctx, &joint.signature.matrix);
+        let q = in_sample.added_rank();
+        let rss_ab = {
+            let r = in_sample.rms();
+            r * r * nf
+        };
         tried.push((a.effect, b.effect, rss_ab));
         let (dqa, dqb) = (
             q.saturating_sub(b.evidence.added_rank),
@@ -275,10 +281,15 @@ pub fn best_pair(
         let dof = (n - p - q).max(1) as f64;
         let (fa, pa, va) = added(rss(b), rss_ab, dqa, dof, nf);
         let (fb, pb, vb) = added(rss(a), rss_ab, dqb, dof, nf);
+        let limit = ctx.detect_factor * in_sample.sigma(&pair_ctx);
+        let significant = pa * (tries as f64) < ctx.alpha && pb * (tries as f64) < ctx.alpha;
+        // a member visible: both (two visible members) or the larger (`weak` below)
+        if !significant || va.max(vb) <= limit {
+            continue;
+        }
+        let mut fit = fit_in_sample(&pair_ctx, &joint, in_sample);
         let e = &fit.evidence;
-        let limit = ctx.detect_factor * e.sigma;
-        let explains = pa * (tries as f64) < ctx.alpha
-            && pb * (tries as f64) < ctx.alpha
+        let explains = significant
             && fit.cv_score < baseline_cv_score
             && fit.cv_score < a.cv_score
             && fit.cv_score < b.cv_score

@@ -88,6 +88,7 @@ pub struct Profiled {
 /// the columns themselves (what the rank of `u` is judged against): all a Frisch–Waugh–Lovell fit
 /// needs of them ([`Unabsorbed::rss`]). Columns held fixed while a family's member is searched
 /// are unabsorbed once ([`Unabsorbed::beside`]: the same numbers, column by column).
+#[derive(Clone)]
 pub struct Unabsorbed {
     pub u: DMatrix<f64>,
     pub norms: Vec<f64>,

@@ -558,6 +558,70 @@ fn searched_shape(ctx: &Context, c: &Candidate, scan: FamilyScan) -> (Candidate,
 struct Projected {
     smooth: Option<DMatrix<f64>>,
     cv: Option<CvResult>,
+    in_sample: Option<InSample>,
+}
+
+/// The in-sample part of a candidate's fit on the baseline (Frisch–Waugh–Lovell, what
+/// [`fit_candidate`] begins with): the columns' part outside the baseline `U`, their norms, its
+/// factor, `θ = U⁺r₀`, the residual `r₁ = r₀ − Uθ` and its sum of squares. What the pairs'
+/// tests (a) and (b) read ([`crate::gap::pairs`]), before the withheld points are fitted.
+pub struct InSample {
+    u: DMatrix<f64>,
+    scale: Vec<f64>,
+    factor: Factor,
+    theta: DVector<f64>,
+    r1: DVector<f64>,
+    rss: f64,
+}
+
+impl InSample {
+    /// Of the columns `s` on the baseline of `ctx`.
+    pub fn of(ctx: &Context, s: &DMatrix<f64>) -> Self {
+        let (u, scale, factor, theta) = fwl_fit(ctx, s);
+        let r1 = &ctx.baseline.residual - &u * &theta;
+        let rss = r1.norm_squared();
+        Self {
+            u,
+            scale,
+            factor,
+            theta,
+            r1,
+            rss,
+        }
+    }
+
+    /// The rank the columns add to the baseline (the fit's `evidence.added_rank`).
+    pub fn added_rank(&self) -> usize {
+        self.factor.rank
+    }
+
+    /// The in-sample residual RMS (mm: the fit's `rms`).
+    pub fn rms(&self) -> f64 {
+        (self.rss / self.r1.len() as f64).sqrt()
+    }
+
+    /// σ of the decision rule (mm: the fit's `evidence.sigma`): the given repeatability, else
+    /// the fit's own residual standard error.
+    pub fn sigma(&self, ctx: &Context) -> f64 {
+        ctx.given_sigma.unwrap_or(self.s2(ctx).sqrt())
+    }
+
+    /// `RSS₁/(n − p − q)`.
+    fn s2(&self, ctx: &Context) -> f64 {
+        let n = self.r1.len();
+        let dof1 = (n - ctx.baseline.factor.rank - self.factor.rank).max(1) as f64;
+        self.rss / dof1
+    }
+}
+
+/// [`fit_candidate`] of a candidate of one shape whose in-sample fit is made ([`InSample::of`]
+/// of its signature): the same fit.
+pub fn fit_in_sample(ctx: &Context, c: &Candidate, in_sample: InSample) -> CandidateFit {
+    let pre = Projected {
+        in_sample: Some(in_sample),
+        ..Projected::default()
+    };
+    fit_one_shape(ctx, &c.at_shape(None), pre)
 }
 
 /// [`fit_candidate`] for the signature of `c` as it is, with what `pre` holds computed.
@@ -565,18 +629,23 @@ fn fit_one_shape(ctx: &Context, c: &Candidate, pre: Projected) -> CandidateFit {
     let n = ctx.y.len();
     let nf = n as f64;
     let s = &c.signature.matrix;
-    let (u, scale, fu, theta) = fwl_fit(ctx, s);
-    let q = fu.rank;
-    let r0 = &ctx.baseline.residual;
-    let r1 = r0 - &u * &theta;
-    let rss0 = ctx.baseline.rss;
-    let rss1 = r1.norm_squared();
-    let p = ctx.baseline.factor.rank;
-    let dof1 = (n - p - q).max(1) as f64;
-    let s2 = rss1 / dof1;
+    let fit = pre.in_sample.unwrap_or_else(|| InSample::of(ctx, s));
+    let s2 = fit.s2(ctx);
     // σ for the decision rule: the given repeatability, else this candidate's own residual
     // standard error (the noise if this candidate is the whole story; larger otherwise).
-    let sigma = ctx.given_sigma.unwrap_or(s2.sqrt());
+    let sigma = fit.sigma(ctx);
+    let InSample {
+        u,
+        scale,
+        factor: fu,
+        theta,
+        r1,
+        rss: rss1,
+    } = fit;
+    let q = fu.rank;
+    let r0 = &ctx.baseline.residual;
+    let rss0 = ctx.baseline.rss;
+    let dof1 = (n - ctx.baseline.factor.rank - q).max(1) as f64;
     // σ independent of smooth structure under this candidate's hypothesis: residual of
     // [A | smooth basis | S], by FWL on the factor of [A | smooth basis] computed once.
     let sigma_smooth = ctx.given_sigma.unwrap_or_else(|| {
