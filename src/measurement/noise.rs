@@ -560,10 +560,19 @@ fn sinusoid_free_sigma_by(
         // n-vectors of `wave`, at a quarter of the cost on 100 points).
         let curve = CurveRows::new(idx, t, t0, basis, r);
         let reduction = |om: f64| curve.sums(om).reduction(&btr);
-        let (om, _) = (0..=steps)
+        let grid: Vec<f64> = (0..=steps)
             .map(|k| lo + (hi - lo) * k as f64 / steps as f64)
-            .map(|om| (om, reduction(om)))
-            .max_by(|a, b| a.1.total_cmp(&b.1))?;
+            .collect();
+        // a scan's curve: the grid's reductions as matrix products, the largest found again by
+        // the sums (the same frequency as the sums at every grid value, [`CurveRows::best_on_grid`])
+        let om = if dense && m >= GRID_PRODUCT_POINTS {
+            grid[curve.best_on_grid(&grid, &btr)]
+        } else {
+            grid.iter()
+                .map(|&om| (om, reduction(om)))
+                .max_by(|a, b| a.1.total_cmp(&b.1))?
+                .0
+        };
         // refine between the neighbouring grid frequencies (golden section to 1e-6 step: a
         // frequency error of 1/20 cycle over the span would leave ~1 % of a wave's variance)
         let step = (hi - lo) / steps as f64;
@@ -680,6 +689,114 @@ impl CurveRows {
             bc,
             bs,
         }
+    }
+}
+
+/// From this many points on a curve of a large part, [`CurveRows::best_on_grid`] searches the
+/// grid by matrix products.
+pub const GRID_PRODUCT_POINTS: usize = 64;
+/// The most entries (points × frequencies) of a block of the grid's waves in
+/// [`CurveRows::best_on_grid`] (2 MB a block's cosines, as many its sines).
+const GRID_BLOCK_ENTRIES: usize = 1 << 18;
+/// Grid frequencies between two direct evaluations of a wave's phases in
+/// [`CurveRows::best_on_grid`] (the rotation's rounding grows by ~1e-16 a step).
+const GRID_REFRESH: usize = 32;
+/// The grid values whose reduction from the products is within this share of the largest are
+/// evaluated again by the sums ([`CurveRows::best_on_grid`]); the products and the sums agree to
+/// ~1e-13 of it (test).
+const GRID_RECHECK: f64 = 1e-9;
+
+impl CurveRows {
+    /// The index in `grid` (frequencies, equally spaced, increasing) of the largest reduction,
+    /// the last of equal ones: that of [`Self::sums`] at every grid value (a scan's curve of 250
+    /// points, ~500 frequencies: the sums' ~70 columns of `B` a point and frequency in scalar
+    /// loops were a fifth of a structured 20,000-point scan's diagnosis, issue 31). The waves of
+    /// a block of frequencies are the columns of `C`, `S` (`m × w`: each a rotation of the
+    /// previous one's phases, `e^{iω_{k+1}dt} = e^{iω_k dt}·e^{iΔω dt}`, set afresh every
+    /// [`GRID_REFRESH`]), and `B_cᵀC`, `B_cᵀS` one matrix product each; every grid value whose
+    /// reduction is within [`GRID_RECHECK`] of the largest is evaluated again by the sums, so
+    /// the index is the sums' unless two grid values' reductions differ by less than the
+    /// products' rounding (~1e-13 of them).
+    fn best_on_grid(&self, grid: &[f64], btr: &nalgebra::DVector<f64>) -> usize {
+        let approx = self.grid_reductions(grid, btr);
+        let k_all = grid.len();
+        let exact = |k: usize| self.sums(grid[k]).reduction(btr);
+        let top = approx.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let value: Vec<f64> = if approx.iter().all(|v| v.is_finite()) {
+            let bound = top - GRID_RECHECK * top.abs();
+            (0..k_all)
+                .map(|k| {
+                    if approx[k] >= bound {
+                        exact(k)
+                    } else {
+                        f64::NEG_INFINITY
+                    }
+                })
+                .collect()
+        } else {
+            (0..k_all).map(exact).collect()
+        };
+        (0..k_all)
+            .max_by(|&a, &b| value[a].total_cmp(&value[b]))
+            .unwrap_or(0)
+    }
+
+    /// The reductions at the frequencies of `grid` (equally spaced) by matrix products
+    /// ([`Self::best_on_grid`]): to rounding, those of [`Self::sums`].
+    fn grid_reductions(&self, grid: &[f64], btr: &nalgebra::DVector<f64>) -> Vec<f64> {
+        use nalgebra::{DMatrix, DMatrixView};
+        // (slices and plain loops: the page's first module is at its size cap)
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let (m, p) = (self.dt.len(), self.p);
+        let k_all = grid.len();
+        let step = if k_all > 1 { grid[1] - grid[0] } else { 0.0 };
+        let by_columns = DMatrix::from_fn(m, p, |j, a| self.rows[j * p + a]);
+        let rot: Vec<(f64, f64)> = self.dt.iter().map(|d| (step * d).sin_cos()).collect();
+        let width = (GRID_BLOCK_ENTRIES / m.max(1)).clamp(GRID_REFRESH, k_all.max(1));
+        let btr = btr.as_slice();
+        let mut approx = Vec::with_capacity(k_all);
+        let (mut c, mut s) = (vec![0.0; m * width], vec![0.0; m * width]);
+        for start in (0..k_all).step_by(width) {
+            let w = width.min(k_all - start);
+            for col in 0..w {
+                let done = col * m;
+                if col % GRID_REFRESH == 0 {
+                    let om = grid[start + col];
+                    for (j, d) in self.dt.iter().enumerate() {
+                        (s[done + j], c[done + j]) = (om * d).sin_cos();
+                    }
+                } else {
+                    for (j, (s1, c1)) in rot.iter().enumerate() {
+                        let (sp, cp) = (s[done - m + j], c[done - m + j]);
+                        s[done + j] = sp * c1 + cp * s1;
+                        c[done + j] = cp * c1 - sp * s1;
+                    }
+                }
+            }
+            let product = |x: &[f64]| {
+                crate::identify::solve::tr_mul_view(&by_columns, DMatrixView::from_slice(x, m, w))
+            };
+            let (bc, bs) = (product(&c[..m * w]), product(&s[..m * w]));
+            for col in 0..w {
+                let (ck, sk) = (&c[col * m..(col + 1) * m], &s[col * m..(col + 1) * m]);
+                let (bck, bsk) = (
+                    &bc.as_slice()[col * p..(col + 1) * p],
+                    &bs.as_slice()[col * p..(col + 1) * p],
+                );
+                approx.push(two_column_reduction(
+                    (
+                        dot(ck, ck) - dot(bck, bck),
+                        dot(ck, sk) - dot(bck, bsk),
+                        dot(sk, sk) - dot(bsk, bsk),
+                    ),
+                    (
+                        dot(ck, &self.r) - dot(bck, btr),
+                        dot(sk, &self.r) - dot(bsk, btr),
+                    ),
+                ));
+            }
+        }
+        approx
     }
 }
 
@@ -1425,6 +1542,63 @@ mod tests {
         };
         let got = periodogram_sigma(&seqs, |_| 3).unwrap();
         assert!((got / direct - 1.0).abs() < 1e-12, "{got} vs {direct}");
+    }
+
+    /// A scan curve's grid of frequencies by matrix products ([`CurveRows::grid_reductions`])
+    /// against the sums at each frequency: every reduction within 1e-11 of the largest (the
+    /// recheck's window is 1e-9), and the same grid index ([`CurveRows::best_on_grid`]), on 3
+    /// curves of 250 and 1,100 points (one block, and blocks of 238 frequencies with
+    /// [`GRID_REFRESH`] restarts) under a basis of degree 9 a curve: a wave plus noise, and noise
+    /// alone.
+    #[test]
+    fn a_grid_by_products_is_the_grid_by_sums() {
+        for (seed, per, wave) in [(3u64, 250usize, 1.0), (5, 1100, 1.0), (7, 250, 0.0)] {
+            let mut rng = crate::numerics::random::Sampler::new(seed);
+            let mut t = Vec::new();
+            let mut curves = Vec::new();
+            for c in 0..3 {
+                let mut s = 700.0 * c as f64;
+                curves.push((t.len()..t.len() + per).collect::<Vec<usize>>());
+                for _ in 0..per {
+                    t.push(s);
+                    s += rng.uniform(0.2, 0.5) * 250.0 / per as f64 * 4.0;
+                }
+            }
+            let y: Vec<f64> = t
+                .iter()
+                .map(|s| wave * 6.0 * (2.0 * std::f64::consts::PI * s / 23.0).sin() + rng.normal())
+                .collect();
+            let (b, r) = project(&curves, &t, 9, &y);
+            let btr = b.transpose() * &r;
+            for idx in &curves {
+                let t0 = t[idx[0]];
+                let span = t[idx[per - 1]] - t0;
+                let curve = CurveRows::new(idx, &t, t0, &b, &r);
+                let (lo, hi) = (
+                    4.0 * std::f64::consts::PI / span,
+                    100.0 * std::f64::consts::PI / span,
+                );
+                let grid: Vec<f64> = (0..=480)
+                    .map(|k| lo + (hi - lo) * k as f64 / 480.0)
+                    .collect();
+                let by_sums: Vec<f64> = grid
+                    .iter()
+                    .map(|&om| curve.sums(om).reduction(&btr))
+                    .collect();
+                let by_products = curve.grid_reductions(&grid, &btr);
+                let top = by_sums.iter().copied().fold(0.0, f64::max);
+                for (a, e) in by_products.iter().zip(&by_sums) {
+                    assert!(
+                        (a - e).abs() <= 1e-11 * top,
+                        "{a} against {e} (largest {top})"
+                    );
+                }
+                let want = (0..grid.len())
+                    .max_by(|&a, &b| by_sums[a].total_cmp(&by_sums[b]))
+                    .unwrap();
+                assert_eq!(curve.best_on_grid(&grid, &btr), want);
+            }
+        }
     }
 
     /// The waves fitted jointly from their sums ([`waves_gram_rss`], a large part) leave the
