@@ -22,11 +22,12 @@
 //!   the scaled `[u | F]`'s smallest singular value is at least `σ_F·min(1, ‖w‖/‖s‖)/2` (split a
 //!   unit vector `(a, b)` at `|a| = σ_F/2`); both at least [`SCREEN_MIN_SCALED`] put it above
 //!   5·10⁻⁷, five times [`RANK_TOL`]: the exact fit keeps every column too;
-//! - `‖w‖² ≥` [`SCREEN_MIN_OUTSIDE`]`·‖u‖²`: the subtraction `‖u‖² − ‖c‖²` loses at most four
-//!   digits. A dot product of `n` terms in eight partial sums errs by at most `(n/8)·ε` of
-//!   `‖x‖‖y‖` (2.8·10⁻¹³ at 20,000 points, 2.8·10⁻¹² at 200,000), so the screened sum errs by
-//!   at most ~3·10⁻⁸ of `‖r₀‖²` at 200,000 points, and the exact fit (backward stable,
-//!   condition below 3·10⁶ by the bound above) by less than 10⁻⁹ of it;
+//! - `‖w‖² ≥` [`SCREEN_MIN_OUTSIDE`]`·‖u‖²`: the subtraction `‖u‖² − ‖c‖²` loses at most three
+//!   digits. A dot product of `n` terms in two partial sums (the page's wasm,
+//!   [`products::tr_mul_into`]; nalgebra's eight natively) errs by at most `(n/2)·ε` of
+//!   `‖x‖‖y‖` (1.1·10⁻¹² at 20,000 points, 1.1·10⁻¹¹ at 200,000), so the
+//!   screened sum errs by at most ~2·10⁻⁸ of `‖r₀‖²` at 200,000 points, and the exact fit
+//!   (backward stable, condition below 3·10⁶ by the bound above) by less than 10⁻⁹ of it;
 //! - the members within `2δ` of the least screened sum, `δ =` [`SCREEN_MARGIN`]`·‖r₀‖²`, and
 //!   those the screen does not take, are fitted exactly; every other member's exact sum exceeds
 //!   the least screened one's exact sum, so the least exact sum (the first of equal ones, in the
@@ -39,13 +40,14 @@ use nalgebra::{DMatrix, DVector};
 use super::shape::Unabsorbed;
 use crate::identify::solve::{usable_scale, Factor, RANK_TOL};
 use crate::numerics::parallel::{map, Threads};
+use crate::numerics::products;
 
 /// The least scaled smallest singular value of `F`, and scaled part of a member outside it, for
 /// the screen (module doc: with both, `[u | F]` is of full rank five times above [`RANK_TOL`]).
 pub const SCREEN_MIN_SCALED: f64 = 1e-3;
 /// The least share `‖w‖²/‖u‖²` of a member's squared norm outside `F` for the screen.
-pub const SCREEN_MIN_OUTSIDE: f64 = 1e-4;
-/// `δ/‖r₀‖²`: the screen's error bound with a margin (module doc: ~3·10⁻⁸ at 200,000 points).
+pub const SCREEN_MIN_OUTSIDE: f64 = 1e-3;
+/// `δ/‖r₀‖²`: the screen's error bound with a margin (module doc: ~2·10⁻⁸ at 200,000 points).
 pub const SCREEN_MARGIN: f64 = 1e-7;
 
 // the bound of the module doc
@@ -108,16 +110,30 @@ impl<'a> Beside<'a> {
         if u.u.ncols() != 1 {
             return None;
         }
-        let col = u.u.column(0);
-        let uu = col.norm_squared();
-        let c = s.basis.tr_mul(&col);
-        let ww = uu - c.norm_squared();
+        // `uᵀu`, `uᵀr_F` and `Q_Fᵀu`: nalgebra's dot products natively, one product in 128-bit
+        // lanes in the page's wasm (where nalgebra's are scalar: half of the screen's time)
+        let col = u.u.as_slice();
+        let dots: Vec<f64> = if cfg!(target_arch = "wasm32") {
+            let mut against = vec![col, s.rf.as_slice()];
+            against.extend(products::columns(&s.basis));
+            let mut out = vec![0.0; against.len()];
+            products::tr_mul_into(&[col], &against, &mut out, 1, None);
+            out
+        } else {
+            let v = u.u.column(0);
+            [v.norm_squared(), v.dot(&s.rf)]
+                .into_iter()
+                .chain(s.basis.tr_mul(&v).iter().copied())
+                .collect()
+        };
+        let (uu, urf, c) = (dots[0], dots[1], &dots[2..]);
+        let ww = uu - c.iter().map(|x| x * x).sum::<f64>();
         if !(ww >= SCREEN_MIN_OUTSIDE * uu
             && ww.sqrt() / usable_scale(u.norms[0]) >= SCREEN_MIN_SCALED)
         {
             return None;
         }
-        let d = col.dot(&s.rf) - c.dot(&s.grf);
+        let d = urf - c.iter().zip(s.grf.iter()).map(|(x, g)| x * g).sum::<f64>();
         let v = s.rrf - d * d / ww;
         v.is_finite().then_some(v)
     }
