@@ -35,7 +35,7 @@ const STAGES = [
   'inverse_kinematics_path', 'figure19_matrix', 'read_cmm_100', 'read_cmm_100000', 'identify_100',
   'identify_100000', 'analyse_100', 'analyse_100_further', 'analyse_100_again',
   'diagnose_100', 'diagnose_100_further', 'diagnose_100_again',
-  'diagnose_scan_1000', 'diagnose_scan_20000', 'diagnose_scan_200000',
+  'diagnose_scan_1000', 'diagnose_scan_20000', 'diagnose_scan_200000', 'diagnose_scan_20000_backlash_c',
 ];
 let native = {};
 try {

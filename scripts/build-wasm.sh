@@ -110,8 +110,13 @@ build_module() {
   local size gz; size=$(stat -c %s "$out/${name}_bg.wasm"); gz=$(gzip -9 -c "$out/${name}_bg.wasm" | wc -c)
   echo "[build-wasm] $out/${name}_bg.wasm: $size bytes, $gz gzipped ($profile, features $features)"
   if $release && [ "$size" -gt "$cap" ]; then
-    echo "[build-wasm] $name: $size bytes is over the cap of $cap bytes" >&2
-    exit 1
+    if [ -n "$extra" ] && [ "$name" = testpiece ]; then
+      # a build with extra features (the bench's stages) is not the page's module: told, not failed
+      echo "[build-wasm] $name: $size bytes, over the page's cap of $cap bytes with the extra features$extra (not a page build)"
+    else
+      echo "[build-wasm] $name: $size bytes is over the cap of $cap bytes" >&2
+      exit 1
+    fi
   fi
 }
 

@@ -21,7 +21,10 @@
 //! re-analysis after a change of σ, outliers or effects; several parts of one design): the
 //! session keeps the points' model. `diagnose_scan_1000`, `_20000` and `_200000` (issue 31) are
 //! `testpiece diagnose` of a scanning CMM's file (2 surfaces × 20 × 25, 40 × 250, 100 × 1000
-//! points, [`SCAN_STAGES`]) as a first file: read, match, identify and diagnose.
+//! points, [`SCAN_STAGES`]) as a first file: read, match, identify and diagnose;
+//! `diagnose_scan_20000_backlash_c` the 20,000-point scan of a part with a C backlash of 4e-4
+//! rad ([`BACKLASH_SCAN`]): a part with structure, whose diagnosis also searches pairs of effects,
+//! each curve's strongest wave and the backlash's take-up.
 
 use nalgebra::{DMatrix, Vector3};
 
@@ -36,7 +39,7 @@ use crate::sensitivity::path::machine_path;
 use crate::sensitivity::{sensitivity_matrix, SensitivityOptions};
 
 /// The stage names, in table order.
-pub const STAGES: [&str; 20] = [
+pub const STAGES: [&str; 21] = [
     "bspline_eval_1000",
     "builtin_points",
     "projection_100",
@@ -57,6 +60,7 @@ pub const STAGES: [&str; 20] = [
     "diagnose_scan_1000",
     "diagnose_scan_20000",
     "diagnose_scan_200000",
+    "diagnose_scan_20000_backlash_c",
 ];
 
 /// The scans of the `diagnose_scan_*` stages: points and their layout (lines a surface ×
@@ -85,22 +89,45 @@ pub const SCAN_STAGES: [(&str, ScanLayout); 3] = [
     ),
 ];
 
+/// The part of `diagnose_scan_20000_backlash_c`: its layout, and the backlash of the C axis
+/// (rad) added to it, as `testpiece simulate --effect backlash_c=4e-4 --scan 40x250`.
+pub const BACKLASH_SCAN: (ScanLayout, f64) = (
+    ScanLayout {
+        heights: 40,
+        rulings: 250,
+    },
+    4e-4,
+);
+
 /// A scanning CMM's file of `layout` (`testpiece simulate --scan HxR --errors EX0B=0.01
 /// --noise 0.0015`: the exact defect of EX0B = 0.01 mm, noise σ = 1.5 µm, seed 7).
 pub fn scan_text(layout: ScanLayout) -> Result<String, BenchError> {
+    scan_text_with(layout, None)
+}
+
+/// [`scan_text`], with a C backlash of `backlash_c` rad added by its signature when given (as
+/// `simulate --effect backlash_c=B`).
+pub fn scan_text_with(layout: ScanLayout, backlash_c: Option<f64>) -> Result<String, BenchError> {
+    let scan_err = |e: &dyn std::fmt::Display| BenchError::Scan(e.to_string());
     let part = SShape::iso();
     let pts = layout.scan_points(&part);
-    let ex0b =
-        crate::parameter::ParamId::parse("EX0B").map_err(|e| BenchError::Scan(e.to_string()))?;
-    let dev = crate::simulate::simulate_at(
-        &part,
-        &pts,
-        &SensitivityOptions::default(),
-        &[(ex0b, 0.01)],
-        0.0015,
-        7,
-    )
-    .map_err(|e| BenchError::Scan(e.to_string()))?;
+    let ex0b = crate::parameter::ParamId::parse("EX0B").map_err(|e| scan_err(&e))?;
+    let opts = SensitivityOptions::default();
+    let mut dev = crate::simulate::simulate_at(&part, &pts, &opts, &[(ex0b, 0.01)], 0.0015, 7)
+        .map_err(|e| scan_err(&e))?;
+    if let Some(b) = backlash_c {
+        let prepared =
+            crate::effects::prepared::Prepared::new(part, opts).map_err(|e| scan_err(&e))?;
+        let q = prepared.axis_values(&pts).map_err(|e| scan_err(&e))?;
+        let model = prepared.part_model(&pts, &q).map_err(|e| scan_err(&e))?;
+        let effect = crate::parameter::Effect::Backlash(crate::machine::AxisName::C);
+        let add = model
+            .effect_deviation(&[(effect, 0, b)])
+            .map_err(|e| scan_err(&e))?;
+        for (d, a) in dev.iter_mut().zip(add) {
+            *d += a;
+        }
+    }
     Ok(crate::cmm::write::scan_csv(
         pts.iter().zip(dev),
         Precision::Shortest,
@@ -295,6 +322,10 @@ impl Stage {
             "diagnose_100_again" => {
                 let (pts, devs) = matched(&part, &cmm_text_with(100, 5))?;
                 Stage::Diagnose(pts, devs, Kept::Everything, session()?)
+            }
+            "diagnose_scan_20000_backlash_c" => {
+                let (layout, b) = BACKLASH_SCAN;
+                Stage::Analyse(scan_text_with(layout, Some(b))?, Kept::Nothing, session()?)
             }
             scan if scan.starts_with("diagnose_scan_") => {
                 let Some((_, layout)) = SCAN_STAGES.iter().find(|(n, _)| *n == scan) else {
