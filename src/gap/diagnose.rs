@@ -327,5 +327,12 @@ pub fn diagnose_with_smooth(
         summary: String::new(),
     };
     report.summary = summary(&report);
+    // the fits' spans were the search's (pairs, equivalences, verdict), not the report's
+    for f in report.candidates.iter_mut() {
+        f.release_spans();
+    }
+    if let Some(pf) = report.pair.as_mut() {
+        pf.fit.release_spans();
+    }
     Ok(report)
 }

@@ -387,12 +387,12 @@ pub fn equivalents(fits: &[CandidateFit], w: &CandidateFit) -> Vec<Effect> {
     let sigma2 = (w.rms * w.rms)
         .max(w.evidence.sigma * w.evidence.sigma)
         .max(f64::MIN_POSITIVE);
-    let rss_w = w.rms * w.rms * w.residual.len() as f64;
+    let rss_w = w.rms * w.rms * w.unabsorbed_effect.len() as f64;
     fits.iter()
         .filter(|f| f.effect != w.effect && f.evidence.added_rank > 0)
         .filter(|f| {
             let cos = cos_to_span(&w.unabsorbed_effect, &f.unabsorbed_basis);
-            let rss_f = f.rms * f.rms * f.residual.len() as f64;
+            let rss_f = f.rms * f.rms * f.unabsorbed_effect.len() as f64;
             cos >= EQUIVALENT_COS || (rss_f - rss_w) / sigma2 < CHI2_1_95
         })
         .map(|f| f.effect)

@@ -245,14 +245,25 @@ pub struct CandidateFit {
     /// `cv_score = n ln(cv_mse) + q ln n` (for ranking).
     #[serde(skip)]
     pub cv_score: f64,
-    #[serde(skip)]
-    pub residual: Vec<f64>,
-    /// Unabsorbed part of the fitted effect (for equivalence with other candidates).
+    /// Unabsorbed part of the fitted effect (for equivalence with other candidates), one value a
+    /// point; the diagnosis's working span, emptied once its report is made
+    /// ([`CandidateFit::release_spans`]).
     #[serde(skip)]
     pub unabsorbed_effect: DVector<f64>,
-    /// Orthonormal basis of the unabsorbed span `(I − P) S`.
+    /// Orthonormal basis of the unabsorbed span `(I − P) S` (a row a point); emptied with
+    /// `unabsorbed_effect`.
     #[serde(skip)]
     pub unabsorbed_basis: DMatrix<f64>,
+}
+
+impl CandidateFit {
+    /// Empties the unabsorbed effect and span, which the diagnosis reads (the pairs, the
+    /// equivalences, the verdict) and its report does not: at 200,000 points a fit's are 3-10 MB,
+    /// and a backlash's take-up round diagnoses the part again while the round before is held.
+    pub fn release_spans(&mut self) {
+        self.unabsorbed_effect = DVector::zeros(0);
+        self.unabsorbed_basis = DMatrix::zeros(0, 0);
+    }
 }
 
 /// The baseline fit shared by every candidate.
@@ -719,11 +730,10 @@ fn fit_one_shape(ctx: &Context, c: &Candidate, pre: Projected) -> CandidateFit {
     let cv = pre.cv.unwrap_or_else(|| cross_validate(ctx.folds, s, n));
     let cv_mse = cv.mse();
     let score = cv_score(cv_mse, q, n);
-    let residual: Vec<f64> = r1.iter().copied().collect();
     let seqs: Vec<Vec<f64>> = ctx
         .sequences
         .iter()
-        .map(|(_, idx)| idx.iter().map(|&i| residual[i]).collect())
+        .map(|(_, idx)| idx.iter().map(|&i| r1[i]).collect())
         .collect();
     let rnd = crate::measurement::noise::randomness_pooled(&seqs);
     let rms0 = (rss0 / nf).sqrt();
@@ -736,7 +746,7 @@ fn fit_one_shape(ctx: &Context, c: &Candidate, pre: Projected) -> CandidateFit {
         shape: None,
         parameters,
         rms: rms1,
-        max_abs: max_abs(&residual),
+        max_abs: max_abs(r1.as_slice()),
         cv_rms: cv_mse.sqrt(),
         shrink: if rms0 > 0.0 { 1.0 - rms1 / rms0 } else { 0.0 },
         cv_shrink: if cv0 > 0.0 {
@@ -765,9 +775,8 @@ fn fit_one_shape(ctx: &Context, c: &Candidate, pre: Projected) -> CandidateFit {
             runs_p_after: rnd.runs_p,
             lag1_after: rnd.lag1,
         },
-        per_curve: per_curve(ctx.sequences, &before, &residual, &ctx.baseline.cv, &cv),
+        per_curve: per_curve(ctx.sequences, &before, r1.as_slice(), &ctx.baseline.cv, &cv),
         cv_score: score,
-        residual,
         unabsorbed_effect,
         unabsorbed_basis: fu.basis,
     }
