@@ -275,8 +275,8 @@ pub(super) fn input_of<'a>(
 ) -> GapInput<'a> {
     GapInput {
         deviations: deviations.to_vec(),
-        points: m.points.clone(),
-        baseline: m.baseline.clone(),
+        points: std::borrow::Cow::Borrowed(&m.points),
+        baseline: std::borrow::Cow::Borrowed(&m.baseline),
         candidates: std::borrow::Cow::Borrowed(&m.candidates),
         noise_sigma,
         reversals: m.reversals.clone(),

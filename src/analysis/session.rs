@@ -116,7 +116,8 @@ impl PointsModel {
         );
         let part_model = part_model.map(|mut m| {
             if let Some(s) = &scan {
-                for (p, l) in m.points.iter_mut().zip(&s.labels) {
+                // (the model's points are its own here: not yet shared)
+                for (p, l) in Arc::make_mut(&mut m.points).iter_mut().zip(&s.labels) {
                     p.curve.clone_from(l);
                 }
             }

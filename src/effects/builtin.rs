@@ -83,8 +83,10 @@ pub fn point_meta(points: &[MeasurementPoint], eps: &[EffectPoint]) -> Vec<Point
 /// the path.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PartModel {
-    pub points: Vec<PointMeta>,
-    pub baseline: NamedColumns,
+    /// The points and the baseline design, shared with the model rebuilt with a backlash's
+    /// take-up ([`PartModel::with_take_up`]: 43 MB at 200,000 points not copied).
+    pub points: Arc<Vec<PointMeta>>,
+    pub baseline: Arc<NamedColumns>,
     pub candidates: Vec<Candidate>,
     pub reversals: Vec<crate::effects::data::Reversal>,
     /// What the backlash candidates' families are made of, to rebuild them with the play's
@@ -198,7 +200,7 @@ fn invisible_as_zero(mut c: Candidate) -> Candidate {
         .iter()
         .all(|v| v.abs() < INVISIBLE_SIGNATURE)
     {
-        c.signature.matrix.fill(0.0);
+        Arc::make_mut(&mut c.signature).matrix.fill(0.0);
         // an invisible effect is invisible at every shape: one shape, all zeros
         c.family = None;
     }
@@ -228,7 +230,10 @@ fn candidate(effect: Effect, model: &SignatureModel) -> Result<Candidate, GapErr
     };
     Ok(invisible_as_zero(Candidate {
         effect,
-        signature: NamedColumns::from_columns(effect.parameter_ids(), &columns)?,
+        signature: Arc::new(NamedColumns::from_columns(
+            effect.parameter_ids(),
+            &columns,
+        )?),
         family,
     }))
 }
@@ -421,8 +426,8 @@ pub(crate) fn every_candidate_model(
     nuisance.push(probing);
     nuisance.push(drift);
     Ok(PartModel {
-        points: meta,
-        baseline,
+        points: Arc::new(meta),
+        baseline: Arc::new(baseline),
         candidates,
         reversals: path.reversals.clone(),
         backlash: basis,

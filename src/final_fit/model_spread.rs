@@ -377,7 +377,8 @@ mod tests {
                 }],
                 DMatrix::from_column_slice(n, 1, &e),
             )
-            .unwrap(),
+            .unwrap()
+            .into(),
             family: None,
         };
         let s = model_spread(
@@ -475,7 +476,8 @@ mod tests {
                 vec![ParamId::Effect { effect, index: 0 }],
                 DMatrix::from_column_slice(n, 1, col),
             )
-            .unwrap(),
+            .unwrap()
+            .into(),
             family: None,
         };
         let c = [

@@ -594,7 +594,8 @@ mod tests {
         let c = Candidate {
             effect: Effect::ThermalDrift,
             signature: NamedColumns::try_new(Effect::ThermalDrift.parameter_ids(), col(2.0))
-                .unwrap(),
+                .unwrap()
+                .into(),
             family: Some(Family::stored(
                 Shape {
                     name: "tau",
@@ -756,7 +757,8 @@ mod tests {
                 Effect::ThermalDrift.parameter_ids(),
                 DMatrix::from_vec(n, 1, basis.column(f64::INFINITY, 0.0)),
             )
-            .unwrap(),
+            .unwrap()
+            .into(),
             family: Some(family.clone()),
         };
         let fit = fit_shape(&factor, &r0, &c, 1, None, 1.0, None).unwrap();

@@ -690,8 +690,12 @@ pub fn without_rows(input: &GapInput, drop: &[usize]) -> GapInput<'static> {
         .collect();
     GapInput {
         deviations: keep.iter().map(|&i| input.deviations[i]).collect(),
-        points: keep.iter().map(|&i| input.points[i].clone()).collect(),
-        baseline: input.baseline.select_rows(&keep),
+        points: keep
+            .iter()
+            .map(|&i| input.points[i].clone())
+            .collect::<Vec<_>>()
+            .into(),
+        baseline: std::borrow::Cow::Owned(input.baseline.select_rows(&keep)),
         candidates: input
             .candidates
             .iter()

@@ -105,8 +105,8 @@ pub fn validate_pairs(
         let report = diagnose_with(
             &GapInput {
                 deviations: y.iter().copied().collect(),
-                points: model.points.clone(),
-                baseline: model.baseline.clone(),
+                points: std::borrow::Cow::Borrowed(&model.points),
+                baseline: std::borrow::Cow::Borrowed(&model.baseline),
                 candidates: std::borrow::Cow::Borrowed(&model.candidates),
                 noise_sigma: opts.known_sigma.then_some(opts.noise_sigma),
                 reversals: Vec::new(),

@@ -121,7 +121,7 @@ fn thermal_drift_is_the_head_growing_along_machine_z() {
         let fd: Vec<f64> = pts
             .iter()
             .zip(&q)
-            .zip(&model.points)
+            .zip(model.points.iter())
             .map(|((p, q), meta)| {
                 let dz = body_derivative(&chain, q, &p.point, AxisName::Z, 1e-3);
                 -(meta.s / s_total) * dz.dot(&p.normal)

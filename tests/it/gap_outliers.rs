@@ -161,8 +161,8 @@ fn simulated(seed: u64, effect: Option<(Effect, f64)>, sigma: f64) -> GapInput<'
     }
     GapInput {
         deviations: y,
-        points: m.points,
-        baseline: m.baseline,
+        points: std::sync::Arc::unwrap_or_clone(m.points).into(),
+        baseline: std::borrow::Cow::Owned(std::sync::Arc::unwrap_or_clone(m.baseline)),
         candidates: m.candidates.into(),
         noise_sigma: None,
         reversals: m.reversals,

@@ -63,8 +63,8 @@ pub fn baseline() -> NamedColumns {
 pub fn input(y: Vec<f64>) -> GapInput<'static> {
     GapInput {
         deviations: y,
-        points: points(),
-        baseline: baseline(),
+        points: points().into(),
+        baseline: std::borrow::Cow::Owned(baseline()),
         candidates: table("effect_signatures.csv").candidates().unwrap().into(),
         noise_sigma: None,
         reversals: Vec::new(),

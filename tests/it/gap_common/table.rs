@@ -117,7 +117,7 @@ impl Table {
                 let cols = self.columns(&refs)?;
                 Ok(Candidate {
                     effect: effect.parse().map_err(|e| format!("{e}"))?,
-                    signature: cols,
+                    signature: cols.into(),
                     family: None,
                 })
             })
