@@ -36,15 +36,16 @@ ms() { date +%s%3N; }
 # an optimised wasm.
 opt=node_modules/.bin/wasm-opt
 # -Oz, not -O3: speed-neutral on the bench stages and smaller (the figures: BENCHMARKS.md);
-# one pass, not --converge (the passes repeated until the size stops falling): measured 35.6 s
-# and 1,436,288 bytes against 75.2 s and 1,435,265 bytes, 1,023 bytes (0.07 %) for ~40 s of
-# every cold build of each module (issue 33 item 5, BENCHMARKS.md);
+# --converge (the passes repeated until the size stops falling): it had been left out for its
+# time (35.6 s and 1,436,288 bytes against 75.2 s and 1,435,265, issue 33 item 5), and is back
+# since the first module reached its cap (2 Dec 2026: 1,500,571 bytes in one pass, 1,499,416
+# converged, 84 s against 152 s; the two modules are optimised side by side, BENCHMARKS.md);
 # rustc's own level for this crate is in Cargo.toml [profile.wasm-release].
 # --enable-simd: the dense scans' kernels are compiled for wasm's 128-bit SIMD (functions marked
 # `simd128` in src/identify/ and src/numerics/products.rs; not the whole crate: 19 kB more,
 # over the first module's cap), so the page needs a browser with it (Chrome/Edge 91, Firefox
 # 89, Safari 16.4 and later).
-opt_flags=(-Oz --strip-debug --strip-producers
+opt_flags=(-Oz --converge --strip-debug --strip-producers
   --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext
   --enable-mutable-globals --enable-reference-types --enable-multivalue --enable-simd)
 cache="$target/wasm-opt-cache"
@@ -93,7 +94,7 @@ build_module() {
         mkdir -p "$cache"
         "$opt" "${opt_flags[@]}" "$wasm" -o "$entry.tmp.$BASHPID"
         mv "$entry.tmp.$BASHPID" "$entry"
-        echo "[build-wasm] $name: wasm-opt -Oz ran in $(( $(ms) - t )) ms: $before -> $(stat -c %s "$entry") bytes (cached as $entry)"
+        echo "[build-wasm] $name: wasm-opt -Oz --converge ran in $(( $(ms) - t )) ms: $before -> $(stat -c %s "$entry") bytes (cached as $entry)"
         # Prune: only the $keep newest entries are kept (and no half-written file of a stopped run).
         ls -1t "$cache"/*.wasm | tail -n +$(( keep + 1 )) | xargs -r rm -f
         find "$cache" -name '*.tmp.*' -mmin +60 -delete

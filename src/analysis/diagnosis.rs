@@ -10,7 +10,9 @@ use crate::effects::prepared::Prepared;
 use crate::effects::{GapError, GapInput};
 use crate::gap::shape::{f_quantile, SHAPE_CONFIDENCE};
 use crate::gap::verdict::VerdictId;
-use crate::gap::{diagnose, diagnose_with, diagnose_with_smooth, DiagnoseOptions, DiagnosisReport};
+use crate::gap::{
+    diagnose, diagnose_on, diagnose_with, ground, DiagnoseOptions, DiagnosisReport, Ground,
+};
 use crate::machine::AxisName;
 use crate::measurement::outliers::{find_outliers_with_fit_on, without_rows, OutlierTest};
 use crate::parameter::Effect;
@@ -111,12 +113,33 @@ struct Run {
     /// diagnosis (mm).
     rss_all: f64,
     sigma_all: f64,
-    outliers: OutlierTest,
-    excluded: Vec<usize>,
     verdict_all_points: Option<VerdictId>,
 }
 
-fn run(m: &PartModel, deviations: &[f64], opts: &AnalysisOptions) -> Result<Run, GapError> {
+/// What every diagnosis of one part's deviations shares whatever its candidates' families:
+/// the outlier test (it reads the candidates' signatures, not their families), the rows it
+/// leaves out, and the diagnosis's [`Ground`] on every point when it leaves none out. A named
+/// backlash's take-up changes its family only, so its rounds are diagnosed on these (they had
+/// been computed again each round: ~0.8 s of a 20,000-point C-backlash scan's 2.5 s round). A
+/// part with rows left out is diagnosed twice a round (with every point, then without them), and
+/// each ground is made for its diagnosis and freed after it, as before: the two grounds at once
+/// would be ~0.2 GB more at the peak of a 200,000-point scan.
+struct Shared {
+    outliers: OutlierTest,
+    excluded: Vec<usize>,
+    /// The ground on every point (the first made with the outlier test's fit of `[A | smooth
+    /// basis]`), kept from round to round when no row is left out.
+    all: Option<Ground>,
+}
+
+fn diagnose_options(opts: &AnalysisOptions) -> DiagnoseOptions {
+    DiagnoseOptions {
+        threads: opts.threads,
+        ..DiagnoseOptions::default()
+    }
+}
+
+fn shared(m: &PartModel, deviations: &[f64], opts: &AnalysisOptions) -> Result<Shared, GapError> {
     let input = input_of(m, deviations, opts.noise_sigma);
     // the test's plain fit of [A | smooth basis] on every row is the diagnosis's
     let (test, smooth) = find_outliers_with_fit_on(&input, opts.threads);
@@ -125,25 +148,42 @@ fn run(m: &PartModel, deviations: &[f64], opts: &AnalysisOptions) -> Result<Run,
     } else {
         test.indices()
     };
-    let dopts = DiagnoseOptions {
-        threads: opts.threads,
-        ..DiagnoseOptions::default()
+    Ok(Shared {
+        outliers: test,
+        excluded: drop,
+        all: Some(ground(&input, diagnose_options(opts), smooth)?),
+    })
+}
+
+fn run(
+    m: &PartModel,
+    deviations: &[f64],
+    opts: &AnalysisOptions,
+    shared: &mut Shared,
+) -> Result<Run, GapError> {
+    let input = input_of(m, deviations, opts.noise_sigma);
+    let dopts = diagnose_options(opts);
+    let g = match shared.all.take() {
+        Some(g) => g,
+        None => ground(&input, dopts, None)?,
     };
-    let all = diagnose_with_smooth(&input, dopts, smooth)?;
+    let all = diagnose_on(&input, dopts, &g)?;
     let rss_all = all.verdict.rms_after.powi(2) * deviations.len() as f64;
     let sigma_all = all.structure.noise.used;
-    let (report, verdict_all_points) = if drop.is_empty() {
+    let (report, verdict_all_points) = if shared.excluded.is_empty() {
+        shared.all = Some(g);
         (all, None)
     } else {
+        // (freed before the diagnosis without the rows, which makes its own)
+        drop(g);
         let v = all.verdict.id();
-        (diagnose_with(&without_rows(&input, &drop), dopts)?, Some(v))
+        let kept = without_rows(&input, &shared.excluded);
+        (diagnose_with(&kept, dopts)?, Some(v))
     };
     Ok(Run {
         report,
         rss_all,
         sigma_all,
-        outliers: test,
-        excluded: drop,
         verdict_all_points,
     })
 }
@@ -190,9 +230,10 @@ fn take_up_rounds<'a>(
     base: &'a PartModel,
     deviations: &[f64],
     opts: &AnalysisOptions,
-) -> Result<(Run, Cow<'a, PartModel>), GapError> {
+) -> Result<(Run, Shared, Cow<'a, PartModel>), GapError> {
     let mut model = Cow::Borrowed(base);
-    let mut result = run(base, deviations, opts)?;
+    let mut shared = shared(base, deviations, opts)?;
+    let mut result = run(base, deviations, opts, &mut shared)?;
     let mut used: Vec<(AxisName, f64)> = Vec::new();
     for _ in 0..TAKE_UP_ROUNDS {
         let found: Vec<(AxisName, f64)> = named_backlash(&result.report)
@@ -207,7 +248,7 @@ fn take_up_rounds<'a>(
             break;
         }
         let next = base.with_take_up(prepared.path(), &found)?;
-        let again = run(&next, deviations, opts)?;
+        let again = run(&next, deviations, opts, &mut shared)?;
         // the take-up refines the named backlash's shape, it does not choose another effect:
         // a round whose part names other effects is dropped (a part made without a take-up, e.g.
         // by the catalogue's signatures, keeps the switched shape). Their residuals do not decide:
@@ -230,7 +271,7 @@ fn take_up_rounds<'a>(
         model = Cow::Owned(next);
         used = found;
     }
-    Ok((result, model))
+    Ok((result, shared, model))
 }
 
 pub(super) fn diagnose_modelled<'a>(
@@ -245,15 +286,15 @@ pub(super) fn diagnose_modelled<'a>(
     let mut unavailable = Effect::left_out(&opts.machine.chain(opts.l0));
     unavailable.extend(prepared.location_equivalents().iter().cloned());
     match made {
-        Ok((r, model)) => Modelled {
+        Ok((r, shared, model)) => Modelled {
             diagnosis: Diagnosis::Made {
                 machine: opts.machine,
                 report: Box::new(r.report),
             },
             model: Some(model),
             unavailable,
-            outliers: Some(r.outliers),
-            excluded: r.excluded,
+            outliers: Some(shared.outliers),
+            excluded: shared.excluded,
             verdict_all_points: r.verdict_all_points,
         },
         Err(e) => Modelled {

@@ -79,6 +79,37 @@ pub fn diagnose_with_smooth(
     opts: DiagnoseOptions,
     smooth: Option<SmoothFit>,
 ) -> Result<DiagnosisReport, GapError> {
+    let ground = ground(input, opts, smooth)?;
+    diagnose_on(input, opts, &ground)
+}
+
+/// What a diagnosis computes before its candidates: (a) the baseline fit and its folds, (b)
+/// the noise's estimates that WHERE reads. A function of the input's deviations, points, baseline, σ and
+/// reversals and of its candidates' widest signature (the folds' rank margin) alone, so a part
+/// diagnosed again with the same signatures and other families (a named backlash's take-up,
+/// `crate::analysis::diagnosis`) is given the same ground ([`diagnose_on`]) instead of
+/// computing it again.
+pub struct Ground {
+    y: DVector<f64>,
+    /// The baseline's parameters and the residual variance they are estimated with.
+    beta: DVector<f64>,
+    s2: f64,
+    baseline: BaselineFit,
+    folds: Vec<crate::gap::folds::FoldFactor>,
+    sequences: Vec<(String, Vec<usize>)>,
+    smooth: SmoothFit,
+    /// The noise's estimates from the smooth fit's residual and from the rulings' pairs, for
+    /// WHERE ([`locate`]).
+    smooth_residual: SmoothResidual,
+    pairs: Option<crate::measurement::ruling_pairs::PairSigma>,
+}
+
+/// [`Ground`] of `input` (`smooth`: as in [`diagnose_with_smooth`]).
+pub fn ground(
+    input: &GapInput,
+    opts: DiagnoseOptions,
+    smooth: Option<SmoothFit>,
+) -> Result<Ground, GapError> {
     input.validate()?;
     let n = input.deviations.len();
     let nf = n as f64;
@@ -92,7 +123,6 @@ pub fn diagnose_with_smooth(
     let p = factor.rank;
     let beta = factor.solve(&y);
     let s2 = rss / (n - p).max(1) as f64;
-    let parameters = estimates(&input.baseline.names(), &beta, &factor.cov, s2);
     let max_q = input
         .candidates
         .iter()
@@ -102,7 +132,6 @@ pub fn diagnose_with_smooth(
     let folds = build_folds(&input.points, a, &y, a.ncols() + max_q + 2, opts.threads);
     let base_cv = cross_validate(&folds, &nalgebra::DMatrix::zeros(n, 0), n);
     let base_cv_score = cv_score(base_cv.mse(), 0, n);
-    let r0: Vec<f64> = residual.iter().copied().collect();
 
     // (b) WHERE, noise versus structure.
     // the smooth basis only for its factor (dropped at once: 77 MB at 200,000 points)
@@ -159,20 +188,6 @@ pub fn diagnose_with_smooth(
         factor: sfactor,
         residual: sresid,
     };
-    let mut structure = locate(
-        &r0,
-        &input.points,
-        p,
-        NoiseInputs {
-            floor: input.noise_sigma,
-            smooth: Some(smooth_residual),
-            pairs,
-        },
-        &input.reversals,
-        opts.detect_factor,
-    );
-    let sigma = structure.noise.used.max(1e-12);
-
     let baseline = BaselineFit {
         factor,
         residual,
@@ -180,6 +195,66 @@ pub fn diagnose_with_smooth(
         cv_score: base_cv_score,
         rss,
     };
+    Ok(Ground {
+        y,
+        beta,
+        s2,
+        baseline,
+        folds,
+        sequences,
+        smooth,
+        smooth_residual,
+        pairs,
+    })
+}
+
+/// The diagnosis of `input` on its [`Ground`], made by [`ground`] of an input with the same
+/// deviations, points, baseline, σ and reversals, and signatures of the same widest width (the
+/// folds' margin): the count of the points checked.
+pub fn diagnose_on(
+    input: &GapInput,
+    opts: DiagnoseOptions,
+    ground: &Ground,
+) -> Result<DiagnosisReport, GapError> {
+    input.validate()?;
+    let n = input.deviations.len();
+    let nf = n as f64;
+    if ground.y.len() != n {
+        return Err(GapError::LengthMismatch {
+            what: "the diagnosis's ground's points".into(),
+            got: ground.y.len(),
+            expected: n,
+        });
+    }
+    let Ground {
+        y,
+        beta,
+        s2,
+        baseline,
+        folds,
+        sequences,
+        smooth,
+        smooth_residual,
+        pairs,
+    } = ground;
+    let r0 = baseline.residual.as_slice();
+    let a = &input.baseline.matrix;
+    let rss = baseline.rss;
+    let p = baseline.factor.rank;
+    let mut structure = locate(
+        r0,
+        &input.points,
+        p,
+        NoiseInputs {
+            floor: input.noise_sigma,
+            smooth: Some(*smooth_residual),
+            pairs: pairs.clone(),
+        },
+        &input.reversals,
+        opts.detect_factor,
+    );
+    let base_cv_score = baseline.cv_score;
+    let sigma = structure.noise.used.max(1e-12);
     // (c) WHICH: each candidate on its own.
     // a family counts as its effectively independent shapes (the search's cost, effects.md)
     // (each family's members fitted on the baseline residual in the same pass)
@@ -210,15 +285,15 @@ pub fn diagnose_with_smooth(
         .find(|c| c.effect == Effect::ServoCommon)
         .map(|c| crate::gap::shape::Unabsorbed::of(&baseline.factor, &c.signature.matrix));
     let ctx = Context {
-        y: &y,
+        y,
         a,
         points: &input.points,
-        sequences: &sequences,
-        baseline: &baseline,
-        folds: &folds,
+        sequences,
+        baseline,
+        folds,
         // the part's σ for every candidate with a CMM floor; else each candidate's own
         given_sigma: noise_fixed(&structure.noise).then_some(sigma),
-        smooth: &smooth,
+        smooth,
         tries,
         alpha: opts.alpha,
         detect_factor: opts.detect_factor,
@@ -254,9 +329,9 @@ pub fn diagnose_with_smooth(
         sigma,
         detect_factor: opts.detect_factor,
         rms_before: (rss / nf).sqrt(),
-        max_before: max_abs(&r0),
+        max_before: max_abs(r0),
         cv_rms_before: baseline.cv.mse().sqrt(),
-        baseline_per_curve: per_curve(&sequences, &r0, &r0, &baseline.cv, &baseline.cv),
+        baseline_per_curve: per_curve(sequences, r0, r0, &baseline.cv, &baseline.cv),
     });
     // (d') a pair, when no single candidate is named.
     // (d'') or a second effect on top of the named one: the single-candidate rule measures the
@@ -305,10 +380,10 @@ pub fn diagnose_with_smooth(
     structure.mark_verdict_axes(&backlash_axes);
     let mut report = DiagnosisReport {
         baseline: BaselineReport {
-            rms: rms(&r0),
-            max_abs: max_abs(&r0),
+            rms: rms(r0),
+            max_abs: max_abs(r0),
             cv_rms: baseline.cv.mse().sqrt(),
-            parameters,
+            parameters: estimates(&input.baseline.names(), beta, &baseline.factor.cov, *s2),
             rank: p,
             condition: baseline.factor.condition,
             points: n,

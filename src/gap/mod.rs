@@ -51,5 +51,7 @@ pub mod span_gram;
 pub mod verdict;
 pub mod which;
 
-pub use diagnose::{diagnose, diagnose_with, diagnose_with_smooth, DiagnoseOptions};
+pub use diagnose::{
+    diagnose, diagnose_on, diagnose_with, diagnose_with_smooth, ground, DiagnoseOptions, Ground,
+};
 pub use report::DiagnosisReport;

@@ -146,3 +146,55 @@ fn full_model_matches_the_reference() {
     // Reversals per pass (README, signed B): X 8/8, Y 6/6, Z 7/9, B 6/8, C 1/1 → 60 in all.
     assert_eq!(m.reversals.len(), 60, "{:?}", m.reversals);
 }
+
+/// A diagnosis on the ground ([`testpiece::gap::ground`]) of the part before its C backlash's
+/// family was rebuilt with the play's take-up is the diagnosis made afresh, number for number
+/// (what a named backlash's take-up rounds reuse, issue 31: the ground reads no family); the
+/// rebuilt family does change the report; a ground made for other points is refused.
+#[test]
+fn a_ground_serves_the_part_with_another_family() {
+    use std::borrow::Cow;
+    use testpiece::effects::builtin::PartModel;
+    use testpiece::gap::{diagnose_on, diagnose_with, ground, DiagnoseOptions};
+    use testpiece::machine::AxisName;
+    let part = SShape::iso();
+    let p = testpiece::effects::prepared::Prepared::new(part.clone(), Default::default()).unwrap();
+    let pts = builtin_points(&part);
+    let m = p.part_model(&pts, &p.axis_values(&pts).unwrap()).unwrap();
+    let c = Effect::Backlash(AxisName::C);
+    let mut y = m.effect_deviation(&[(c, 0, 4e-4)]).unwrap();
+    let mut rng = testpiece::numerics::random::Sampler::new(3);
+    for v in y.iter_mut() {
+        *v += 0.0015 * rng.normal();
+    }
+    let next = m.with_take_up(p.path(), &[(AxisName::C, 4e-4)]).unwrap();
+    fn on<'a>(m: &'a PartModel, y: &[f64]) -> testpiece::effects::GapInput<'a> {
+        testpiece::effects::GapInput {
+            deviations: y.to_vec(),
+            points: Cow::Borrowed(m.points.as_slice()),
+            baseline: Cow::Borrowed(&*m.baseline),
+            candidates: Cow::Borrowed(&m.candidates),
+            noise_sigma: None,
+            reversals: m.reversals.clone(),
+        }
+    }
+    let input = |m| on(m, &y);
+    let opts = DiagnoseOptions::default();
+    let text = |r: &testpiece::gap::DiagnosisReport| serde_json::to_string(r).unwrap();
+    let g = ground(&input(&m), opts, None).unwrap();
+    let afresh = diagnose_with(&input(&next), opts).unwrap();
+    assert_eq!(
+        text(&diagnose_on(&input(&next), opts, &g).unwrap()),
+        text(&afresh)
+    );
+    assert_ne!(
+        text(&diagnose_on(&input(&m), opts, &g).unwrap()),
+        text(&afresh)
+    );
+    let fewer = testpiece::measurement::outliers::without_rows(&input(&m), &[0]);
+    let e = diagnose_on(&fewer, opts, &g).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "the diagnosis's ground's points: 100 values, expected 99 (one per point)"
+    );
+}
