@@ -33,6 +33,9 @@ pub struct FoldFactor {
     pub y_test: DVector<f64>,
     /// Training deviations minus their projection on the baseline.
     pub r0_train: DVector<f64>,
+    /// The training deviations' products with the baseline's basis, `Qᵀy` (its least-squares
+    /// solution is `base.solve_products` of them).
+    pub qty_train: DVector<f64>,
 }
 
 /// The withheld sets: `(name, test indices)`, curve folds then region folds; empty ones skipped.
@@ -111,7 +114,8 @@ pub fn build_folds(
         let base = Factor::of(a.select_rows(&train), None);
         let y_train = DVector::from_iterator(train.len(), train.iter().map(|&i| y[i]));
         let y_test = DVector::from_iterator(test.len(), test.iter().map(|&i| y[i]));
-        let r0_train = base.unabsorbed_vec(&y_train);
+        let qty_train = base.basis.tr_mul(&y_train);
+        let r0_train = &y_train - &base.basis * &qty_train;
         Some(FoldFactor {
             name: name.clone(),
             a_test: a.select_rows(test),
@@ -121,6 +125,7 @@ pub fn build_folds(
             y_train,
             y_test,
             r0_train,
+            qty_train,
         })
     })
     .into_iter()

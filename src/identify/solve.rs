@@ -132,7 +132,12 @@ impl Factor {
 
     /// The least-squares (minimum-norm) solution `x = A⁺y = V Σ⁻¹ (Qᵀ y)`.
     pub fn solve(&self, y: &DVector<f64>) -> DVector<f64> {
-        &self.vsi * self.basis.tr_mul(y)
+        self.solve_products(&self.basis.tr_mul(y))
+    }
+
+    /// [`Self::solve`] from the products `Qᵀy` (`r` of them): `V Σ⁻¹ (Qᵀy)`, without reading `Q`.
+    pub fn solve_products(&self, qty: &DVector<f64>) -> DVector<f64> {
+        &self.vsi * qty
     }
 
     /// `x - Q Qᵀ x`: the part of each column of `x` outside the column space (`Qᵀx` without
@@ -140,10 +145,18 @@ impl Factor {
     /// With few columns on either side, by [`unabsorbed_few`] (the same bits, `Q` read twice
     /// instead of twice a column of `x`).
     pub fn unabsorbed(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
+        self.unabsorbed_with_products(x).0
+    }
+
+    /// [`Self::unabsorbed`] of `x` and the products `Qᵀx` (`r × q`) it subtracted `Q` times:
+    /// with them the least-squares solution for `y − x θ` is [`Self::solve_products`] of
+    /// `Qᵀy − (Qᵀx) θ`, `Q` not read again (a fold's prediction, crate::gap::which).
+    pub fn unabsorbed_with_products(&self, x: &DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
         if self.takes_few(x) {
             return unabsorbed_few(&self.basis, x);
         }
-        x - &self.basis * tr_mul(&self.basis, x)
+        let c = tr_mul(&self.basis, x);
+        (x - &self.basis * &c, c)
     }
 
     /// Whether [`Self::unabsorbed`] of `x` is [`unabsorbed_few`]'s: few columns on either side.
@@ -158,31 +171,61 @@ impl Factor {
     /// off the smooth fit's basis, 90 MB at 200,000 × 56, once a candidate, issue 31); the
     /// others as a call each.
     pub fn unabsorbed_each(&self, xs: &[&DMatrix<f64>], threads: Threads) -> Vec<DMatrix<f64>> {
-        let n = self.basis.nrows();
-        let mut out: Vec<DMatrix<f64>> = map(threads, xs, |&x| {
+        self.unabsorbed_each_with_products(xs, threads)
+            .into_iter()
+            .map(|(u, _)| u)
+            .collect()
+    }
+
+    /// [`Self::unabsorbed_with_products`] of each of `xs`, the same bits as a call for each, the
+    /// columns grouped as by [`Self::unabsorbed_each`].
+    pub fn unabsorbed_each_with_products(
+        &self,
+        xs: &[&DMatrix<f64>],
+        threads: Threads,
+    ) -> Vec<(DMatrix<f64>, DMatrix<f64>)> {
+        let (n, r) = self.basis.shape();
+        let mut out: Vec<(DMatrix<f64>, DMatrix<f64>)> = map(threads, xs, |&x| {
             if self.takes_few(x) {
                 assert_eq!(n, x.nrows(), "unabsorbed: {n} rows against {}", x.nrows());
-                x.clone()
+                (x.clone(), DMatrix::zeros(r, x.ncols()))
             } else {
-                self.unabsorbed(x)
+                self.unabsorbed_with_products(x)
             }
         });
-        let mut cols: Vec<&mut [f64]> = out
+        // each column to go through the kernel, and the matrix and column it is
+        let mut cols: Vec<Tagged> = out
             .iter_mut()
             .zip(xs)
-            .filter(|(_, &x)| self.takes_few(x))
-            .flat_map(|(u, _)| u.as_mut_slice().chunks_mut(n.max(1)))
+            .enumerate()
+            .filter(|(_, (_, &x))| self.takes_few(x))
+            .flat_map(|(m, ((u, _), _))| {
+                u.as_mut_slice()
+                    .chunks_mut(n.max(1))
+                    .enumerate()
+                    .map(move |(j, col)| (col, (m, j)))
+            })
             .collect();
         if n == 0 || cols.is_empty() {
             return out;
         }
         let per = cols.len().div_ceil(threads.get().max(1));
-        let mut groups: Vec<Vec<&mut [f64]>> = Vec::new();
+        let mut groups: Vec<Vec<Tagged>> = Vec::new();
         while !cols.is_empty() {
             let rest = cols.split_off(per.min(cols.len()));
             groups.push(std::mem::replace(&mut cols, rest));
         }
-        map_mut(threads, &mut groups, |g| unabsorb_columns(&self.basis, g));
+        let products = map_mut(threads, &mut groups, |g| {
+            let mut cols: Vec<&mut [f64]> = g.iter_mut().map(|(c, _)| &mut **c).collect();
+            let c = unabsorb_columns(&self.basis, &mut cols);
+            let at: Vec<(usize, usize)> = g.iter().map(|&(_, at)| at).collect();
+            (c, at)
+        });
+        for (c, at) in products {
+            for (k, (m, j)) in at.into_iter().enumerate() {
+                out[m].1.set_column(j, &c.column(k));
+            }
+        }
         out
     }
 
@@ -215,6 +258,9 @@ impl Factor {
         x - &self.basis * self.basis.tr_mul(x)
     }
 }
+
+/// A column and the matrix and column of it it is ([`Factor::unabsorbed_each_with_products`]).
+type Tagged<'a> = (&'a mut [f64], (usize, usize));
 
 /// What a scaled design's SVD keeps: the singular values above [`RANK_TOL`] (their indices),
 /// `V Σ⁻¹` on them with its rows unscaled by `D⁻¹` (`p × r`), and the condition number of the
@@ -572,24 +618,27 @@ const FEW_BLOCK_ROWS: usize = 512;
 /// column of `x` each (a dense scan's baseline basis, 16 MB at 200,000 points, had been streamed
 /// from memory 2·q times for a candidate's q columns, issue 31). Each column's numbers depend on
 /// that column and `Q` alone: [`unabsorb_columns`] takes any set of columns together.
-fn unabsorbed_few(q: &DMatrix<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
+/// Also the products `Qᵀx` (`p × q`) it subtracted `Q` times.
+fn unabsorbed_few(q: &DMatrix<f64>, x: &DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
     let n = q.nrows();
     assert_eq!(n, x.nrows(), "unabsorbed: {n} rows against {}", x.nrows());
     let mut out = x.clone();
-    if n > 0 {
-        let mut cols: Vec<&mut [f64]> = out.as_mut_slice().chunks_mut(n).collect();
-        unabsorb_columns(q, &mut cols);
+    if n == 0 {
+        return (out, DMatrix::zeros(q.ncols(), x.ncols()));
     }
-    out
+    let mut cols: Vec<&mut [f64]> = out.as_mut_slice().chunks_mut(n).collect();
+    let c = unabsorb_columns(q, &mut cols);
+    (out, c)
 }
 
 /// `x ← x − Q(Qᵀx)` on each of the columns `cols` (each `Q`'s rows long), [`unabsorbed_few`]'s
-/// operations: each column the same bits whatever the others beside it.
+/// operations: each column the same bits whatever the others beside it. Returns `Qᵀx` (`p × w`,
+/// column `j` that of `cols[j]`).
 ///
 /// On a processor with AVX2 the same code is compiled for it (chosen at run time): four rows
 /// an instruction instead of two, each lane the same multiplications and additions in the same
 /// order (no fused multiply-add), so the same bits.
-fn unabsorb_columns(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
+fn unabsorb_columns(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) -> DMatrix<f64> {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
@@ -607,7 +656,7 @@ fn unabsorb_columns(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
 /// multiply-add: the same bits).
 #[cfg(target_arch = "wasm32")]
 #[target_feature(enable = "simd128")]
-fn unabsorb_columns_simd128(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
+fn unabsorb_columns_simd128(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) -> DMatrix<f64> {
     unabsorb_columns_in(q, cols)
 }
 
@@ -617,20 +666,20 @@ fn unabsorb_columns_simd128(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
 /// The processor must have AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn unabsorb_columns_avx2(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
+unsafe fn unabsorb_columns_avx2(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) -> DMatrix<f64> {
     unabsorb_columns_in(q, cols)
 }
 
 /// [`unabsorb_columns`]'s two passes.
 #[inline(always)]
-fn unabsorb_columns_in(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
+fn unabsorb_columns_in(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) -> DMatrix<f64> {
     let (n, p) = q.shape();
     let w = cols.len();
     if let Some(c) = cols.iter().find(|c| c.len() != n) {
         panic!("unabsorbed: {n} rows against {}", c.len());
     }
     if p == 0 || w == 0 {
-        return;
+        return DMatrix::zeros(p, w);
     }
     let qs = q.as_slice();
     // pass 1: Qᵀx, each entry's eight partial sums carried from block to block
@@ -684,6 +733,7 @@ fn unabsorb_columns_in(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) {
             }
         }
     }
+    c
 }
 
 /// Root mean square of a slice (0 for an empty one).
@@ -724,25 +774,32 @@ mod tests {
             if w > 1 {
                 x.column_mut(1).fill(-0.0);
             }
-            let want = &x - &q * q.tr_mul(&x);
+            let want_c = q.tr_mul(&x);
+            let want = &x - &q * &want_c;
             // the dispatched kernel (AVX2 where the processor has it) and the portable one
             let portable = {
                 let mut out = x.clone();
                 let mut cols: Vec<&mut [f64]> = out.as_mut_slice().chunks_mut(n).collect();
-                unabsorb_columns_in(&q, &mut cols);
-                out
+                let c = unabsorb_columns_in(&q, &mut cols);
+                (out, c)
             };
-            for got in [unabsorbed_few(&q, &x), portable] {
+            for (got, got_c) in [unabsorbed_few(&q, &x), portable] {
                 assert_eq!(got.shape(), want.shape());
                 for (g, w) in got.iter().zip(want.iter()) {
                     assert_eq!(g.to_bits(), w.to_bits(), "{n} × {p}, {} columns", x.ncols());
+                }
+                // and the products it subtracted are nalgebra's `Qᵀx`
+                assert_eq!(got_c.shape(), want_c.shape());
+                for (g, w) in got_c.iter().zip(want_c.iter()) {
+                    assert_eq!(g.to_bits(), w.to_bits(), "Qᵀx: {n} × {p}");
                 }
             }
         }
     }
 
-    /// [`Factor::unabsorbed_each`] is [`Factor::unabsorbed`] of each matrix bit for bit, on 1, 2
-    /// and 3 threads, with matrices of 0, 1, 3 and 9 columns (the last by the blocked product
+    /// [`Factor::unabsorbed_each`] is [`Factor::unabsorbed`] of each matrix bit for bit, and
+    /// [`Factor::unabsorbed_each_with_products`] [`Factor::unabsorbed_with_products`] (with the
+    /// products `Qᵀx`), on 1, 2 and 3 threads, with matrices of 0, 1, 3 and 9 columns (the last by the blocked product
     /// against a basis of 12 columns) and a basis of 4 columns (every matrix by the few-column
     /// kernel). Tolerance: none.
     #[test]
@@ -758,15 +815,24 @@ mod tests {
         for p in [12, 4] {
             let a = DMatrix::from_fn(n, p, |i, j| f(i, j) + (i % (j + 2)) as f64);
             let factor = Factor::of(a, None);
-            let want: Vec<DMatrix<f64>> = xs.iter().map(|x| factor.unabsorbed(x)).collect();
+            let want: Vec<(DMatrix<f64>, DMatrix<f64>)> = xs
+                .iter()
+                .map(|x| factor.unabsorbed_with_products(x))
+                .collect();
+            for (x, (u, _)) in xs.iter().zip(&want) {
+                assert_eq!(&factor.unabsorbed(x), u);
+            }
             for t in [1, 2, 3] {
-                let got = factor.unabsorbed_each(&refs, Threads::new(t));
+                let plain = factor.unabsorbed_each(&refs, Threads::new(t));
+                let got = factor.unabsorbed_each_with_products(&refs, Threads::new(t));
                 assert_eq!(got.len(), want.len());
-                for (g, w) in got.iter().zip(&want) {
+                for (((g, gc), (w, wc)), u) in got.iter().zip(&want).zip(&plain) {
                     assert_eq!(g.shape(), w.shape());
-                    for (a, b) in g.iter().zip(w.iter()) {
+                    assert_eq!(gc.shape(), wc.shape());
+                    for (a, b) in g.iter().zip(w.iter()).chain(gc.iter().zip(wc.iter())) {
                         assert_eq!(a.to_bits(), b.to_bits(), "{p} columns, {t} threads");
                     }
+                    assert_eq!(u, g);
                 }
             }
         }
