@@ -187,7 +187,7 @@ fn fold_error(
     let theta = fu.solve(&f.r0_train);
     // the baseline's solution for y − Sθ from `Qᵀ(y − Sθ) = Qᵀy − (QᵀS)θ`: the fold's basis
     // (n × r, 14 MB at 200,000 points) not read again, where it had been read once a candidate
-    // a fold (nalgebra's `Qᵀx`, 0.5 of a 200,000-point scan's 1.2 s of CPU in the folds)
+    // a fold (nalgebra's `Qᵀx`, 0.5 s of a 200,000-point scan's 1.2 s of CPU in the folds)
     let beta = f.base.solve_products(&(&f.qty_train - qts * &theta));
     let s_test = s.select_rows(&f.test);
     &f.y_test - &f.a_test * beta - s_test * theta

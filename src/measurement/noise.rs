@@ -442,7 +442,7 @@ fn ordinates(t: &[f64], x: &[f64], skip: &impl Fn(usize) -> usize) -> Vec<f64> {
     // "Fast algorithm for spectral analysis of unevenly sampled data", ApJ 338, 1989): every
     // frequency's sums from one nonuniform FFT of the sequence ([`exp_sums`]), `O(m log m)`
     // where the sums at each frequency had been `O(m²)` (a 1,000-point line 0.5 M products,
-    // 4 % of a 200,000-point scan's diagnosis, issue 31); the ordinates the direct sums' to
+    // 4 % of a 200,000-point scan's CPU, issue 31); the ordinates the direct sums' to
     // ~1e-12 (their test).
     let period = span + 2.0 * pad;
     let theta: Vec<f64> = t

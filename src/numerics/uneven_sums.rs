@@ -1,21 +1,20 @@
 //! Sums of exponentials at uneven positions, `F(k) = Σ_j c_j e^{ikθ_j}` for `k = 0, 1, …, K`,
 //! in `O(m log m)` instead of the `O(m K)` of the sums themselves: the nonuniform fast Fourier
 //! transform (type 1) by fast Gaussian gridding, Greengard & Lee, "Accelerating the nonuniform
-//! fast Fourier transform", SIAM Review 46(3), 2004, §2-3:
+//! fast Fourier transform", SIAM Review 46(3), 2004:
 //!
 //! - each strength is spread onto a regular grid of `M_r = R·M` points over `[0, 2π)` by the
 //!   periodic heat kernel `g_τ(x) = Σ_l e^{−(x − 2πl)²/4τ}`, over the `2·M_sp` grid points nearest
-//!   its position (their eq. 9; the kernel's three factors `E₁·E₂^l·E₃(l)`, §3: one exponential
-//!   a point);
+//!   its position (the kernel as three factors `E₁·E₂^l·E₃(l)`: one exponential a point);
 //! - the grid's discrete Fourier transform is the Fourier coefficients of the spread sum to the
-//!   kernel's tails (their eq. 10);
-//! - dividing by the kernel's coefficients `√(τ/π)·e^{−k²τ}` gives the sums (eq. 11), with
-//!   `τ = π M_sp / (M² R (R − ½))` (eq. 12).
+//!   kernel's tails;
+//! - dividing by the kernel's coefficients `√(τ/π)·e^{−k²τ}` gives the sums, with
+//!   `τ = π M_sp / (M² R (R − ½))`.
 //!
-//! With `R = 2` and `M_sp = 12`, Greengard and Lee's table 1 gives 12 digits relative to
-//! `Σ|c_j|`; here `M_sp` = [`SPREAD`] and `M` at least twice the highest frequency asked (the
-//! frequencies asked are oversampled further). Two real strengths are summed at once as the
-//! real and imaginary parts of one complex strength.
+//! Greengard and Lee give about 12 digits relative to `Σ|c_j|` at `R = 2` and `M_sp = 12`; here
+//! `M_sp` = [`SPREAD`] and `M` at least twice the highest frequency asked (the frequencies asked
+//! are oversampled further), 1e-12 of `Σ|c_j|` by this file's test. Two real strengths are summed
+//! at once as the real and imaginary parts of one complex strength.
 
 use std::f64::consts::PI;
 
@@ -92,8 +91,9 @@ pub fn exp_sums(
         let db = (0.5 * (d.1 + e.1), -0.5 * (d.0 - e.0));
         ((da.0, -da.1), (db.0, -db.1))
     };
-    let sa = (0..=ka).map(|k| at(k).0).collect();
-    let sb = (0..=kb).map(|k| at(k).1).collect();
+    let both: Vec<(Complex, Complex)> = (0..=k_top).map(at).collect();
+    let sa = both[..=ka].iter().map(|s| s.0).collect();
+    let sb = both[..=kb].iter().map(|s| s.1).collect();
     (sa, sb)
 }
 

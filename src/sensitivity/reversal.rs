@@ -1031,6 +1031,7 @@ fn distinct_sites<const N: usize>(
 
 /// Sorts `sites` by surface, step and path length (distinct sites: a total order, so the same
 /// order whatever their order before); the new index of each site's old one.
+///
 /// By path length ([`argsort`]: the crate's one copy of the sort code), then into buckets of
 /// surface and step in that order (a counting sort, stable): an unstable sort of its own with this
 /// comparison had been ~21 kB of the page's wasm (its sorting network inlined the comparison).
