@@ -32,8 +32,18 @@ use crate::part::{builtin_points, Curve, MeasurementPoint, RuledPart, SShape, Su
 
 /// Number of intervals of the pose table (`u'` step 1/4000, about 0.17 mm of path).
 const TABLE_STEPS: usize = 4000;
-/// Half-width of the `u'` window scanned around the point's own `u`.
+/// Half-width of the `u'` window first scanned around the point's own `u` for any tool shape
+/// ([`FlankPath::deviation_with`]), widened while the deepest pose sits on its edge.
 const WINDOW: f64 = 0.02;
+/// The first window of the cylinder's scan ([`FlankPath::deviation_at`],
+/// [`FlankPath::deviation_estimate`]: 41 table poses, 20 steps either side), widened as
+/// [`WINDOW`] is and, where no pose in it reaches the point, to [`WINDOW`]. The deepest table
+/// pose lies within 7 steps of the point's own `u` on the S-shape and on it on the cones (1.48 M
+/// points of the S-shape, 0.5 M of M3_15 and M3_45: `u` every table step, `v` −0.1..1.1, 0.1 mm
+/// either side of the surface): this window and [`WINDOW`] find the same pose at every one of
+/// them, so the same deviations (161 poses a point had been 3 % of a 200,000-point scan's CPU,
+/// issue 31).
+const CYLINDER_WINDOW: f64 = 0.005;
 /// Brent's stop ([`brent_min`]) in [`FlankPath::deviation_with`]: the `u'` bracket about the
 /// best pose, 1.7e-7 mm of path. Function values locate a minimum only to ~√ε relative (1e-8
 /// in `u'`), where Brent's parabolas turn to noise and fall back to golden steps; the depth at
@@ -155,16 +165,17 @@ impl<'a> FlankPath<'a> {
         self.part
     }
 
-    /// Scans the pose table around `u_near` (window ±0.02, widened while the minimum sits on its
-    /// edge): index of the deepest table pose and the entries at it and its two neighbours.
+    /// Scans the pose table around `u_near` (window ±`half`, doubled while the minimum sits on
+    /// its edge, and while no pose reaches the point until it is [`WINDOW`]): index of the
+    /// deepest table pose and the entries at it and its two neighbours.
     fn scan<F: Fn(&ToolPose) -> Option<f64> + ?Sized>(
         &self,
         p: &Vector3<f64>,
         u_near: f64,
         entry: &F,
+        mut half: f64,
     ) -> Result<(usize, [Option<f64>; 3]), ToolpathError> {
         let entry = |i: usize| entry(&self.table[i]);
-        let mut half = WINDOW;
         loop {
             let lo_i = ((u_near - half).max(0.0) * TABLE_STEPS as f64).floor() as usize;
             let hi_i =
@@ -178,6 +189,10 @@ impl<'a> FlankPath<'a> {
                 }
             }
             let Some((k, t)) = best else {
+                if half < WINDOW {
+                    half *= 2.0;
+                    continue;
+                }
                 return Err(ToolpathError::NoToolReaches {
                     x: p.x,
                     y: p.y,
@@ -207,15 +222,17 @@ impl<'a> FlankPath<'a> {
         if !(radius.is_finite() && radius > 0.0) {
             return Err(ToolpathError::BadRadius { radius });
         }
-        self.deviation_with(p, n, u_near, &|pose| line_entry(pose, radius, p, n))
+        let entry = |pose: &ToolPose| line_entry(pose, radius, p, n);
+        self.deviation_from(p, n, u_near, &entry, CYLINDER_WINDOW)
     }
 
     /// The deepest entry of the line `p + t·n` into the tools of this path, for any tool shape:
     /// `entry(pose)` gives where the line enters the tool at that pose (or `None`). `u_near` is
-    /// the path parameter around which to scan (the point's own `u`). Generic over the entry, so
-    /// the cylinder's ([`FlankPath::deviation_at`]) is inlined in the scan of 161 table poses a
-    /// point, the envelope's inner loop (through a `dyn Fn` the envelope had been 5.7 % of a
-    /// 20,000-point scan's CPU, inlined 3.1 %, issue 31); a `&dyn Fn` is taken too.
+    /// the path parameter around which to scan (the point's own `u`, first ±[`WINDOW`] about
+    /// it). Generic over the entry, so the cylinder's ([`FlankPath::deviation_at`]) is inlined in
+    /// the scan of the table poses, the envelope's inner loop (through a `dyn Fn` the envelope
+    /// had been 5.7 % of a 20,000-point scan's CPU, inlined 3.1 %, issue 31); a `&dyn Fn` is
+    /// taken too.
     pub fn deviation_with<F: Fn(&ToolPose) -> Option<f64> + ?Sized>(
         &self,
         p: &Vector3<f64>,
@@ -223,7 +240,19 @@ impl<'a> FlankPath<'a> {
         u_near: f64,
         entry: &F,
     ) -> Result<EnvelopeHit, ToolpathError> {
-        let (k, _) = self.scan(p, u_near, entry)?;
+        self.deviation_from(p, n, u_near, entry, WINDOW)
+    }
+
+    /// [`Self::deviation_with`], the scan's first window ±`half`.
+    fn deviation_from<F: Fn(&ToolPose) -> Option<f64> + ?Sized>(
+        &self,
+        p: &Vector3<f64>,
+        n: &Vector3<f64>,
+        u_near: f64,
+        entry: &F,
+        half: f64,
+    ) -> Result<EnvelopeHit, ToolpathError> {
+        let (k, _) = self.scan(p, u_near, entry, half)?;
         let at = |u: f64| entry(&tool_pose(self.part, self.surface, u));
         let step = 1.0 / TABLE_STEPS as f64;
         let a = (k as f64 - 1.0).max(0.0) * step;
@@ -250,7 +279,8 @@ impl<'a> FlankPath<'a> {
         if !(radius.is_finite() && radius > 0.0) {
             return Err(ToolpathError::BadRadius { radius });
         }
-        let (_, [prev, t, next]) = self.scan(p, u_near, &|pose| line_entry(pose, radius, p, n))?;
+        let entry = |pose: &ToolPose| line_entry(pose, radius, p, n);
+        let (_, [prev, t, next]) = self.scan(p, u_near, &entry, CYLINDER_WINDOW)?;
         let t = t.unwrap_or(f64::INFINITY);
         Ok(match (prev, next) {
             (Some(a), Some(c)) if a + c - 2.0 * t > 0.0 => {
@@ -739,5 +769,39 @@ mod tests {
             // exactly -dR up to the 1/cos of the small angle between N and n_M (< 5e-9 mm here)
             assert_near!(b.deviation - a.deviation, -0.01, 1e-7);
         }
+    }
+
+    #[test]
+    fn the_cylinders_narrow_window_finds_the_wide_windows_cut() {
+        // CYLINDER_WINDOW's claim, on a coarser grid than its doc's (every 10th table step, v
+        // −0.1..1.1, 0.1 mm either side): the first window ±0.005 and ±WINDOW give the same
+        // deviation, tool position and height, bit for bit, on the S-shape and the cones.
+        use crate::part::ConeFrustum;
+        let parts: [&dyn RuledPart; 3] = [
+            &SShape::iso(),
+            &ConeFrustum::m3_15(true),
+            &ConeFrustum::m3_45(false),
+        ];
+        let mut n = 0;
+        for (k, part) in parts.into_iter().enumerate() {
+            for &s in part.surfaces() {
+                let path = FlankPath::new(part, s);
+                for iu in (0..=TABLE_STEPS).step_by(10) {
+                    let u = (iu as f64 / TABLE_STEPS as f64 + 1.1e-4).min(1.0);
+                    for iv in [-3, 0, 7, 15, 22, 30, 33] {
+                        let f = part.frame_at(s, u, iv as f64 / 30.0);
+                        for off in [-0.1, 0.0, 0.1] {
+                            let p = f.point + f.n * off;
+                            let narrow = path.deviation_at(&p, &f.n, u, TOOL_RADIUS).unwrap();
+                            let entry = |pose: &ToolPose| line_entry(pose, TOOL_RADIUS, &p, &f.n);
+                            let wide = path.deviation_with(&p, &f.n, u, &entry).unwrap();
+                            assert_eq!(narrow, wide, "part {k} {s:?} u {u} v {iv}/30 off {off}");
+                            n += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(n, 3 * 401 * 7 * 3 + 401 * 7 * 3);
     }
 }
