@@ -22,7 +22,7 @@ use nalgebra::{DMatrix, Rotation3, Vector3};
 use crate::effects::data::Reversal;
 use crate::effects::nuisance::Nuisance;
 use crate::effects::GapError;
-use crate::machine::direct::{jacobian, jacobian_body_point};
+use crate::machine::direct::{body_point_jacobian, point_jacobian};
 use crate::machine::inverse::inverse;
 use crate::machine::{AxisKind, AxisName, AxisValues, Branch, Chain, ErrorParam, MachineErrors};
 use crate::numerics::order::sort_by_key_f64;
@@ -217,11 +217,11 @@ pub fn index_signatures(
     let chain = &opts.chain;
     let none = MachineErrors::none();
     let q_ref = inverse(chain, &Vector3::zeros(), &Vector3::z(), Branch::Signed, 0.0)?;
-    let (jref, _) = jacobian(chain, &q_ref, 0.0, &none, &params)?;
+    let jref = point_jacobian(chain, &q_ref, 0.0, &none, &params)?;
     check_poses(points, q)?;
     let mut cols = vec![vec![0.0; points.len()]; axes.len()];
     for (i, (pt, q)) in points.iter().zip(q).enumerate() {
-        let (j, _) = jacobian_body_point(chain, q, &pt.point, &none, &params)?;
+        let j = body_point_jacobian(chain, q, &pt.point, &none, &params)?;
         let d = (j - &jref).transpose() * pt.normal;
         for (k, col) in cols.iter_mut().enumerate() {
             col[i] = d[k];

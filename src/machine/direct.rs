@@ -439,7 +439,23 @@ pub fn jacobian(
     errors.validate(chain)?;
     let f = factors(chain, q, errors);
     let (vp, _) = tool_vectors(chain, h);
-    jacobian_of(chain, q, errors, params, &f, &Prefixes::of(&f), vp)
+    let (jp, jd) = jacobian_of(chain, q, errors, params, &f, &Prefixes::of(&f), vp, true)?;
+    Ok((jp, jd.unwrap_or_default()))
+}
+
+/// The point columns `∂p/∂θ_k` of [`jacobian`] alone (the same bits; the direction columns,
+/// half the arithmetic a parameter, are not computed: the defect's columns read only these).
+pub fn point_jacobian(
+    chain: &Chain,
+    q: &AxisValues,
+    h: f64,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+) -> Result<Matrix3xX<f64>, MachineError> {
+    errors.validate(chain)?;
+    let f = factors(chain, q, errors);
+    let (vp, _) = tool_vectors(chain, h);
+    Ok(jacobian_of(chain, q, errors, params, &f, &Prefixes::of(&f), vp, false)?.0)
 }
 
 /// Jacobian of the displacement of the **tool-body point** that sits at `x` (workpiece frame, mm)
@@ -452,6 +468,31 @@ pub fn jacobian_body_point(
     errors: &MachineErrors,
     params: &[ErrorParam],
 ) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
+    let (jp, jd) = body_point_columns(chain, q, x, errors, params, true)?;
+    Ok((jp, jd.unwrap_or_default()))
+}
+
+/// The point columns `∂x/∂θ_k` of [`jacobian_body_point`] alone (the same bits, as
+/// [`point_jacobian`] is [`jacobian`]'s).
+pub fn body_point_jacobian(
+    chain: &Chain,
+    q: &AxisValues,
+    x: &Vector3<f64>,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+) -> Result<Matrix3xX<f64>, MachineError> {
+    Ok(body_point_columns(chain, q, x, errors, params, false)?.0)
+}
+
+/// [`jacobian_body_point`]'s columns, the direction's only with `directions`.
+fn body_point_columns(
+    chain: &Chain,
+    q: &AxisValues,
+    x: &Vector3<f64>,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+    directions: bool,
+) -> Result<(Matrix3xX<f64>, Option<Matrix3xX<f64>>), MachineError> {
     errors.validate(chain)?;
     let f = factors(chain, q, errors);
     let pre = Prefixes::of(&f);
@@ -460,7 +501,7 @@ pub fn jacobian_body_point(
         det: t.fixed_view::<3, 3>(0, 0).determinant(),
     })?;
     let vp = ti * pre.w[f.w.len()] * Vector4::new(x.x, x.y, x.z, 1.0);
-    jacobian_of(chain, q, errors, params, &f, &pre, vp)
+    jacobian_of(chain, q, errors, params, &f, &pre, vp, directions)
 }
 
 /// The columns of [`jacobian`] and [`jacobian_body_point`] from the factors `f` and the tool
@@ -474,7 +515,8 @@ pub fn jacobian_body_point(
 /// (the location errors of an axis share it), then `D` and `W⁻¹P` on each parameter's two
 /// vectors (64 multiplications a parameter, where the products of 4 × 4 matrices had been 224,
 /// and a list's products once instead of once per factor: a dense scan's 38 columns at every
-/// point, issue 31).
+/// point, issue 31). The direction columns only with `directions` (`None` without).
+#[allow(clippy::too_many_arguments)]
 fn jacobian_of(
     chain: &Chain,
     q: &AxisValues,
@@ -483,7 +525,8 @@ fn jacobian_of(
     f: &Factors,
     pre: &Prefixes,
     vp: Vector4<f64>,
-) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
+    directions: bool,
+) -> Result<(Matrix3xX<f64>, Option<Matrix3xX<f64>>), MachineError> {
     let wi = inverse_product(&f.w)?;
     let t = pre.t[f.t.len()];
     let vd = Vector4::new(0.0, 0.0, 1.0, 0.0);
@@ -491,10 +534,14 @@ fn jacobian_of(
     let (tp, td) = (t * vp, t * vd);
     let (wtp, wtd) = (wi * tp, wi * td);
     // the vectors each side's factors act on, after each factor
-    let (post_tp, post_td) = (suffix_vectors(&f.t, vp), suffix_vectors(&f.t, vd));
-    let (post_wp, post_wd) = (suffix_vectors(&f.w, wtp), suffix_vectors(&f.w, wtd));
+    let (post_tp, post_wp) = (suffix_vectors(&f.t, vp), suffix_vectors(&f.w, wtp));
+    let (post_td, post_wd) = if directions {
+        (suffix_vectors(&f.t, vd), suffix_vectors(&f.w, wtd))
+    } else {
+        (Vec::new(), Vec::new())
+    };
     let mut jp = Matrix3xX::zeros(params.len());
-    let mut jd = Matrix3xX::zeros(params.len());
+    let mut jd = Matrix3xX::zeros(if directions { params.len() } else { 0 });
     // `W⁻¹P` per factor
     let mut left_of: Vec<((bool, usize), Matrix4<f64>)> = Vec::new();
     for (k, p) in params.iter().enumerate() {
@@ -509,16 +556,19 @@ fn jacobian_of(
                 left
             }
         };
-        let (xp, xd, sign) = if fd.tool_side {
-            (post_tp[fd.factor + 1], post_td[fd.factor + 1], 1.0)
+        let (post_p, post_d, sign) = if fd.tool_side {
+            (&post_tp, &post_td, 1.0)
         } else {
-            (post_wp[fd.factor + 1], post_wd[fd.factor + 1], -1.0)
+            (&post_wp, &post_wd, -1.0)
         };
-        let (dp, dd) = (left * (fd.d * xp), left * (fd.d * xd));
+        let dp = left * (fd.d * post_p[fd.factor + 1]);
         jp.set_column(k, &(dp.xyz() * sign));
-        jd.set_column(k, &(dd.xyz() * sign));
+        if directions {
+            let dd = left * (fd.d * post_d[fd.factor + 1]);
+            jd.set_column(k, &(dd.xyz() * sign));
+        }
     }
-    Ok((jp, jd))
+    Ok((jp, directions.then_some(jd)))
 }
 
 /// The prefix products of each factor list ([`prefix_products`]; the last, the list's
@@ -667,6 +717,36 @@ pub(crate) mod tests {
                     chain.code()
                 );
             }
+        }
+    }
+
+    /// The point columns alone ([`point_jacobian`], [`body_point_jacobian`]) are the whole
+    /// Jacobians' first halves bit for bit (tolerance: none), on the three chains at spread poses
+    /// with errors, for every location error, constant motion and positioning error of the chain
+    /// and a quadratic motion of each axis.
+    #[test]
+    fn point_columns_alone_are_the_jacobians_point_columns() {
+        let x = Vector3::new(12.5, -3.0, 40.0);
+        for (chain, q) in spread_poses(true).iter().step_by(23) {
+            let first = chain.axes().next().unwrap().name;
+            let errors = MachineErrors::none().with(
+                ErrorParam::Location(LocationError::new(AxisName::X, first)),
+                1e-3,
+            );
+            let mut params = all_params(chain);
+            params.extend(chain.axes().map(|a| ErrorParam::axis_value(a.name)));
+            params.extend(chain.axes().map(|a| ErrorParam::Motion {
+                component: AxisName::B,
+                axis: a.name,
+                power: 2,
+            }));
+            let (jp, _) = jacobian(chain, q, 1.5, &errors, &params).unwrap();
+            assert_eq!(point_jacobian(chain, q, 1.5, &errors, &params).unwrap(), jp);
+            let (jp, _) = jacobian_body_point(chain, q, &x, &errors, &params).unwrap();
+            assert_eq!(
+                body_point_jacobian(chain, q, &x, &errors, &params).unwrap(),
+                jp
+            );
         }
     }
 }

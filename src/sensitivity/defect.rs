@@ -14,7 +14,7 @@ use nalgebra::{DMatrix, Matrix3xX, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::machine::chain::PAPER000_L0;
-use crate::machine::direct::{jacobian, tool_point};
+use crate::machine::direct::{point_jacobian, tool_point};
 use crate::machine::inverse::inverse;
 use crate::machine::{AxisValues, Branch, Chain, ErrorParam, MachineErrors, PathSample};
 use crate::numerics::parallel::{map, Threads};
@@ -227,11 +227,11 @@ fn displacements(
     params: &[ErrorParam],
 ) -> Result<Vec<Matrix3xX<f64>>, SensitivityError> {
     let none = MachineErrors::none();
-    let (jref, _) = jacobian(&opts.chain, &reference_pose(opts)?, 0.0, &none, params)?;
+    let jref = point_jacobian(&opts.chain, &reference_pose(opts)?, 0.0, &none, params)?;
     poses
         .iter()
         .map(|pp| {
-            let (j, _) = jacobian(&opts.chain, &pp.q, pp.h, &none, params)?;
+            let j = point_jacobian(&opts.chain, &pp.q, pp.h, &none, params)?;
             Ok(j - &jref)
         })
         .collect()

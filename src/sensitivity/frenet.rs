@@ -15,7 +15,7 @@
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::machine::direct::jacobian;
+use crate::machine::direct::point_jacobian;
 use crate::machine::inverse::inverse_path;
 use crate::machine::{AxisValues, Branch, Chain, ErrorParam, MachineErrors};
 use crate::part::{SShape, Surface};
@@ -115,7 +115,7 @@ pub fn coefficients(
         k_b: Vec::with_capacity(frames.len()),
     };
     for f in frames {
-        let (j, _) = jacobian(chain, &f.q, 0.0, &MachineErrors::none(), &[param])?;
+        let j = point_jacobian(chain, &f.q, 0.0, &MachineErrors::none(), &[param])?;
         let e: Vector3<f64> = j.column(0).into_owned();
         c.k.push(e.norm());
         c.k_n.push(e.dot(&f.n));

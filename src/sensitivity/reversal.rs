@@ -31,7 +31,7 @@ use std::collections::HashMap;
 use crate::numerics::fast_hash::FastHashMap;
 use crate::numerics::parallel::{join, Threads};
 
-use crate::machine::direct::jacobian_body_point;
+use crate::machine::direct::body_point_jacobian;
 use crate::machine::inverse::RotaryPair;
 use crate::machine::rates::axis_rates;
 use crate::machine::{AxisName, AxisValues, ErrorParam, MachineErrors, PathSample};
@@ -799,8 +799,7 @@ pub fn backlash_gains(
             Mode::Physical => pt.normal,
             Mode::Paper => part.frame_at(pt.surface, pt.u, 1.0).n,
         };
-        let (j, _) =
-            jacobian_body_point(&opts.chain, q, &pt.point, &MachineErrors::none(), &params)?;
+        let j = body_point_jacobian(&opts.chain, q, &pt.point, &MachineErrors::none(), &params)?;
         for (a, col) in out.iter_mut().enumerate() {
             col.push(j.column(a).dot(&n));
         }
