@@ -138,7 +138,11 @@ pub fn cross_validate(folds: &[FoldFactor], s: &DMatrix<f64>, n: usize) -> CvRes
 /// [`cross_validate`] of each of `ss` (each with columns), a fold at a time: the training rows
 /// of every signature off the fold's baseline together ([`Factor::unabsorbed_each`]: the fold's
 /// basis read twice a thread instead of twice a candidate, issue 31), then each candidate's
-/// prediction on `threads` threads. The same numbers as [`cross_validate`] of each.
+/// prediction. With fewer candidates than folds (a scan's few, its dozen folds) the folds are
+/// shared out between `threads` threads, each fold's work on one (shared within a fold, two or
+/// three candidates had left a thread idle most of the folds' time: ~40 ms of a 20,000-point
+/// scan's 0.75 s in a profile, issue 31); else each fold's candidates are. The errors are added
+/// in the folds' order either way: the same numbers as [`cross_validate`] of each.
 pub fn cross_validate_each(
     folds: &[FoldFactor],
     ss: &[&DMatrix<f64>],
@@ -146,26 +150,39 @@ pub fn cross_validate_each(
     threads: Threads,
 ) -> Vec<CvResult> {
     let mut cvs: Vec<CvResult> = ss.iter().map(|_| CvResult::zeros(n)).collect();
-    for f in folds {
-        let trains: Vec<DMatrix<f64>> = map(threads, ss, |s| s.select_rows(&f.train));
-        let refs: Vec<&DMatrix<f64>> = trains.iter().collect();
-        let us = f.base.unabsorbed_each_with_products(&refs, threads);
-        // each signature, its training rows, and their part outside the baseline and products
-        // with its basis
-        let mut items: Vec<(&DMatrix<f64>, &DMatrix<f64>, OffBasis)> = ss
-            .iter()
-            .zip(&trains)
-            .zip(us)
-            .map(|((&s, t), u)| (s, t, u))
-            .collect();
-        let errors = map_mut(threads, &mut items, |(s, t, (u, qts))| {
-            fold_error(f, s, t, std::mem::replace(u, DMatrix::zeros(0, 0)), qts)
-        });
-        for (cv, e) in cvs.iter_mut().zip(&errors) {
+    let by_fold = ss.len() < folds.len();
+    let (outer, inner) = if by_fold {
+        (threads, Threads::ONE)
+    } else {
+        (Threads::ONE, threads)
+    };
+    // (a fold at a time on each thread: its signatures' training rows are held for it alone)
+    let errors = map(outer, folds, |f| fold_errors(f, ss, inner));
+    for (f, errors) in folds.iter().zip(&errors) {
+        for (cv, e) in cvs.iter_mut().zip(errors) {
             cv.add(f, e);
         }
     }
     cvs
+}
+
+/// The prediction error of each of `ss` on fold `f`'s withheld points ([`fold_error`]), the
+/// candidates on `threads` threads.
+fn fold_errors(f: &FoldFactor, ss: &[&DMatrix<f64>], threads: Threads) -> Vec<DVector<f64>> {
+    let trains: Vec<DMatrix<f64>> = map(threads, ss, |s| s.select_rows(&f.train));
+    let refs: Vec<&DMatrix<f64>> = trains.iter().collect();
+    let us = f.base.unabsorbed_each_with_products(&refs, threads);
+    // each signature, its training rows, and their part outside the baseline and products
+    // with its basis
+    let mut items: Vec<(&DMatrix<f64>, &DMatrix<f64>, OffBasis)> = ss
+        .iter()
+        .zip(&trains)
+        .zip(us)
+        .map(|((&s, t), u)| (s, t, u))
+        .collect();
+    map_mut(threads, &mut items, |(s, t, (u, qts))| {
+        fold_error(f, s, t, std::mem::replace(u, DMatrix::zeros(0, 0)), qts)
+    })
 }
 
 /// A matrix's part outside a basis and its products with the basis
@@ -800,10 +817,11 @@ mod tests {
     use crate::part::Surface;
 
     /// [`cross_validate_each`] is [`cross_validate`] of each signature bit for bit, on 1, 2 and
-    /// 3 threads: 2,400 points of a scan (2 surfaces × 6 lines, height-band and region folds),
+    /// 3 threads, the candidates shared out within each fold and the folds shared out: 2,400
+    /// points of a scan (2 surfaces × 6 lines, height-band and region folds),
     /// a baseline of 5 columns (each fold's basis: the few-column kernel for the candidates of
     /// at most 5 columns) and signatures of 1, 2, 6 and 1 columns (the one of 6 by the blocked
-    /// product, as alone). Tolerance: none.
+    /// product, as alone) and one-column ones to as many as the folds. Tolerance: none.
     #[test]
     fn cross_validate_each_is_cross_validate_of_each_bit_for_bit() {
         let n = 2400;
@@ -830,20 +848,31 @@ mod tests {
         let y = DVector::from_fn(n, |i, _| (0.03 * i as f64).cos() + 0.1 * f(i, 9));
         let folds = build_folds(&points, &a, &y, 12, Threads::ONE);
         assert!(folds.len() >= 4, "{} folds", folds.len());
-        let ss: Vec<DMatrix<f64>> = [1, 2, 6, 1]
+        // 1, 2, 6 and 1 columns, then one-column ones: as many as the folds
+        let widths: Vec<usize> = [1, 2, 6, 1]
+            .into_iter()
+            .chain(std::iter::repeat(1))
+            .take(folds.len().max(4))
+            .collect();
+        let ss: Vec<DMatrix<f64>> = widths
             .iter()
             .enumerate()
             .map(|(m, &w)| DMatrix::from_fn(n, w, |i, j| f(i + 5 * m, j + 3 * m) * 1e-3))
             .collect();
         let refs: Vec<&DMatrix<f64>> = ss.iter().collect();
         let want: Vec<CvResult> = ss.iter().map(|s| cross_validate(&folds, s, n)).collect();
-        for t in [1, 2, 3] {
-            let got = cross_validate_each(&folds, &refs, n, Threads::new(t));
-            assert_eq!(got.len(), want.len());
-            for (g, w) in got.iter().zip(&want) {
-                assert_eq!(g.count, w.count, "{t} threads");
-                for (a, b) in g.ss.iter().zip(&w.ss) {
-                    assert_eq!(a.to_bits(), b.to_bits(), "{t} threads");
+        // all (as many as the folds: each fold's candidates shared out), then the first two
+        // (fewer than the folds: the folds shared out)
+        for k in [ss.len(), 2] {
+            assert_eq!(k < folds.len(), k == 2, "{} folds", folds.len());
+            for t in [1, 2, 3] {
+                let got = cross_validate_each(&folds, &refs[..k], n, Threads::new(t));
+                assert_eq!(got.len(), k);
+                for (g, w) in got.iter().zip(&want) {
+                    assert_eq!(g.count, w.count, "{t} threads");
+                    for (a, b) in g.ss.iter().zip(&w.ss) {
+                        assert_eq!(a.to_bits(), b.to_bits(), "{t} threads");
+                    }
                 }
             }
         }
