@@ -24,7 +24,7 @@ use wasm_bindgen::JsValue;
 
 /// Why a list was not written as columns (it then travels as JSON).
 #[derive(Debug)]
-pub(crate) struct NotColumns(String);
+pub struct NotColumns(String);
 
 impl fmt::Display for NotColumns {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -44,7 +44,8 @@ impl ser::Error for NotColumns {
 enum Col {
     /// Only nulls so far (their number; 0: no value yet).
     Nulls(usize),
-    /// Numbers, NaN at a null and `nul` 1 there.
+    /// Numbers, NaN at a null and `nul` 1 there: `nul` empty until the first null, then as
+    /// long as `v` up to the last null (0 at a number; the rows after it numbers).
     Num {
         v: Vec<f64>,
         nul: Vec<u8>,
@@ -64,7 +65,7 @@ enum Col {
 }
 
 /// `items` as one packed column (`{$col, n, ...}` of www/columns.js).
-pub(crate) fn packed<T: Serialize>(items: &[T]) -> Result<JsValue, NotColumns> {
+pub fn packed<T: Serialize>(items: &[T]) -> Result<JsValue, NotColumns> {
     if items.is_empty() {
         return Err(NotColumns("an empty list".into()));
     }
@@ -79,7 +80,7 @@ pub(crate) fn packed<T: Serialize>(items: &[T]) -> Result<JsValue, NotColumns> {
 pub(crate) fn packed_numbers(v: &[f64]) -> JsValue {
     Col::Num {
         v: v.to_vec(),
-        nul: vec![0; v.len()],
+        nul: Vec::new(),
     }
     .into_js(v.len())
 }
@@ -102,13 +103,14 @@ impl Col {
                 set(&o, "v", &JsValue::NULL);
                 "const"
             }
-            Col::Num { v, nul } => {
+            Col::Num { v, mut nul } => {
                 set(&o, "v", &Float64Array::from(&v[..]).into());
-                if nul.contains(&1) {
+                if nul.is_empty() {
+                    "num"
+                } else {
+                    nul.resize(v.len(), 0);
                     set(&o, "nul", &Uint8Array::from(&nul[..]).into());
                     "numnull"
-                } else {
-                    "num"
                 }
             }
             Col::Bool(v) => {
@@ -195,15 +197,11 @@ impl Cell<'_> {
             Col::Nulls(k) => {
                 let k = *k;
                 let mut v = vec![f64::NAN; k];
-                let mut nul = vec![1; k];
                 v.push(x);
-                nul.push(0);
-                *self.col = Col::Num { v, nul };
+                *self.col = Col::Num { v, nul: vec![1; k] };
             }
-            Col::Num { v, nul } => {
-                v.push(x);
-                nul.push(0);
-            }
+            // (`nul` not written at a number: 0 up to `v`'s length, [`Col::Num`])
+            Col::Num { v, .. } => v.push(x),
             _ => return Err(mixed("a number")),
         }
         Ok(())
@@ -213,6 +211,7 @@ impl Cell<'_> {
         match self.col {
             Col::Nulls(k) => *k += 1,
             Col::Num { v, nul } => {
+                nul.resize(v.len(), 0);
                 v.push(f64::NAN);
                 nul.push(1);
             }
@@ -325,15 +324,20 @@ impl<'a> ser::Serializer for Cell<'a> {
     ) -> Result<(), NotColumns> {
         refused("an enum with a value")
     }
-    fn serialize_seq(self, len: Option<usize>) -> Result<ListCell<'a>, NotColumns> {
-        Ok(ListCell {
-            col: self.col,
-            v: Vec::with_capacity(len.unwrap_or(0)),
-            scratch: Col::Num {
-                v: Vec::with_capacity(1),
-                nul: Vec::with_capacity(1),
-            },
-        })
+    fn serialize_seq(self, _: Option<usize>) -> Result<ListCell<'a>, NotColumns> {
+        if let Col::Nulls(0) = self.col {
+            *self.col = Col::List {
+                k: LIST_FIRST,
+                v: Vec::new(),
+            };
+        }
+        match self.col {
+            Col::List { v, .. } => Ok(ListCell {
+                start: v.len(),
+                col: self.col,
+            }),
+            _ => Err(mixed("a list")),
+        }
     }
     fn serialize_tuple(self, len: usize) -> Result<ListCell<'a>, NotColumns> {
         self.serialize_seq(Some(len))
@@ -384,45 +388,122 @@ impl<'a> ser::Serializer for Cell<'a> {
     }
 }
 
-/// A list of numbers in one item (a point's foot, its normal), read through `scratch` (a
-/// `Num` column: a number is pushed there, then moved to `v`).
+/// [`Col::List`]'s `k` before its first item's list is read.
+const LIST_FIRST: usize = usize::MAX;
+
+/// A list of numbers in one item (a point's foot, its normal), its numbers written into the
+/// column's `v` from `start` on (no allocation an item: three a list had been ~20 ms of the
+/// page's 150 ms of packing a 20,000-point scan's analysis, issue 31).
 struct ListCell<'a> {
     col: &'a mut Col,
-    v: Vec<f64>,
-    scratch: Col,
+    start: usize,
 }
 
 impl ListCell<'_> {
     fn element<T: ?Sized + Serialize>(&mut self, value: &T) -> Result<(), NotColumns> {
-        value.serialize(Cell {
-            col: &mut self.scratch,
-            row: 0,
-        })?;
-        if let Col::Num { v, nul } = &mut self.scratch {
-            if let (Some(x), Some(0)) = (v.pop(), nul.pop()) {
-                self.v.push(x);
-                return Ok(());
-            }
+        let x = value.serialize(Number)?;
+        if let Col::List { v, .. } = self.col {
+            v.push(x);
         }
-        refused("a list holding other than numbers")
+        Ok(())
     }
 
     fn finish(self) -> Result<(), NotColumns> {
-        let k = self.v.len();
-        match self.col {
-            Col::Nulls(0) => {
-                *self.col = Col::List { k, v: self.v };
-                Ok(())
-            }
-            Col::List { k: k0, v } if *k0 == k => {
-                v.extend(self.v);
-                Ok(())
-            }
-            Col::List { k: k0, .. } => Err(NotColumns(format!(
+        let Col::List { k: k0, v } = self.col else {
+            return Err(mixed("a list"));
+        };
+        let k = v.len() - self.start;
+        if *k0 == LIST_FIRST {
+            *k0 = k;
+        } else if *k0 != k {
+            return Err(NotColumns(format!(
                 "lists of {k} and of {k0} numbers in one field"
-            ))),
-            _ => Err(mixed("a list")),
+            )));
         }
+        Ok(())
+    }
+}
+
+/// The serializer of an element of a list: its number (an option's, a newtype's), anything else
+/// refused.
+struct Number;
+
+/// [`Number`]'s methods for numbers: each the number as f64 (as [`Cell`]'s).
+macro_rules! element_numbers {
+    ($($name:ident: $t:ty),*) => {
+        $(fn $name(self, v: $t) -> Result<f64, NotColumns> {
+            Ok(v as f64)
+        })*
+    };
+}
+
+/// [`Number`]'s methods for what is not a number.
+macro_rules! not_numbers {
+    ($($name:ident($($arg:ty),*) -> $ok:ty),*) => {
+        $(fn $name(self, $(_: $arg),*) -> Result<$ok, NotColumns> {
+            refused("a list holding other than numbers")
+        })*
+    };
+}
+
+impl ser::Serializer for Number {
+    type Ok = f64;
+    type Error = NotColumns;
+    type SerializeSeq = Impossible<f64, NotColumns>;
+    type SerializeTuple = Impossible<f64, NotColumns>;
+    type SerializeTupleStruct = Impossible<f64, NotColumns>;
+    type SerializeTupleVariant = Impossible<f64, NotColumns>;
+    type SerializeMap = Impossible<f64, NotColumns>;
+    type SerializeStruct = Impossible<f64, NotColumns>;
+    type SerializeStructVariant = Impossible<f64, NotColumns>;
+
+    element_numbers! {
+        serialize_i8: i8,
+        serialize_i16: i16,
+        serialize_i32: i32,
+        serialize_i64: i64,
+        serialize_u8: u8,
+        serialize_u16: u16,
+        serialize_u32: u32,
+        serialize_u64: u64,
+        serialize_f32: f32,
+        serialize_f64: f64
+    }
+    fn serialize_some<T: ?Sized + Serialize>(self, value: &T) -> Result<f64, NotColumns> {
+        value.serialize(self)
+    }
+    fn serialize_newtype_struct<T: ?Sized + Serialize>(
+        self,
+        _: &'static str,
+        value: &T,
+    ) -> Result<f64, NotColumns> {
+        value.serialize(self)
+    }
+    not_numbers! {
+        serialize_bool(bool) -> f64,
+        serialize_char(char) -> f64,
+        serialize_str(&str) -> f64,
+        serialize_bytes(&[u8]) -> f64,
+        serialize_none() -> f64,
+        serialize_unit() -> f64,
+        serialize_unit_struct(&'static str) -> f64,
+        serialize_unit_variant(&'static str, u32, &'static str) -> f64,
+        serialize_seq(Option<usize>) -> Self::SerializeSeq,
+        serialize_tuple(usize) -> Self::SerializeTuple,
+        serialize_tuple_struct(&'static str, usize) -> Self::SerializeTupleStruct,
+        serialize_tuple_variant(&'static str, u32, &'static str, usize) -> Self::SerializeTupleVariant,
+        serialize_map(Option<usize>) -> Self::SerializeMap,
+        serialize_struct(&'static str, usize) -> Self::SerializeStruct,
+        serialize_struct_variant(&'static str, u32, &'static str, usize) -> Self::SerializeStructVariant
+    }
+    fn serialize_newtype_variant<T: ?Sized + Serialize>(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: &T,
+    ) -> Result<f64, NotColumns> {
+        refused("a list holding other than numbers")
     }
 }
 
@@ -451,6 +532,12 @@ struct TableCell<'a> {
     j: usize,
 }
 
+/// Whether two field names are the same: one item's field is the first's own `&'static str`
+/// (the same address, no comparison of the text) unless the items' types differ.
+fn same_key(a: &'static str, b: &'static str) -> bool {
+    std::ptr::eq(a, b) || a == b
+}
+
 impl ser::SerializeStruct for TableCell<'_> {
     type Ok = ();
     type Error = NotColumns;
@@ -472,7 +559,7 @@ impl ser::SerializeStruct for TableCell<'_> {
             }
             keys.push(key);
             cols.push(Col::Nulls(0));
-        } else if keys[self.j] != key {
+        } else if !same_key(keys[self.j], key) {
             return Err(NotColumns(format!(
                 "item {} has \"{key}\" where the first had \"{}\"",
                 self.row, keys[self.j]

@@ -22,7 +22,7 @@ pub mod analysis;
 #[cfg(feature = "bench")]
 pub mod bench;
 #[cfg(feature = "page-core")]
-mod columns;
+pub mod columns;
 #[cfg(feature = "page-core")]
 pub mod curves;
 #[cfg(feature = "page-core")]

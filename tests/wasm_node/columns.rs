@@ -61,3 +61,75 @@ fn the_per_point_arrays_are_columns_of_the_core_values() {
     let first = Reflect::get(&get(&page, &["design", "columns"]), &JsValue::from(0)).unwrap();
     assert_eq!(numbers(&get(&first, &["v"])), a.design.columns[0]);
 }
+
+/// An item of the packing test below: a number sometimes null, a number, a list of three and a
+/// list whose length is its own.
+#[derive(serde::Serialize)]
+struct Item {
+    maybe: Option<f64>,
+    x: f64,
+    foot: [f64; 3],
+}
+
+fn bytes(v: &JsValue) -> Vec<u8> {
+    js_sys::Uint8Array::from(v.clone()).to_vec()
+}
+
+/// The packed layout of www/columns.js by hand: a number null at the first two items, at the
+/// fourth and nowhere after the fifth is a `numnull` column (NaN and `nul` 1 at the nulls, `nul`
+/// as long as the items); one never null is `num` (no `nul`); lists of 3 are a `vec` of k 3,
+/// item after item; lists of two lengths in one field are refused (the list then travels as
+/// JSON). Tolerance: none (the values are copied).
+#[wasm_bindgen_test]
+fn nulls_numbers_and_lists_pack_by_hand() {
+    use testpiece::wasm::columns::packed;
+    let maybe = [
+        None,
+        None,
+        Some(1.5),
+        None,
+        Some(-2.0),
+        Some(3.0),
+        Some(4.0),
+    ];
+    let items: Vec<Item> = maybe
+        .iter()
+        .enumerate()
+        .map(|(i, &m)| Item {
+            maybe: m,
+            x: i as f64,
+            foot: [i as f64, 10.0 + i as f64, -(i as f64)],
+        })
+        .collect();
+    let t = packed(&items).expect("columns");
+    assert_eq!(get(&t, &["$col"]).as_string().as_deref(), Some("table"));
+    let m = get(&t, &["cols", "maybe"]);
+    assert_eq!(get(&m, &["$col"]).as_string().as_deref(), Some("numnull"));
+    assert_eq!(bytes(&get(&m, &["nul"])), vec![1, 1, 0, 1, 0, 0, 0]);
+    let v = numbers(&get(&m, &["v"]));
+    assert_eq!(v.len(), 7);
+    for (got, want) in v.iter().zip(&maybe) {
+        match want {
+            Some(w) => assert_eq!(got, w),
+            None => assert!(got.is_nan()),
+        }
+    }
+    let x = get(&t, &["cols", "x"]);
+    assert_eq!(get(&x, &["$col"]).as_string().as_deref(), Some("num"));
+    assert!(get(&x, &["nul"]).is_undefined());
+    assert_eq!(
+        numbers(&get(&x, &["v"])),
+        vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
+    );
+    let foot = get(&t, &["cols", "foot"]);
+    assert_eq!(get(&foot, &["$col"]).as_string().as_deref(), Some("vec"));
+    assert_eq!(get(&foot, &["k"]).as_f64(), Some(3.0));
+    let want: Vec<f64> = items.iter().flat_map(|i| i.foot).collect();
+    assert_eq!(numbers(&get(&foot, &["v"])), want);
+    // lists of 2 and of 3 numbers in one field
+    let uneven: Vec<Vec<f64>> = vec![vec![1.0, 2.0], vec![1.0, 2.0, 3.0]];
+    assert!(packed(&uneven).is_err());
+    // a list holding a null
+    let holed: Vec<Vec<Option<f64>>> = vec![vec![Some(1.0)], vec![None]];
+    assert!(packed(&holed).is_err());
+}
