@@ -245,9 +245,25 @@ fn refused<T>(what: &str) -> Result<T, NotColumns> {
 
 /// The serializer's methods for numbers: each the number as f64 (integers of up to 2^53 exactly,
 /// as in the JSON the page parsed before).
+/// (One list of serde's number methods for [`Cell`] and [`Number`]: each calls its serializer's
+/// own `number`.)
 macro_rules! numbers {
+    () => {
+        numbers! {
+            serialize_i8: i8,
+            serialize_i16: i16,
+            serialize_i32: i32,
+            serialize_i64: i64,
+            serialize_u8: u8,
+            serialize_u16: u16,
+            serialize_u32: u32,
+            serialize_u64: u64,
+            serialize_f32: f32,
+            serialize_f64: f64
+        }
+    };
     ($($name:ident: $t:ty),*) => {
-        $(fn $name(self, v: $t) -> Result<(), NotColumns> {
+        $(fn $name(self, v: $t) -> Result<Self::Ok, NotColumns> {
             self.number(v as f64)
         })*
     };
@@ -267,18 +283,7 @@ impl<'a> ser::Serializer for Cell<'a> {
     fn serialize_bool(self, v: bool) -> Result<(), NotColumns> {
         self.boolean(v)
     }
-    numbers! {
-        serialize_i8: i8,
-        serialize_i16: i16,
-        serialize_i32: i32,
-        serialize_i64: i64,
-        serialize_u8: u8,
-        serialize_u16: u16,
-        serialize_u32: u32,
-        serialize_u64: u64,
-        serialize_f32: f32,
-        serialize_f64: f64
-    }
+    numbers!();
     fn serialize_char(self, v: char) -> Result<(), NotColumns> {
         self.string(&v.to_string())
     }
@@ -332,9 +337,10 @@ impl<'a> ser::Serializer for Cell<'a> {
             };
         }
         match self.col {
-            Col::List { v, .. } => Ok(ListCell {
+            Col::List { k, v } => Ok(ListCell {
                 start: v.len(),
-                col: self.col,
+                k,
+                v,
             }),
             _ => Err(mixed("a list")),
         }
@@ -391,28 +397,24 @@ impl<'a> ser::Serializer for Cell<'a> {
 /// [`Col::List`]'s `k` before its first item's list is read.
 const LIST_FIRST: usize = usize::MAX;
 
-/// A list of numbers in one item (a point's foot, its normal), its numbers written into the
-/// column's `v` from `start` on (no allocation an item: three a list had been ~20 ms of the
-/// page's 150 ms of packing a 20,000-point scan's analysis, issue 31).
+/// A list of numbers in one item (a point's foot, its normal): its numbers written into its
+/// [`Col::List`]'s `v` from `start` on, its length checked against the column's `k` (no
+/// allocation an item: three a list had been ~20 ms of the page's 150 ms of packing a
+/// 20,000-point scan's analysis, issue 31).
 struct ListCell<'a> {
-    col: &'a mut Col,
+    k: &'a mut usize,
+    v: &'a mut Vec<f64>,
     start: usize,
 }
 
 impl ListCell<'_> {
     fn element<T: ?Sized + Serialize>(&mut self, value: &T) -> Result<(), NotColumns> {
-        let x = value.serialize(Number)?;
-        if let Col::List { v, .. } = self.col {
-            v.push(x);
-        }
+        self.v.push(value.serialize(Number)?);
         Ok(())
     }
 
     fn finish(self) -> Result<(), NotColumns> {
-        let Col::List { k: k0, v } = self.col else {
-            return Err(mixed("a list"));
-        };
-        let k = v.len() - self.start;
+        let (k, k0) = (self.v.len() - self.start, self.k);
         if *k0 == LIST_FIRST {
             *k0 = k;
         } else if *k0 != k {
@@ -428,13 +430,11 @@ impl ListCell<'_> {
 /// refused.
 struct Number;
 
-/// [`Number`]'s methods for numbers: each the number as f64 (as [`Cell`]'s).
-macro_rules! element_numbers {
-    ($($name:ident: $t:ty),*) => {
-        $(fn $name(self, v: $t) -> Result<f64, NotColumns> {
-            Ok(v as f64)
-        })*
-    };
+impl Number {
+    /// A number of the list: the number as f64 (as [`Cell`]'s).
+    fn number(self, x: f64) -> Result<f64, NotColumns> {
+        Ok(x)
+    }
 }
 
 /// [`Number`]'s methods for what is not a number.
@@ -457,18 +457,7 @@ impl ser::Serializer for Number {
     type SerializeStruct = Impossible<f64, NotColumns>;
     type SerializeStructVariant = Impossible<f64, NotColumns>;
 
-    element_numbers! {
-        serialize_i8: i8,
-        serialize_i16: i16,
-        serialize_i32: i32,
-        serialize_i64: i64,
-        serialize_u8: u8,
-        serialize_u16: u16,
-        serialize_u32: u32,
-        serialize_u64: u64,
-        serialize_f32: f32,
-        serialize_f64: f64
-    }
+    numbers!();
     fn serialize_some<T: ?Sized + Serialize>(self, value: &T) -> Result<f64, NotColumns> {
         value.serialize(self)
     }
