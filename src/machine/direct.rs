@@ -436,10 +436,7 @@ pub fn jacobian(
     errors: &MachineErrors,
     params: &[ErrorParam],
 ) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
-    errors.validate(chain)?;
-    let f = factors(chain, q, errors);
-    let (vp, _) = tool_vectors(chain, h);
-    let (jp, jd) = jacobian_of(chain, q, errors, params, &f, &Prefixes::of(&f), vp, true)?;
+    let (jp, jd) = tool_point_columns(chain, q, h, errors, params, true)?;
     Ok((jp, jd.unwrap_or_default()))
 }
 
@@ -452,10 +449,31 @@ pub fn point_jacobian(
     errors: &MachineErrors,
     params: &[ErrorParam],
 ) -> Result<Matrix3xX<f64>, MachineError> {
+    Ok(tool_point_columns(chain, q, h, errors, params, false)?.0)
+}
+
+/// [`jacobian`]'s columns, the direction's only with `directions`.
+fn tool_point_columns(
+    chain: &Chain,
+    q: &AxisValues,
+    h: f64,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+    directions: bool,
+) -> Result<(Matrix3xX<f64>, Option<Matrix3xX<f64>>), MachineError> {
     errors.validate(chain)?;
     let f = factors(chain, q, errors);
     let (vp, _) = tool_vectors(chain, h);
-    Ok(jacobian_of(chain, q, errors, params, &f, &Prefixes::of(&f), vp, false)?.0)
+    jacobian_of(
+        chain,
+        q,
+        errors,
+        params,
+        &f,
+        &Prefixes::of(&f),
+        vp,
+        directions,
+    )
 }
 
 /// Jacobian of the displacement of the **tool-body point** that sits at `x` (workpiece frame, mm)
