@@ -112,6 +112,7 @@ impl Unabsorbed {
 
     /// The residual sum of squares of the baseline plus these columns on the baseline residual
     /// `r0` (Frisch–Waugh–Lovell), and the rank they add.
+    #[cfg_attr(target_arch = "wasm32", target_feature(enable = "simd128"))]
     pub fn rss(&self, r0: &DVector<f64>) -> (f64, usize) {
         let fu = Factor::new(&self.u, Some(&self.norms));
         let theta = fu.solve(r0);
@@ -259,6 +260,7 @@ fn scan_block_size(n: usize, members: usize) -> usize {
 /// column of `cols`. Members of one column each (every family here) are projected in their own
 /// columns of `cols`, with no copy of the block or of its projection; members of several
 /// columns in a copy of the block's columns side by side.
+#[cfg_attr(target_arch = "wasm32", target_feature(enable = "simd128"))]
 fn scan_block_of(
     factor: &Factor,
     r0: Option<&DVector<f64>>,

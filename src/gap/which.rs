@@ -192,6 +192,7 @@ type OffBasis = (DMatrix<f64>, DMatrix<f64>);
 /// The prediction error on fold `f`'s withheld points of the baseline plus `s` (with columns)
 /// fitted on its training points (`s_train`, `u` its part outside the fold's baseline and `qts`
 /// its products `Qᵀs_train` with the baseline's basis).
+#[cfg_attr(target_arch = "wasm32", target_feature(enable = "simd128"))]
 fn fold_error(
     f: &FoldFactor,
     s: &DMatrix<f64>,

@@ -107,6 +107,7 @@ impl Factor {
     /// `a/d = (a/‖a‖)·(‖a‖/d)·1` (one pass, where nalgebra's SVD of an `n × 1` matrix makes a
     /// Householder QR and its `Q`: a candidate of one parameter, fitted hundreds of times on a
     /// dense scan, issue 31).
+    #[cfg_attr(target_arch = "wasm32", target_feature(enable = "simd128"))]
     fn column(a: &DMatrix<f64>, d: f64) -> Self {
         let norm = a.norm();
         let sv = norm / d;
@@ -294,6 +295,7 @@ pub(crate) fn kept(sv: &DVector<f64>, vt: &DMatrix<f64>, d: &[f64]) -> Kept {
 
 /// The norm each column of `a` is measured against: `scale[j]` when given, else the column's
 /// norm; 1 where that is 0 or not finite ([`usable_scale`]).
+#[cfg_attr(target_arch = "wasm32", target_feature(enable = "simd128"))]
 pub(crate) fn column_scales(a: &DMatrix<f64>, scale: Option<&[f64]>) -> Vec<f64> {
     (0..a.ncols())
         .map(|j| usable_scale(scale.map_or_else(|| a.column(j).norm(), |s| s[j])))
