@@ -332,17 +332,8 @@ fn reflect_one(axis: &[f64], y: &mut [f64], sign: f64) {
 fn reflect_two(axis: &[f64], y0: &mut [f64], y1: &mut [f64], sign: f64) {
     let m_two = sign * -2.0;
     let (d0, d1) = dot_two(axis, y0, y1);
-    update_two(axis, y0, y1, [(d0 - 0.0) * m_two, (d1 - 0.0) * m_two], sign);
-}
-
-/// [`update`] of two columns in one pass over the axis (each of its values loaded once for
-/// both), each entry the same expression: the same bits.
-#[inline(always)]
-fn update_two(axis: &[f64], y0: &mut [f64], y1: &mut [f64], factor: [f64; 2], sign: f64) {
-    for ((e0, e1), v) in y0.iter_mut().zip(y1.iter_mut()).zip(axis) {
-        *e0 = factor[0] * v + sign * *e0;
-        *e1 = factor[1] * v + sign * *e1;
-    }
+    update(axis, y0, (d0 - 0.0) * m_two, sign);
+    update(axis, y1, (d1 - 0.0) * m_two, sign);
 }
 
 /// `y ← f·v + s·y` (nalgebra's `axpy` with `c = 1`: `f·v·1 + s·y`, the `·1` exact).
