@@ -746,25 +746,12 @@ fn unabsorb_columns_in(q: &DMatrix<f64>, cols: &mut [&mut [f64]]) -> DMatrix<f64
             for (yi, a) in y.iter_mut().zip(&qs[start..end]) {
                 *yi = a * c0;
             }
-            // four columns of `Q` a pass over the block ([`crate::numerics::products`]'s
-            // `combine`: the sums loaded and stored once for four products), each row's sum in
-            // the columns' order: the same bits
-            let mut k = 1;
-            while k + 4 <= p {
-                let cs = [c[(k, j)], c[(k + 1, j)], c[(k + 2, j)], c[(k + 3, j)]];
-                let col = |t: usize| &qs[(k + t) * n + start..(k + t) * n + end];
-                let (q0, q1, q2, q3) = (col(0), col(1), col(2), col(3));
-                for ((((yi, a0), a1), a2), a3) in y.iter_mut().zip(q0).zip(q1).zip(q2).zip(q3) {
-                    *yi = (((*yi + a0 * cs[0]) + a1 * cs[1]) + a2 * cs[2]) + a3 * cs[3];
-                }
-                k += 4;
-            }
-            for k in k..p {
-                let ck = c[(k, j)];
-                for (yi, a) in y.iter_mut().zip(&qs[k * n + start..k * n + end]) {
-                    *yi += a * ck;
-                }
-            }
+            crate::numerics::products::add_products(
+                y,
+                1..p,
+                |k| &qs[k * n + start..k * n + end],
+                |k| c[(k, j)],
+            );
             for (o, yi) in col[start..end].iter_mut().zip(y.iter()) {
                 *o -= *yi;
             }
