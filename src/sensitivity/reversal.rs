@@ -1078,18 +1078,24 @@ pub fn lagged_column_at(lags: &[Lag; 2], a: usize, spots: &GridSpots, gain: &[f6
     // surface's lag is (a point reads the kind of its surface)
     let linear = first_order_offsets(lags, a, spots);
     let ringing = ringing_offsets(lags, a, spots);
-    spots
-        .spots
-        .iter()
-        .zip(gain)
-        .map(|(g, &gain)| {
-            let e_pt = match lags[g.surface].zeta {
-                None => linear[g.linear[0]] * (1.0 - g.t) + linear[g.linear[1]] * g.t,
-                Some(_) => ringing[g.ringing],
-            };
-            e_pt * gain
-        })
-        .collect()
+    let first_order = |g: &GridSpot| linear[g.linear[0]] * (1.0 - g.t) + linear[g.linear[1]] * g.t;
+    let rings = |g: &GridSpot| ringing[g.ringing];
+    let points = spots.spots.iter().zip(gain);
+    // (a member's passes are of one kind but for a given mix: the kind read once, not a point's
+    // surface's at each point)
+    match (lags[0].zeta.is_some(), lags[1].zeta.is_some()) {
+        (false, false) => points.map(|(g, &gain)| first_order(g) * gain).collect(),
+        (true, true) => points.map(|(g, &gain)| rings(g) * gain).collect(),
+        _ => points
+            .map(|(g, &gain)| {
+                let e_pt = match lags[g.surface].zeta {
+                    None => first_order(g),
+                    Some(_) => rings(g),
+                };
+                e_pt * gain
+            })
+            .collect(),
+    }
 }
 
 /// The offsets of axis `axes[a]` at the first-order sites of `spots` of the surfaces whose lag
@@ -1146,6 +1152,8 @@ fn ringing_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64> {
     let sites = &spots.ringing;
     let mut out = vec![0.0; sites.len()];
     let mut xs = Vec::new();
+    // the tables' nodes, one buffer for every segment
+    let mut nodes = Vec::new();
     // runs of the sorted sites on one surface's segment: the segment is the one the closed form
     // finds by the first site's step ([`segment_of`]), the run ending at the next segment's step
     let mut start = 0;
@@ -1164,7 +1172,7 @@ fn ringing_offsets(lags: &[Lag; 2], a: usize, spots: &GridSpots) -> Vec<f64> {
             let seg = &segs[g];
             xs.clear();
             xs.extend(sites[start..end].iter().map(|x| x.s - seg.s0));
-            settling_of(seg, p.tau, zeta).offsets_into(&xs, &mut out[start..end]);
+            settling_of(seg, p.tau, zeta).offsets_into_with(&xs, &mut out[start..end], &mut nodes);
         }
         start = end;
     }

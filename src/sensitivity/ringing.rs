@@ -132,6 +132,15 @@ impl Settling {
 
     /// [`Settling::offsets`] written to `out` (as long as `xs`).
     pub fn offsets_into(&self, xs: &[f64], out: &mut [f64]) {
+        self.offsets_into_with(xs, out, &mut Vec::new());
+    }
+
+    /// [`Settling::offsets_into`], a table's nodes in `buffer`: a buffer the caller keeps from one
+    /// segment to the next (what it holds on entry does not matter; a table writes every node
+    /// it reads), so that a member's tables are not each a fresh allocation zeroed before it
+    /// is written (one zeroing of a table's size a segment had been 1.4 % of a 20,000-point
+    /// scan's instructions, issue 31). The same offsets.
+    pub fn offsets_into_with(&self, xs: &[f64], out: &mut [f64], buffer: &mut Vec<[f64; 2]>) {
         assert_eq!(
             xs.len(),
             out.len(),
@@ -160,10 +169,11 @@ impl Settling {
             }
             return;
         }
-        let table = Table::new(self, lo, h, nodes as usize);
+        let table = Table::new_in(self, lo, h, nodes as usize, std::mem::take(buffer));
         for (e, &x) in out.iter_mut().zip(xs) {
             *e = table.at(self, x);
         }
+        *buffer = table.nodes;
     }
 }
 
@@ -181,6 +191,12 @@ pub struct Table {
 impl Table {
     /// The table of `n ≥ 2` nodes from `x0` by `h` (module doc).
     pub fn new(s: &Settling, x0: f64, h: f64, n: usize) -> Self {
+        Self::new_in(s, x0, h, n, Vec::new())
+    }
+
+    /// [`Table::new`], its nodes written into `nodes` (its length set to `n`: only what it
+    /// grows by is zeroed first; every node is then written, whatever it held).
+    pub fn new_in(s: &Settling, x0: f64, h: f64, n: usize, mut nodes: Vec<[f64; 2]>) -> Self {
         let n = n.max(2);
         let (lr, li) = (-s.decay, s.omega);
         let step = s.phase_step(h);
@@ -192,7 +208,7 @@ impl Table {
         // (runs are independent: [`INTERLEAVED`] of them advance together, one complex product
         // each a step, so the products' latencies overlap instead of chaining, issue 31; each
         // run's numbers are its own, the same bits)
-        let mut nodes = vec![[0.0; 2]; n];
+        nodes.resize(n, [0.0; 2]);
         let mut runs: Vec<&mut [[f64; 2]]> = nodes.chunks_mut(RESTART).collect();
         for (group, lanes) in runs.chunks_mut(INTERLEAVED).enumerate() {
             let first = group * INTERLEAVED;
