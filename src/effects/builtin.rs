@@ -255,7 +255,7 @@ pub(crate) fn every_candidate_model(
     use crate::effects::machine::{
         c_table_sign, index_signatures, machine_z_columns, MotionParams,
     };
-    use crate::sensitivity::defect::{jacobian_rows, SensitivityMatrix};
+    use crate::sensitivity::defect::{jacobian_rows_and_gains, SensitivityMatrix};
     let chain_axes: Vec<AxisName> = opts.chain.axes().map(|a| a.name).collect();
     // the point-wise work in blocks of points, shared out between the threads as each becomes
     // free (issue 31: two fixed halves left one thread alone for a tenth of the model): every
@@ -279,80 +279,77 @@ pub(crate) fn every_candidate_model(
         Some(s) => PassLengths::Series(s),
         None => PassLengths::Tables(part, [la, lb]),
     };
-    let pieces = map(threads, &jobs, |job| -> Result<Piece, GapError> {
-        Ok(match job {
-            Job::Design(r) => {
-                let (points, q) = (&points[r.clone()], &q[r.clone()]);
-                // the location errors and the error motions from one Jacobian a point (the
-                // chain's factors and products once; each column as it would be alone)
-                let motion_params = MotionParams::new();
-                let all: Vec<ErrorParam> = errors
-                    .iter()
-                    .chain(&motion_params.params)
-                    .cloned()
-                    .collect();
-                let m = jacobian_rows(part, points, q, opts, &all)?;
-                let sens = SensitivityMatrix {
-                    ids: points.iter().map(|p| p.id).collect(),
-                    curves: points.iter().map(|p| p.curve.name().to_string()).collect(),
-                    errors: errors.to_vec(),
-                    values: m.columns(0, errors.len()).into_owned(),
-                };
-                let (scale, motions) = motion_params.columns(
-                    &m.columns(errors.len(), motion_params.params.len())
-                        .into_owned(),
-                );
-                let eps = effect_points_on(points, &lengths);
-                let flank =
-                    |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
-                let envelope = points_deviation_on(&[flank(0), flank(1)], points, 0.0)?
-                    .iter()
-                    .map(|d| d.deviation)
-                    .collect();
-                Piece::Design(Design {
-                    sens,
-                    eps,
-                    envelope,
-                    scale,
-                    motions,
-                })
-            }
-            Job::Axes(r) => {
-                let (points, q) = (&points[r.clone()], &q[r.clone()]);
-                // the gains (∂x/∂q)·N of every axis of the chain, once: the servo signatures
-                // read them all, the backlash columns those of the lags' axes
-                let gains = backlash_gains(part, points, q, &chain_axes, opts)?;
-                let servo = crate::sensitivity::servo::servo_signatures_with(
-                    part,
-                    points,
-                    opts,
-                    &gains,
-                    rate_table.as_ref(),
-                )?;
-                // where each point falls on the passes' grid, shared by every lag
-                Piece::Axes(gains, servo, grid_places_with(&lengths, points))
-            }
+    let pieces = map(threads, &jobs, |r| -> Result<Piece, GapError> {
+        let (points, q) = (&points[r.clone()], &q[r.clone()]);
+        // the location errors and the error motions from one Jacobian a point, and the gains
+        // (∂x/∂q)·N of every axis of the chain at the same pose (the chain's factors and
+        // products once; each column as it would be alone): the servo signatures read them
+        // all, the backlash columns those of the lags' axes
+        let motion_params = MotionParams::new();
+        let all: Vec<ErrorParam> = errors
+            .iter()
+            .chain(&motion_params.params)
+            .cloned()
+            .collect();
+        let (m, gains) = jacobian_rows_and_gains(part, points, q, opts, &all, &chain_axes)?;
+        let sens = SensitivityMatrix {
+            ids: points.iter().map(|p| p.id).collect(),
+            curves: points.iter().map(|p| p.curve.name().to_string()).collect(),
+            errors: errors.to_vec(),
+            values: m.columns(0, errors.len()).into_owned(),
+        };
+        let (scale, motions) = motion_params.columns(
+            &m.columns(errors.len(), motion_params.params.len())
+                .into_owned(),
+        );
+        let eps = effect_points_on(points, &lengths);
+        let flank = |i: usize| FlankPath::with_table(part, Surface::BOTH[i], &path.pose_tables[i]);
+        let envelope = points_deviation_on(&[flank(0), flank(1)], points, 0.0)?
+            .iter()
+            .map(|d| d.deviation)
+            .collect();
+        let servo = crate::sensitivity::servo::servo_signatures_with(
+            part,
+            points,
+            opts,
+            &gains,
+            rate_table.as_ref(),
+        )?;
+        Ok(Piece {
+            design: Design {
+                sens,
+                eps,
+                envelope,
+                scale,
+                motions,
+            },
+            gains,
+            servo,
+            // where each point falls on the passes' grid, shared by every lag
+            places: grid_places_with(&lengths, points),
         })
     });
     let mut designs: Vec<Design> = Vec::new();
     let mut axis_parts: Option<(Vec<Vec<f64>>, ServoColumns)> = None;
     let mut places: Vec<GridPlace> = Vec::with_capacity(points.len());
     for piece in pieces {
-        match piece? {
-            Piece::Design(d) => designs.push(d),
-            Piece::Axes(g, s, p) => {
-                places.extend(p);
-                axis_parts = Some(match axis_parts {
-                    None => (g, s),
-                    Some((mut all_g, mut all_s)) => {
-                        append_columns(&mut all_g, g);
-                        append_columns(&mut all_s.lag, s.lag);
-                        all_s.common.extend(s.common);
-                        (all_g, all_s)
-                    }
-                })
+        let Piece {
+            design,
+            gains: g,
+            servo: s,
+            places: p,
+        } = piece?;
+        designs.push(design);
+        places.extend(p);
+        axis_parts = Some(match axis_parts {
+            None => (g, s),
+            Some((mut all_g, mut all_s)) => {
+                append_columns(&mut all_g, g);
+                append_columns(&mut all_s.lag, s.lag);
+                all_s.common.extend(s.common);
+                (all_g, all_s)
             }
-        }
+        })
     }
     let (Some(design), Some((all_gains, servo))) = (Design::concat(designs), axis_parts) else {
         unreachable!("point_jobs has a job of each kind")
@@ -441,33 +438,24 @@ pub(crate) fn every_candidate_model(
 /// the reference's test vectors) keep the tables' own rule.
 pub const LENGTH_SERIES_POINTS: usize = 2000;
 
-/// Blocks of points per thread in [`every_candidate_model`]'s jobs: a block's design columns
-/// take about twice its axes' gains and servo columns, so with two blocks a thread the jobs end
-/// within about a block's axes of each other.
-const BLOCKS_PER_THREAD: usize = 2;
+/// Blocks of points per thread in [`every_candidate_model`]'s jobs: each block's design columns,
+/// axis gains and servo columns together (one evaluation of the chain a point for the design
+/// rows and the gains), so with four blocks a thread the jobs end within about a quarter of a
+/// thread's share of each other.
+const BLOCKS_PER_THREAD: usize = 4;
 
-/// One job of the point-wise work of [`every_candidate_model`]: a block of points' design
-/// columns, or its axis columns with its places on the reversal grid.
-#[derive(Debug, Clone)]
-enum Job {
-    Design(std::ops::Range<usize>),
-    Axes(std::ops::Range<usize>),
-}
-
-/// The jobs for `n` points on `threads` threads, the larger first (one block on one thread:
-/// the whole points at once).
-fn point_jobs(n: usize, threads: Threads) -> Vec<Job> {
+/// The blocks of the point-wise work of [`every_candidate_model`] for `n` points on `threads`
+/// threads (one block on one thread: the whole points at once), each a job: its design columns,
+/// its axis columns and its places on the reversal grid.
+fn point_jobs(n: usize, threads: Threads) -> Vec<std::ops::Range<usize>> {
     let blocks = if threads.get() <= 1 {
         1
     } else {
         (threads.get() * BLOCKS_PER_THREAD).min(n.max(1))
     };
-    let ranges: Vec<std::ops::Range<usize>> = (0..blocks)
+    (0..blocks)
         .map(|b| b * n / blocks..(b + 1) * n / blocks)
-        .collect();
-    let mut jobs: Vec<Job> = ranges.iter().cloned().map(Job::Design).collect();
-    jobs.extend(ranges.into_iter().map(Job::Axes));
-    jobs
+        .collect()
 }
 
 /// A block's design columns: the location errors', the effect points, the envelope, the scale
@@ -509,10 +497,12 @@ impl Design {
     }
 }
 
-/// What a job computes ([`Job`]).
-enum Piece {
-    Design(Design),
-    Axes(Vec<Vec<f64>>, ServoColumns, Vec<GridPlace>),
+/// What a job of [`point_jobs`] computes for its block of points.
+struct Piece {
+    design: Design,
+    gains: Vec<Vec<f64>>,
+    servo: ServoColumns,
+    places: Vec<GridPlace>,
 }
 
 /// Each column of `next` (the rows that follow) appended to the same column of `all`.

@@ -502,6 +502,46 @@ pub fn body_point_jacobian(
     Ok(body_point_columns(chain, q, x, errors, params, false)?.0)
 }
 
+/// [`point_jacobian`] at the tool point `h` above the tip with `tool_params` and
+/// [`body_point_jacobian`] at the tool-body point `x` with `body_params`, at the same pose `q`
+/// and `errors`: the chain's factors, their products and `W⁻¹` evaluated once for both, each
+/// Jacobian's arithmetic otherwise its own (the same bits as each alone, test). A dense scan's
+/// design rows and axis gains are both taken at every point's pose (issue 31: the factors,
+/// products and inverse had been ~3 % of a 20,000-point scan's instructions a second time).
+pub fn point_and_body_jacobians(
+    chain: &Chain,
+    q: &AxisValues,
+    h: f64,
+    x: &Vector3<f64>,
+    errors: &MachineErrors,
+    tool_params: &[ErrorParam],
+    body_params: &[ErrorParam],
+) -> Result<(Matrix3xX<f64>, Matrix3xX<f64>), MachineError> {
+    errors.validate(chain)?;
+    let f = factors(chain, q, errors);
+    let pre = Prefixes::of(&f);
+    let wi = inverse_product(&f.w)?;
+    let (vp, _) = tool_vectors(chain, h);
+    let tool = jacobian_with(chain, q, errors, tool_params, &f, &pre, &wi, vp, false)?.0;
+    let vb = body_vector(&f, &pre, x)?;
+    let body = jacobian_with(chain, q, errors, body_params, &f, &pre, &wi, vb, false)?.0;
+    Ok((tool, body))
+}
+
+/// The tool-body point `x` (workpiece frame) in the tool frame, homogeneous: `T⁻¹ W x` from the
+/// sides' whole products.
+fn body_vector(
+    f: &Factors,
+    pre: &Prefixes,
+    x: &Vector3<f64>,
+) -> Result<Vector4<f64>, MachineError> {
+    let t = pre.t[f.t.len()];
+    let ti = affine_inverse(&t).ok_or_else(|| MachineError::SingularErrorMatrix {
+        det: t.fixed_view::<3, 3>(0, 0).determinant(),
+    })?;
+    Ok(ti * pre.w[f.w.len()] * Vector4::new(x.x, x.y, x.z, 1.0))
+}
+
 /// [`jacobian_body_point`]'s columns, the direction's only with `directions`.
 fn body_point_columns(
     chain: &Chain,
@@ -514,11 +554,7 @@ fn body_point_columns(
     errors.validate(chain)?;
     let f = factors(chain, q, errors);
     let pre = Prefixes::of(&f);
-    let t = pre.t[f.t.len()];
-    let ti = affine_inverse(&t).ok_or_else(|| MachineError::SingularErrorMatrix {
-        det: t.fixed_view::<3, 3>(0, 0).determinant(),
-    })?;
-    let vp = ti * pre.w[f.w.len()] * Vector4::new(x.x, x.y, x.z, 1.0);
+    let vp = body_vector(&f, &pre, x)?;
     jacobian_of(chain, q, errors, params, &f, &pre, vp, directions)
 }
 
@@ -546,6 +582,23 @@ fn jacobian_of(
     directions: bool,
 ) -> Result<(Matrix3xX<f64>, Option<Matrix3xX<f64>>), MachineError> {
     let wi = inverse_product(&f.w)?;
+    jacobian_with(chain, q, errors, params, f, pre, &wi, vp, directions)
+}
+
+/// [`jacobian_of`] with `W⁻¹` (`wi`, [`inverse_product`] of `f.w`) given.
+#[allow(clippy::too_many_arguments)]
+fn jacobian_with(
+    chain: &Chain,
+    q: &AxisValues,
+    errors: &MachineErrors,
+    params: &[ErrorParam],
+    f: &Factors,
+    pre: &Prefixes,
+    wi: &Matrix4<f64>,
+    vp: Vector4<f64>,
+    directions: bool,
+) -> Result<(Matrix3xX<f64>, Option<Matrix3xX<f64>>), MachineError> {
+    let wi = *wi;
     let t = pre.t[f.t.len()];
     let vd = Vector4::new(0.0, 0.0, 1.0, 0.0);
     // the tool's point and direction in the workpiece's frame before `W⁻¹`, then after it

@@ -14,7 +14,7 @@ use nalgebra::{DMatrix, Matrix3xX, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::machine::chain::PAPER000_L0;
-use crate::machine::direct::{point_jacobian, tool_point};
+use crate::machine::direct::{point_and_body_jacobians, point_jacobian, tool_point};
 use crate::machine::inverse::inverse;
 use crate::machine::{AxisValues, Branch, Chain, ErrorParam, MachineErrors, PathSample};
 use crate::numerics::parallel::{map, Threads};
@@ -206,6 +206,47 @@ pub fn jacobian_rows(
         }
     }
     Ok(m)
+}
+
+/// [`jacobian_rows`] of `params` and the gains of `axes`
+/// ([`super::reversal::backlash_gains`]) at the same points, from one evaluation of the chain a
+/// point ([`point_and_body_jacobians`]: a dense scan takes both at every point, issue 31): the
+/// same numbers as each alone (test).
+pub fn jacobian_rows_and_gains(
+    part: &SShape,
+    points: &[MeasurementPoint],
+    q: &[AxisValues],
+    opts: &SensitivityOptions,
+    params: &[ErrorParam],
+    axes: &[crate::machine::AxisName],
+) -> Result<(DMatrix<f64>, Vec<Vec<f64>>), SensitivityError> {
+    let poses = point_poses(part, points, q, opts)?;
+    let none = MachineErrors::none();
+    let jref = point_jacobian(&opts.chain, &reference_pose(opts)?, 0.0, &none, params)?;
+    let axis_params: Vec<ErrorParam> = axes.iter().map(|&a| ErrorParam::axis_value(a)).collect();
+    let mut m = DMatrix::zeros(points.len(), params.len());
+    let mut gains = vec![Vec::with_capacity(points.len()); axes.len()];
+    for (r, (pp, pt)) in poses.iter().zip(points).enumerate() {
+        // the tool point at `h` for the rows, the contact point for the gains (their normal is
+        // the poses' in both modes)
+        let (j, jb) = point_and_body_jacobians(
+            &opts.chain,
+            &pp.q,
+            pp.h,
+            &pt.point,
+            &none,
+            params,
+            &axis_params,
+        )?;
+        let d = (j - &jref).transpose() * pp.n;
+        for k in 0..params.len() {
+            m[(r, k)] = d[k];
+        }
+        for (a, col) in gains.iter_mut().enumerate() {
+            col.push(jb.column(a).dot(&pp.n));
+        }
+    }
+    Ok((m, gains))
 }
 
 /// The linear displacement of the displaced tool point (mode of `opts`) per unit of each
@@ -433,4 +474,50 @@ pub fn defect_xi(
         });
     }
     defect(part, points, &MachineErrors::from_pairs(params, xi), opts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::machine::direct::all_params;
+
+    /// [`jacobian_rows_and_gains`] is [`jacobian_rows`] and
+    /// [`crate::sensitivity::reversal::backlash_gains`] bit for bit (tolerance: none): the
+    /// built-in 100 points on the three chains of the papers (every location error and constant
+    /// error motion of each, the gains of every axis), in both modes.
+    #[test]
+    fn rows_and_gains_together_are_each_alone() {
+        let part = SShape::iso();
+        let points = crate::part::builtin_points(&part);
+        for chain in [
+            Chain::paper000(PAPER000_L0),
+            Chain::paper002(),
+            Chain::paper001(120.0, 80.0),
+        ] {
+            for mode in [Mode::Physical, Mode::Paper] {
+                let opts = SensitivityOptions::default()
+                    .with_chain(chain.clone())
+                    .with_mode(mode);
+                let q = axis_values(&part, &points, &opts).unwrap();
+                let params = all_params(&chain);
+                let axes: Vec<_> = chain.axes().map(|a| a.name).collect();
+                let (rows, gains) =
+                    jacobian_rows_and_gains(&part, &points, &q, &opts, &params, &axes).unwrap();
+                let want_rows = jacobian_rows(&part, &points, &q, &opts, &params).unwrap();
+                let want_gains =
+                    crate::sensitivity::reversal::backlash_gains(&part, &points, &q, &axes, &opts)
+                        .unwrap();
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(
+                    bits(rows.as_slice()),
+                    bits(want_rows.as_slice()),
+                    "{mode:?}"
+                );
+                assert_eq!(gains.len(), axes.len());
+                for (g, w) in gains.iter().zip(&want_gains) {
+                    assert_eq!(bits(g), bits(w), "{mode:?}");
+                }
+            }
+        }
+    }
 }
