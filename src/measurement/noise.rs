@@ -969,6 +969,9 @@ pub fn projected_whiteness_on(
         let mut col = vec![0.0; n];
         let mut bt_akb = nalgebra::DMatrix::zeros(p, p);
         let mut akb_norm2 = 0.0;
+        // one buffer for every block's A_k B (each column is set whole by `shift`): a fresh
+        // zeroed n × w matrix a block had been 1 % of a 20,000-point scan's instructions
+        let mut buffer = vec![0.0; n * p.min(WHITENESS_BLOCK + 5)];
         let mut start = 0;
         while start < p {
             // a last block of at least 6 columns: the blocked product's path (matrixmultiply
@@ -978,13 +981,11 @@ pub fn projected_whiteness_on(
             } else {
                 WHITENESS_BLOCK
             };
-            let mut akb = nalgebra::DMatrix::zeros(n, w);
+            for (c, col) in buffer[..n * w].chunks_mut(n).enumerate() {
+                shift(basis.column(start + c).as_slice(), k, col);
+            }
+            let akb = nalgebra::DMatrixView::from_slice(&buffer[..n * w], n, w);
             for c in 0..w {
-                shift(
-                    basis.column(start + c).as_slice(),
-                    k,
-                    akb.column_mut(c).as_mut_slice(),
-                );
                 akb_norm2 += akb.column(c).norm_squared();
             }
             if cfg!(target_arch = "wasm32") {
@@ -992,7 +993,7 @@ pub fn projected_whiteness_on(
                 // upper triangle only (A_k is symmetric, so is Bᵀ A_k B: mirrored below)
                 crate::numerics::products::tr_mul_into(
                     &b_cols,
-                    &crate::numerics::products::columns(&akb),
+                    &buffer[..n * w].chunks(n).collect::<Vec<&[f64]>>(),
                     &mut bt_akb.as_mut_slice()[start * p..],
                     p,
                     Some(start),
