@@ -20,6 +20,12 @@ after(async () => {
   await browser?.close();
 });
 
+// How long a plan may take to be drawn: a wait, not a speed bound (the figures follow their inputs
+// with no button; each input is a plan computed in the worker, one after the other). 30 s had
+// been enough until a slow host took 9 s for the tab's first plan and 27.7 s for the two plans
+// of σ 2 µm and 50 points per curve (2 Dec 2026).
+const PLAN_WAIT_MS = 120000;
+
 const cli = (...args) => JSON.parse(execFileSync('cargo', ['run', '--quiet', '--bin', 'testpiece', '--', 'plan', ...args, '--json'], { cwd: ROOT, encoding: 'utf8' }));
 const cellValue = async (page, tableName, rowText, col) => Number(await page.locator(`[data-table="${tableName}"] tbody tr`, { hasText: rowText }).first().locator('td').nth(col).getAttribute('data-value'));
 
@@ -30,7 +36,7 @@ test('the Plan view equals the CLI and follows its inputs at once', async () => 
   await page.goto(url);
   await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
   await page.click('#tab-plan');
-  await page.waitForSelector('[data-table="plan-parameters"]', { timeout: 30000 });
+  await page.waitForSelector('[data-table="plan-parameters"]', { timeout: PLAN_WAIT_MS });
   const native = cli();
   const ex0b = await cellValue(page, 'plan-parameters', 'EX0B', 1);
   assert.ok(Math.abs(ex0b - native.parameters.EX0B.std) <= 1e-12 * native.parameters.EX0B.std, `EX0B std page ${ex0b} vs CLI ${native.parameters.EX0B.std}`);
@@ -41,17 +47,17 @@ test('the Plan view equals the CLI and follows its inputs at once', async () => 
   await page.dispatchEvent('#plan-sigma', 'input');
   await page.fill('#plan-per-curve', '50');
   await page.dispatchEvent('#plan-per-curve', 'input');
-  await page.waitForFunction(() => document.querySelector('#plan-out')?.dataset.points === '200', null, { timeout: 30000 });
+  await page.waitForFunction(() => document.querySelector('#plan-out')?.dataset.points === '200', null, { timeout: PLAN_WAIT_MS });
   const native50 = cli('--sigma', '0.002', '--per-curve', '50');
   await page.waitForFunction((want) => {
     const row = [...document.querySelectorAll('[data-table="plan-parameters"] tbody tr')].find((r) => r.textContent.startsWith('EX0B'));
     return row && Math.abs(Number(row.children[1].dataset.value) - want) <= 1e-12 * want;
-  }, native50.parameters.EX0B.std, { timeout: 30000 });
+  }, native50.parameters.EX0B.std, { timeout: PLAN_WAIT_MS });
   console.log(`plan view: EX0B std ${(ex0b * 1e3).toFixed(3)} µm (100 points, MPE σ) -> ${(native50.parameters.EX0B.std * 1e3).toFixed(3)} µm (200 points, σ 2 µm)`);
   // Back to 25 per curve: the DMIS download holds the 100 points of `testpiece points`.
   await page.fill('#plan-per-curve', '25');
   await page.dispatchEvent('#plan-per-curve', 'input');
-  await page.waitForFunction(() => document.querySelector('#plan-out')?.dataset.points === '100', null, { timeout: 30000 });
+  await page.waitForFunction(() => document.querySelector('#plan-out')?.dataset.points === '100', null, { timeout: PLAN_WAIT_MS });
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#plan-dmis')]);
   const dmis = fs.readFileSync(await download.path(), 'utf8');
   // ASCII, lines of at most 80 characters; `$` at a line's end continues the statement.
