@@ -464,16 +464,9 @@ fn tool_point_columns(
     errors.validate(chain)?;
     let f = factors(chain, q, errors);
     let (vp, _) = tool_vectors(chain, h);
-    jacobian_of(
-        chain,
-        q,
-        errors,
-        params,
-        &f,
-        &Prefixes::of(&f),
-        vp,
-        directions,
-    )
+    let pre = Prefixes::of(&f);
+    let wi = inverse_product(&f.w)?;
+    jacobian_of(chain, q, errors, params, &f, &pre, wi, vp, directions)
 }
 
 /// Jacobian of the displacement of the **tool-body point** that sits at `x` (workpiece frame, mm)
@@ -522,9 +515,9 @@ pub fn point_and_body_jacobians(
     let pre = Prefixes::of(&f);
     let wi = inverse_product(&f.w)?;
     let (vp, _) = tool_vectors(chain, h);
-    let tool = jacobian_with(chain, q, errors, tool_params, &f, &pre, &wi, vp, false)?.0;
+    let tool = jacobian_of(chain, q, errors, tool_params, &f, &pre, wi, vp, false)?.0;
     let vb = body_vector(&f, &pre, x)?;
-    let body = jacobian_with(chain, q, errors, body_params, &f, &pre, &wi, vb, false)?.0;
+    let body = jacobian_of(chain, q, errors, body_params, &f, &pre, wi, vb, false)?.0;
     Ok((tool, body))
 }
 
@@ -555,11 +548,12 @@ fn body_point_columns(
     let f = factors(chain, q, errors);
     let pre = Prefixes::of(&f);
     let vp = body_vector(&f, &pre, x)?;
-    jacobian_of(chain, q, errors, params, &f, &pre, vp, directions)
+    let wi = inverse_product(&f.w)?;
+    jacobian_of(chain, q, errors, params, &f, &pre, wi, vp, directions)
 }
 
-/// The columns of [`jacobian`] and [`jacobian_body_point`] from the factors `f` and the tool
-/// point `vp` (homogeneous, tool frame): with the tip at `p = W⁻¹ T v` (`W`, `T` the products of
+/// The columns of [`jacobian`] and [`jacobian_body_point`] from the factors `f`, `W⁻¹` (`wi`,
+/// [`inverse_product`] of `f.w`) and the tool point `vp` (homogeneous, tool frame): with the tip at `p = W⁻¹ T v` (`W`, `T` the products of
 /// the workpiece's and the tool's factor lists, `pre` their prefix products), a parameter of factor `k` of a list whose
 /// products before and after it are `P` and `S` (`∂F_k = D`) moves it by `W⁻¹ P D S v` on the
 /// tool side and by `−W⁻¹ P D S W⁻¹ T v` on the workpiece side (`∂W⁻¹ = −W⁻¹ ∂W W⁻¹`), the
@@ -578,27 +572,10 @@ fn jacobian_of(
     params: &[ErrorParam],
     f: &Factors,
     pre: &Prefixes,
+    wi: Matrix4<f64>,
     vp: Vector4<f64>,
     directions: bool,
 ) -> Result<(Matrix3xX<f64>, Option<Matrix3xX<f64>>), MachineError> {
-    let wi = inverse_product(&f.w)?;
-    jacobian_with(chain, q, errors, params, f, pre, &wi, vp, directions)
-}
-
-/// [`jacobian_of`] with `W⁻¹` (`wi`, [`inverse_product`] of `f.w`) given.
-#[allow(clippy::too_many_arguments)]
-fn jacobian_with(
-    chain: &Chain,
-    q: &AxisValues,
-    errors: &MachineErrors,
-    params: &[ErrorParam],
-    f: &Factors,
-    pre: &Prefixes,
-    wi: &Matrix4<f64>,
-    vp: Vector4<f64>,
-    directions: bool,
-) -> Result<(Matrix3xX<f64>, Option<Matrix3xX<f64>>), MachineError> {
-    let wi = *wi;
     let t = pre.t[f.t.len()];
     let vd = Vector4::new(0.0, 0.0, 1.0, 0.0);
     // the tool's point and direction in the workpiece's frame before `W⁻¹`, then after it

@@ -21,7 +21,7 @@
 use nalgebra::{Matrix2, Vector2, Vector3};
 use serde::Serialize;
 
-use super::start_rulings::{Ruling, StartRulings};
+use super::start_rulings::StartRulings;
 use crate::geometry::GeometryError;
 use crate::numerics::order::{argsort, sort_by_index};
 use crate::part::frame::frame_derivs_from;
@@ -77,24 +77,11 @@ pub struct Projector<'a, P: RuledPart + ?Sized> {
     part: &'a P,
     rulings: Vec<(Surface, StartRulings)>,
     /// Per surface, how much nearer than its nearest start ruling's line a foot can be (mm,
-    /// [`ruling_margin`]).
+    /// [`StartRulings::margin`]).
     margins: Vec<f64>,
 }
 
-/// Twice the largest step between neighbouring start rulings, `2·max(|ΔC0| + V·|ΔD|)` for feet
-/// of `|v| ≤ V =` [`MARGIN_V`]: a point `C0(u) + v·D(u)` between two start rulings lies within
-/// `|C0(u) − C0ᵢ| + |v|·|D(u) − Dᵢ|` of the nearer one's line (the factor 2 holds the curves'
-/// sag between samples), so the foot on a surface is at least its nearest ruling's distance
-/// less this.
-fn ruling_margin(rulings: &[Ruling]) -> f64 {
-    let step = rulings
-        .windows(2)
-        .map(|w| (w[1].0 - w[0].0).norm() + MARGIN_V * (w[1].1 - w[0].1).norm())
-        .fold(0.0, f64::max);
-    2.0 * step
-}
-
-/// The `|v|` up to which [`ruling_margin`] holds (three times the part's height).
+/// The `|v|` up to which [`StartRulings::margin`] holds (three times the part's height).
 pub const MARGIN_V: f64 = 3.0;
 
 impl<'a, P: RuledPart + ?Sized> Projector<'a, P> {
@@ -105,10 +92,7 @@ impl<'a, P: RuledPart + ?Sized> Projector<'a, P> {
             .iter()
             .map(|&s| (s, StartRulings::new(part, s)))
             .collect();
-        let margins = rulings
-            .iter()
-            .map(|(_, r)| ruling_margin(r.rulings()))
-            .collect();
+        let margins = rulings.iter().map(|(_, r)| r.margin()).collect();
         Self {
             part,
             rulings,
@@ -118,7 +102,7 @@ impl<'a, P: RuledPart + ?Sized> Projector<'a, P> {
 
     /// Projects `p` (mm) onto the nearest surface of the part (S-shape: A or B); of equally near
     /// feet the first surface's. A surface whose nearest start ruling is farther, less its
-    /// [`ruling_margin`], than a foot already found cannot hold the nearest foot and is not
+    /// [`StartRulings::margin`], than a foot already found cannot hold the nearest foot and is not
     /// projected on (the surfaces tried nearest start first): a scan's point on A is not
     /// projected onto B (half the projections of a file, issue 31).
     pub fn project(&self, p: &Vector3<f64>) -> Result<Projection, GeometryError> {

@@ -117,12 +117,20 @@ impl StartRulings {
         }
     }
 
+    /// The surface-wide margin: twice the largest step between neighbouring start rulings,
+    /// `2·max(|ΔC0| + V·|ΔD|)` for feet of `|v| ≤ V =` [`MARGIN_V`] (the largest of
+    /// [`StartRulings::margins`]), so the foot on the surface is at least its nearest ruling's
+    /// distance less this.
+    pub fn margin(&self) -> f64 {
+        self.margins.iter().copied().fold(0.0, f64::max)
+    }
+
     /// Whether every point `C0(u) + v·D(u)` of the surface with `|v| ≤` [`MARGIN_V`] is farther
     /// than `d` (mm) from `p`: its distance is at least that of the nearer of the two start
     /// rulings around it less that ruling's [`StartRulings::margins`], so every ruling's distance
     /// less its margin above `d` is enough; a block whose bound on its rulings' distances
     /// (module doc) less its largest margin is above `d` is passed whole, the others ruling by
-    /// ruling. The surface-wide margin of [`super::projection`] takes the largest step of the
+    /// ruling. The surface-wide margin ([`StartRulings::margin`]) takes the largest step of the
     /// whole surface (12-16 mm on the S-shape, more than the 9-10 mm between its two sides): a
     /// scan's point on A had been projected onto B too (issue 31: a Newton a point, ~2 % of a
     /// 20,000-point scan's instructions). Conservative by [`SLACK`]; `false` for `d` infinite.
