@@ -119,6 +119,7 @@ pub(super) fn final_answer(
         unavailable: f.unavailable,
         options: iopts,
         decompositions: at.decompositions(),
+        threads: opts.threads,
     };
     let fin = correct(&input, &opts.effects).map_err(AnalysisError::Correction)?;
     let Final {

@@ -271,6 +271,8 @@ pub struct CorrectionInput<'a> {
     /// The structure's decompositions kept for these points ([`structure::Decompositions`]: a
     /// value the caller holds; a fresh one computes them).
     pub decompositions: &'a structure::Decompositions,
+    /// Threads for the structure's estimate (the same numbers whatever their count).
+    pub threads: crate::numerics::parallel::Threads,
 }
 
 /// The final answer.
@@ -548,6 +550,7 @@ fn fit_with_structure(
         &used_y,
         sigma,
         input.decompositions,
+        input.threads,
     )
     .ok_or(GapError::StructureNotEstimated {
         sigma,

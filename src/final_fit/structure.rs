@@ -38,6 +38,7 @@ use serde::Serialize;
 use crate::effects::data::PointMeta;
 use crate::identify::solve::Factor;
 use crate::numerics::memo::Memo;
+use crate::numerics::parallel::{map, Threads};
 
 /// Number of correlation lengths tried, geometric between the point spacing and the path.
 pub const LENGTH_GRID: usize = 14;
@@ -161,23 +162,21 @@ fn decompositions(
     points: &[PointMeta],
     (lo, hi): (f64, f64),
     kept: &Decompositions,
+    threads: Threads,
 ) -> Arc<Vec<Decomposition>> {
     let key: Vec<u64> = points.iter().map(|p| p.s.to_bits()).collect();
     if let Some(d) = kept.memo().find(|k| *k == key) {
         return d;
     }
-    let d: Arc<Vec<Decomposition>> = Arc::new(
-        (0..LENGTH_GRID)
-            .map(|k| {
-                let eig =
-                    nalgebra::SymmetricEigen::new(correlation(points, grid_length(lo, hi, k)));
-                Decomposition {
-                    lambda: eig.eigenvalues.iter().map(|l| l.max(0.0)).collect(),
-                    q: eig.eigenvectors,
-                }
-            })
-            .collect(),
-    );
+    // (each length's on its own, side by side on the threads: the same matrices)
+    let lengths: Vec<usize> = (0..LENGTH_GRID).collect();
+    let d: Arc<Vec<Decomposition>> = Arc::new(map(threads, &lengths, |&k| {
+        let eig = nalgebra::SymmetricEigen::new(correlation(points, grid_length(lo, hi, k)));
+        Decomposition {
+            lambda: eig.eigenvalues.iter().map(|l| l.max(0.0)).collect(),
+            q: eig.eigenvectors,
+        }
+    }));
     if points.len() <= KEPT_MAX_POINTS {
         kept.memo().insert(key, Arc::clone(&d));
     }
@@ -192,30 +191,33 @@ fn grid_length(lo: f64, hi: f64, k: usize) -> f64 {
 /// The REML estimate of the structure's covariance for the residual of `design` on `y`, the
 /// white σ (mm) being fixed, with the decompositions `kept` for these points (a fresh
 /// [`Decompositions`] computes them). `None` without a positive σ or with fewer points than two
-/// more than the design's rank.
+/// more than the design's rank. The lengths of the grid are tried side by side on `threads`
+/// threads (the same estimate whatever the threads: each length's likelihood is its own, the
+/// best taken in the grid's order).
 pub fn estimate(
     points: &[PointMeta],
     design: &DMatrix<f64>,
     y: &[f64],
     white_sigma: f64,
     kept: &Decompositions,
+    threads: Threads,
 ) -> Option<StructureCovariance> {
     let n = points.len();
     if !(white_sigma > 0.0 && white_sigma.is_finite()) || y.len() != n || design.nrows() != n {
         return None;
     }
-    let basis = Factor::new(design, None).basis;
+    let basis = Factor::of_on(design.clone(), None, threads).basis;
     if n < basis.ncols() + 2 {
         return None;
     }
     if n > DENSE_MAX_POINTS {
-        return estimate_grouped(points, &basis, y, white_sigma);
+        return estimate_grouped(points, &basis, y, white_sigma, threads);
     }
     let y = DVector::from_column_slice(y);
     let (lo, hi) = length_range(points);
     let s2 = white_sigma * white_sigma;
     let mut best: Option<(f64, f64, f64)> = None; // (loglik, tau2, length)
-    let decompositions = decompositions(points, (lo, hi), kept);
+    let decompositions = decompositions(points, (lo, hi), kept, threads);
     for (k, Decomposition { lambda, q }) in decompositions.iter().enumerate() {
         let length = grid_length(lo, hi, k);
         let bt = q.transpose() * &basis;
@@ -278,6 +280,7 @@ fn estimate_grouped(
     basis: &DMatrix<f64>,
     y: &[f64],
     white_sigma: f64,
+    threads: Threads,
 ) -> Option<StructureCovariance> {
     let n = points.len();
     let (s_lo, s_hi) = points
@@ -321,10 +324,12 @@ fn estimate_grouped(
     let by = basis.transpose() * &yv;
     let (lo, hi) = length_range(points);
     let (lo, hi) = (lo.max(width), hi.max(width));
-    // (log-likelihood, τ², length, V, λ) of the best length so far
+    // each length's (log-likelihood, τ², length, V, λ), side by side on the threads (a 256 × 256
+    // eigen-decomposition each: the fourteen had been 0.2 s of one thread on a 20,000-point scan,
+    // issue 31); the best taken in the grid's order, as one length after the other
     type Best = (f64, f64, f64, DMatrix<f64>, Vec<f64>);
-    let mut best: Option<Best> = None;
-    for k in 0..LENGTH_GRID {
+    let lengths: Vec<usize> = (0..LENGTH_GRID).collect();
+    let tried: Vec<Best> = map(threads, &lengths, |&k| {
         let length = grid_length(lo, hi, k);
         let kg = DMatrix::from_fn(g, g, |a, b| {
             let d = (centre[a] - centre[b]) / length;
@@ -342,8 +347,12 @@ fn estimate_grouped(
         );
         let f = |tau2: f64| grouped_log_likelihood(&lambda, &bt, &yt, s2, tau2, n, yy, &by);
         let (t, fv) = golden_ln_tau2(s2, f);
-        if fv.is_finite() && best.as_ref().is_none_or(|b| fv > b.0) {
-            best = Some((fv, libm::exp(t), length, v, lambda));
+        (fv, libm::exp(t), length, v, lambda)
+    });
+    let mut best: Option<Best> = None;
+    for b in tried {
+        if b.0.is_finite() && best.as_ref().is_none_or(|x| b.0 > x.0) {
+            best = Some(b);
         }
     }
     let (loglik, tau2, length, v, lambda) = best?;
@@ -494,7 +503,7 @@ mod tests {
         let mut rng = Sampler::new(3);
         let y: Vec<f64> = (0..100).map(|_| 0.0015 * rng.normal()).collect();
         let a = DMatrix::from_element(100, 1, 1.0);
-        let s = estimate(&p, &a, &y, 0.0015, &Decompositions::default()).unwrap();
+        let s = estimate(&p, &a, &y, 0.0015, &Decompositions::default(), Threads::ONE).unwrap();
         assert!(s.amplitude < 0.5 * 0.0015, "τ = {}", s.amplitude);
     }
 
@@ -512,7 +521,7 @@ mod tests {
             })
             .collect();
         let a = DMatrix::from_element(100, 1, 1.0);
-        let s = estimate(&p, &a, &y, 0.0015, &Decompositions::default()).unwrap();
+        let s = estimate(&p, &a, &y, 0.0015, &Decompositions::default(), Threads::ONE).unwrap();
         assert!((0.002..0.008).contains(&s.amplitude), "τ = {}", s.amplitude);
         assert!((30.0..300.0).contains(&s.length), "ℓ = {}", s.length);
     }
@@ -523,6 +532,35 @@ mod tests {
         match &c.form {
             CovarianceForm::Dense(m) => m.clone(),
             CovarianceForm::Grouped { .. } => panic!("grouped"),
+        }
+    }
+
+    /// The estimate on 3 threads is the one on 1, bit for bit, dense (300 points: the length
+    /// grid's decompositions side by side) and grouped (3,000 points: the lengths' likelihoods
+    /// side by side). Tolerance: none (each length's numbers are its own, the best taken in the
+    /// grid's order).
+    #[test]
+    fn the_estimate_on_threads_is_the_one_on_one_thread() {
+        for (n, spacing) in [(300, 1.0), (3000, 0.1)] {
+            let p = points(n, spacing);
+            let mut rng = Sampler::new(5);
+            let y: Vec<f64> = p
+                .iter()
+                .map(|q| 0.004 * libm::sin(q.s / 9.0) + 0.0015 * rng.normal())
+                .collect();
+            let a = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { p[i].s });
+            let one = estimate(&p, &a, &y, 0.0015, &Decompositions::default(), Threads::ONE);
+            let three = estimate(
+                &p,
+                &a,
+                &y,
+                0.0015,
+                &Decompositions::default(),
+                Threads::new(3),
+            );
+            let (one, three) = (one.unwrap(), three.unwrap());
+            assert_eq!(one.grouped.is_some(), n > DENSE_MAX_POINTS);
+            assert_eq!(format!("{one:?}"), format!("{three:?}"), "{n} points");
         }
     }
 
@@ -539,10 +577,10 @@ mod tests {
             .map(|q| 0.004 * libm::sin(q.s / 40.0) + 0.0015 * rng.normal())
             .collect();
         let a = DMatrix::from_element(p.len(), 1, 1.0);
-        let d = estimate(&p, &a, &y, 0.0015, &Decompositions::default()).unwrap();
+        let d = estimate(&p, &a, &y, 0.0015, &Decompositions::default(), Threads::ONE).unwrap();
         assert!(d.grouped.is_none());
         let basis = Factor::new(&a, None).basis;
-        let g = estimate_grouped(&p, &basis, &y, 0.0015).unwrap();
+        let g = estimate_grouped(&p, &basis, &y, 0.0015, Threads::ONE).unwrap();
         assert_eq!(g.grouped.as_ref().unwrap().groups, 200);
         assert_eq!(g.length.to_bits(), d.length.to_bits());
         assert!(
@@ -569,11 +607,13 @@ mod tests {
             .collect();
         let mut fresh = Vec::new();
         for y in &ys {
-            fresh.push(estimate(&p, &a, y, 0.0015, &Decompositions::default()).unwrap());
+            fresh.push(
+                estimate(&p, &a, y, 0.0015, &Decompositions::default(), Threads::ONE).unwrap(),
+            );
         }
         let kept_for_p = Decompositions::default();
         for (y, f) in ys.iter().zip(&fresh) {
-            let kept = estimate(&p, &a, y, 0.0015, &kept_for_p).unwrap();
+            let kept = estimate(&p, &a, y, 0.0015, &kept_for_p, Threads::ONE).unwrap();
             assert_eq!(kept.amplitude.to_bits(), f.amplitude.to_bits());
             assert_eq!(kept.length.to_bits(), f.length.to_bits());
             assert_eq!(dense(&kept), dense(f));

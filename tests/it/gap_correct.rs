@@ -157,6 +157,7 @@ fn unexplained_structure_widens_every_std() {
             unavailable: &[],
             decompositions: &Default::default(),
             options: &opts,
+            threads: Default::default(),
         },
         &EffectsChoice::Auto,
     )
