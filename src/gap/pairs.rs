@@ -44,7 +44,7 @@
 //! the smaller one among the effects possible below the detection limit. A pair of two visible
 //! members is preferred to such a pair.
 
-use crate::numerics::parallel::map;
+use crate::numerics::parallel::{map, Threads};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -99,7 +99,7 @@ fn joint_shapes(
     a: &Candidate,
     b: &Candidate,
     start: [Option<usize>; 2],
-    kept: &mut KeptMembers,
+    kept: &KeptMembers,
 ) -> (Candidate, Candidate, [Option<usize>; 2]) {
     let mut idx = start;
     if a.family.is_none() && b.family.is_none() {
@@ -113,17 +113,6 @@ fn joint_shapes(
             let fixed = other.at_shape(idx[1 - which]);
             // the other member's part outside the baseline once for the whole grid
             let fixed = Unabsorbed::of(factor, &fixed.signature.matrix);
-            // the members' parts outside the baseline kept for the next search of the same
-            // family when they fit in the budget (else made a block at a time, [`Members`])
-            let bytes = family.len() * ctx.y.len() * me.signature.ncols() * 8;
-            if kept.get(me.effect).is_none() && kept.bytes + bytes <= KEPT_MEMBERS_BYTES {
-                let members: Vec<usize> = (0..family.len()).collect();
-                let un = map(ctx.threads, &members, |&k| {
-                    Unabsorbed::of(factor, &family.member(k))
-                });
-                kept.bytes += bytes;
-                kept.families.push((me.effect, un));
-            }
             // the member of least RSS beside the other, the first of equal ones: each screened
             // in one pass, the closest fitted exactly (the member of the exact fit of each,
             // side by side on the threads given, [`Beside`]: a backlash's 54 members searched
@@ -159,6 +148,26 @@ struct KeptMembers {
 }
 
 impl KeptMembers {
+    /// The members of the families of `a` and `b` (`a`'s first) projected off the baseline,
+    /// each family not kept yet kept when it fits in the budget (else [`joint_shapes`] makes
+    /// them a block at a time, [`Members`]): what the pair's searches read, the families kept in
+    /// the order the pairs need them.
+    fn keep_for(&mut self, ctx: &Context, a: &Candidate, b: &Candidate) {
+        for me in [a, b] {
+            let Some(family) = &me.family else { continue };
+            let bytes = family.len() * ctx.y.len() * me.signature.ncols() * 8;
+            if self.get(me.effect).is_none() && self.bytes + bytes <= KEPT_MEMBERS_BYTES {
+                let members: Vec<usize> = (0..family.len()).collect();
+                let factor = &ctx.baseline.factor;
+                let un = map(ctx.threads, &members, |&k| {
+                    Unabsorbed::of(factor, &family.member(k))
+                });
+                self.bytes += bytes;
+                self.families.push((me.effect, un));
+            }
+        }
+    }
+
     fn get(&self, e: Effect) -> Option<&[Unabsorbed]> {
         self.families
             .iter()
@@ -248,46 +257,63 @@ pub fn best_pair(
         ..*ctx
     };
     let rss = |f: &CandidateFit| f.rms * f.rms * nf;
-    let mut tried: Vec<(Effect, Effect, f64)> = Vec::new();
-    let mut accepted: Vec<PairFit> = Vec::new();
+    // each pair's candidates, and the families' members its searches read, kept in the pairs'
+    // order (as the pairs one after the other had kept them on first need)
     let mut kept = KeptMembers::default();
+    let mut jobs: Vec<[(&CandidateFit, &Candidate); 2]> = Vec::with_capacity(pairs.len());
     for (a, b) in pairs {
         let (ca, cb) = (
             candidates.iter().find(|c| c.effect == a.effect)?,
             candidates.iter().find(|c| c.effect == b.effect)?,
         );
+        kept.keep_for(ctx, ca, cb);
+        jobs.push([(a, ca), (b, cb)]);
+    }
+    // the pairs side by side on the threads, each on one (a pair's joint searches, fits and
+    // members had been half of one thread's work beside the other idle on a backlash scan,
+    // issue 31): each pair's numbers are its own whatever the threads; tried and accepted in
+    // the pairs' order
+    let one = Context {
+        threads: Threads::ONE,
+        ..*ctx
+    };
+    let pair_one = Context {
+        threads: Threads::ONE,
+        ..pair_ctx
+    };
+    let outcomes = map(ctx.threads, &jobs, |&[(a, ca), (b, cb)]| {
         let start = [
             a.shape.as_ref().map(|s| s.grid_index),
             b.shape.as_ref().map(|s| s.grid_index),
         ];
-        let (ca, cb, shapes) = joint_shapes(ctx, ca, cb, start, &mut kept);
+        let (ca, cb, shapes) = joint_shapes(&one, ca, cb, start, &kept);
         let joint = stacked(&ca, &cb);
         // (a) and (b) from the in-sample fit; the withheld points only for a pair that meets
         // them (the same fit: a pair's withheld points were most of its cost on a scan)
-        let in_sample = InSample::of(&pair_ctx, &joint.signature.matrix);
+        let in_sample = InSample::of(&pair_one, &joint.signature.matrix);
         let q = in_sample.added_rank();
         let rss_ab = {
             let r = in_sample.rms();
             r * r * nf
         };
-        tried.push((a.effect, b.effect, rss_ab));
+        let tried = (a.effect, b.effect, rss_ab);
         let (dqa, dqb) = (
             q.saturating_sub(b.evidence.added_rank),
             q.saturating_sub(a.evidence.added_rank),
         );
         if dqa == 0 || dqb == 0 || rss_ab <= 0.0 {
-            continue;
+            return (tried, None);
         }
         let dof = (n - p - q).max(1) as f64;
         let (fa, pa, va) = added(rss(b), rss_ab, dqa, dof, nf);
         let (fb, pb, vb) = added(rss(a), rss_ab, dqb, dof, nf);
-        let limit = ctx.detect_factor * in_sample.sigma(&pair_ctx);
+        let limit = ctx.detect_factor * in_sample.sigma(&pair_one);
         let significant = pa * (tries as f64) < ctx.alpha && pb * (tries as f64) < ctx.alpha;
         // a member visible: both (two visible members) or the larger (`weak` below)
         if !significant || va.max(vb) <= limit {
-            continue;
+            return (tried, None);
         }
-        let mut fit = fit_in_sample(&pair_ctx, &joint, in_sample);
+        let mut fit = fit_in_sample(&pair_one, &joint, in_sample);
         let e = &fit.evidence;
         let explains = significant
             && fit.cv_score < baseline_cv_score
@@ -295,33 +321,42 @@ pub fn best_pair(
             && fit.cv_score < b.cv_score
             && e.structure_after <= ctx.detect_factor * e.sigma_smooth;
         let weak = below_limit && va.max(vb) > limit && va.min(vb) <= limit;
-        if explains && (va.min(vb) > limit || weak) {
-            // The member with the larger visible part first.
-            let (first, second, f, pv, v, v_first) = if va >= vb {
-                (a, b, fb, pb, vb, va)
-            } else {
-                (b, a, fa, pa, va, vb)
-            };
-            fit.effect = first.effect;
-            fit.with = Some(second.effect);
-            accepted.push(PairFit {
-                first: first.effect,
-                second: second.effect,
-                second_below_limit: va.min(vb) <= limit,
-                first_equivalent: Vec::new(),
-                second_equivalent: Vec::new(),
-                f,
-                p_bonferroni: (pv * tries as f64).min(1.0),
-                added_rms: v,
-                first_added_rms: v_first,
-                fit,
-                shapes: if first.effect == a.effect {
-                    shapes
-                } else {
-                    [shapes[1], shapes[0]]
-                },
-            });
+        if !(explains && (va.min(vb) > limit || weak)) {
+            return (tried, None);
         }
+        // The member with the larger visible part first.
+        let (first, second, f, pv, v, v_first) = if va >= vb {
+            (a, b, fb, pb, vb, va)
+        } else {
+            (b, a, fa, pa, va, vb)
+        };
+        fit.effect = first.effect;
+        fit.with = Some(second.effect);
+        let accepted = PairFit {
+            first: first.effect,
+            second: second.effect,
+            second_below_limit: va.min(vb) <= limit,
+            first_equivalent: Vec::new(),
+            second_equivalent: Vec::new(),
+            f,
+            p_bonferroni: (pv * tries as f64).min(1.0),
+            added_rms: v,
+            first_added_rms: v_first,
+            fit,
+            shapes: if first.effect == a.effect {
+                shapes
+            } else {
+                [shapes[1], shapes[0]]
+            },
+        };
+        (tried, Some(accepted))
+    });
+    drop(kept);
+    let mut tried: Vec<(Effect, Effect, f64)> = Vec::with_capacity(outcomes.len());
+    let mut accepted: Vec<PairFit> = Vec::new();
+    for (t, a) in outcomes {
+        tried.push(t);
+        accepted.extend(a);
     }
     // a pair of two visible members first
     let mut best = accepted.into_iter().min_by(|a, b| {

@@ -298,3 +298,40 @@ fn a_second_effect_below_the_limit_lets_the_first_be_named() {
     }
     assert!(found.iter().all(|&ok| ok), "{found:?}");
 }
+
+/// The pairs are tried side by side on the threads (src/gap/pairs.rs): the report of a
+/// diagnosis on 3 threads is the one on 1, bit for bit (its JSON text), on parts of two effects
+/// at 4× the limit where a pair is named and where none is (an effect and a look-alike).
+/// Tolerance: none (each pair's numbers are its own; tried and accepted in the pairs' order).
+#[test]
+fn pairs_on_threads_are_the_pairs_on_one_thread() {
+    use testpiece::gap::{diagnose_with, DiagnoseOptions};
+    use testpiece::numerics::parallel::Threads;
+    let parts = [
+        [("backlash_c", 4.0), ("tool_radius", 4.0)],
+        [("thermal_drift", 4.0), ("scale_x", 4.0)],
+        [("tool_radius", 4.0), ("tool_taper", 4.0)],
+    ];
+    let mut paired = 0;
+    for (k, effects) in parts.iter().enumerate() {
+        let inp = input(part(effects, 700 + k as u64));
+        let on = |threads: usize| {
+            let opts = DiagnoseOptions {
+                threads: Threads::new(threads),
+                ..DiagnoseOptions::default()
+            };
+            diagnose_with(&inp, opts).unwrap()
+        };
+        let (one, three) = (on(1), on(3));
+        paired += usize::from(one.pair.is_some());
+        assert_eq!(
+            serde_json::to_string(&one).unwrap(),
+            serde_json::to_string(&three).unwrap(),
+            "{effects:?}"
+        );
+    }
+    assert!(
+        paired >= 1,
+        "no part was paired: the test would not try the pairs"
+    );
+}
