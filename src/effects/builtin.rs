@@ -440,9 +440,10 @@ pub const LENGTH_SERIES_POINTS: usize = 2000;
 
 /// Blocks of points per thread in [`every_candidate_model`]'s jobs: each block's design columns,
 /// axis gains and servo columns together (one evaluation of the chain a point for the design
-/// rows and the gains), so with four blocks a thread the jobs end within about a quarter of a
-/// thread's share of each other.
-const BLOCKS_PER_THREAD: usize = 4;
+/// rows and the gains), so with sixteen blocks a thread the jobs end within about a sixteenth of
+/// a thread's share of each other (four had left one thread alone for 0.15 s at the end of a
+/// 200,000-point scan's jobs, a slower core finishing its last block, issue 31).
+const BLOCKS_PER_THREAD: usize = 16;
 
 /// The blocks of the point-wise work of [`every_candidate_model`] for `n` points on `threads`
 /// threads (one block on one thread: the whole points at once), each a job: its design columns,
