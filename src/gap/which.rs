@@ -586,6 +586,7 @@ fn searched_shape(ctx: &Context, c: &Candidate, scan: FamilyScan) -> (Candidate,
             ctx.given_sigma.map(|s| s * s),
             scan.effective_shapes,
             scan.members,
+            ctx.threads,
         )
     });
     let at = c.at_shape(shape.as_ref().map(|f| f.grid_index));
