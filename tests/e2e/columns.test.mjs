@@ -8,11 +8,16 @@
 //   points) finishes, verdict and every view drawn, with no task of the page's thread over
 //   200 ms (issue 31's bound for 200,000 points; measured 116 ms at 20,000 on the development
 //   machine, BENCHMARKS.md), and its exports hold all 20,000 points: the JSON's per-point arrays
-//   and the points table's CSV.
+//   and the points table's CSV; its residual map of each surface and its plan view are written to
+//   tests/e2e/screenshots/ (scan-20k-surface-map.png, scan-20k-plan-view.png: issue 31's
+//   screenshots).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
-import { openBrowser, readyPage, simulatedScan } from './browser.mjs';
+import path from 'node:path';
+import { ROOT, openBrowser, readyPage, simulatedScan } from './browser.mjs';
+
+const SHOTS = path.join(ROOT, 'tests', 'e2e', 'screenshots');
 
 /** Issue 31's bound on a task of the page's thread (ms). */
 const LONG_TASK_MS = 200;
@@ -85,6 +90,13 @@ test('a 20,000-point scan: no long task, every point in the exports', async () =
     assert.equal(await page.locator(`[data-chart="${chart}"] canvas`).count() > 0, true, chart);
   }
   assert.equal(await page.locator('.surface-map[data-surface]').count(), 4, 'A and B, final answer and baseline');
+  // the final answer's map of both surfaces and the plan view, as a user sees them
+  fs.mkdirSync(SHOTS, { recursive: true });
+  await page.click('#tab-identify');
+  await page.locator('#view-identify .surface-map[data-surface]').first().locator('xpath=..')
+    .screenshot({ path: path.join(SHOTS, 'scan-20k-surface-map.png') });
+  await page.locator('#view-identify [data-chart="plan-view"]').first()
+    .screenshot({ path: path.join(SHOTS, 'scan-20k-plan-view.png') });
 
   await page.click('#tab-report');
   const a = JSON.parse(await download(page, '#export-json')).analysis;
