@@ -330,8 +330,10 @@ fn pairs_on_threads_are_the_pairs_on_one_thread() {
             "{effects:?}"
         );
     }
+    // both paths taken: a pair named (the first two parts) and none (the look-alikes)
     assert!(
-        paired >= 1,
-        "no part was paired: the test would not try the pairs"
+        (1..parts.len()).contains(&paired),
+        "{paired} of {} parts paired: the test would not try both paths",
+        parts.len()
     );
 }
