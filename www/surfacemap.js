@@ -65,7 +65,8 @@ function cellsOf(a, id, surface, xOf) {
     const sv = row.idx.map(xOf);
     const order = sv.map((_, m) => m).sort((p, q) => sv[p] - sv[q]);
     const ps = order.map((m) => sv[m]);
-    const gaps = ps.slice(1).map((v, m) => v - ps[m]).sort((p, q) => p - q);
+    // (points at one path position, a ruling's heights within a height band, leave no gap)
+    const gaps = ps.slice(1).map((v, m) => v - ps[m]).filter((g) => g > 1e-9).sort((p, q) => p - q);
     const typical = gaps.length ? gaps[gaps.length >> 1] / 2 : 1;
     order.forEach((m, q) => {
       const i = row.idx[m], sq = ps[q];

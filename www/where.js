@@ -218,11 +218,20 @@ function planOf(a, id) {
   }
   // one line per measured line: a curve's points in file order, cut where the height jumps by
   // more than the reader's scan-line gap (LINE_GAP_MM, src/measurement/scan_lines.rs), so that a
-  // scan's lines are not joined across the part
-  const byCurve = new Map(core.curves.map((c) => [c, []]));
-  const curves = a.points.col('curve');
-  for (let i = 0; i < n; i++) byCurve.get(curves.at(i))?.push(i);
-  const lines = [];
+  // scan's lines are not joined across the part; on a surface whose heights form no lines (the
+  // core's `scan.banded`) one line per height band (the identification's group of the point)
+  // along the tool path, uncut: a band's heights are its own
+  const byCurve = new Map(core.curves.map((c) => [c, []])), byBand = new Map();
+  const curves = a.points.col('curve'), surfaces = a.points.col('surface'), groups = id.points.col('curve');
+  const banded = new Set(a.scan?.banded ?? []), path = a.path_position;
+  for (let i = 0; i < n; i++) {
+    if (path && banded.has(surfaces.at(i))) {
+      const g = groups.at(i);
+      if (!byBand.has(g)) byBand.set(g, []);
+      byBand.get(g).push(i);
+    } else byCurve.get(curves.at(i))?.push(i);
+  }
+  const lines = [...byBand.values()].map((idx) => idx.sort((p, q) => path[p] - path[q]));
   for (const idx of byCurve.values()) {
     idx.forEach((i, j) => {
       if (j === 0 || Math.abs(zs[i] - zs[idx[j - 1]]) > LINE_GAP_MM) lines.push([]);
