@@ -311,14 +311,15 @@ mod tests {
     use super::*;
     use crate::part::{builtin_points, SShape};
 
+    /// The points of `simulate --scan HEIGHTSxRULINGS` on `part`.
+    fn scan(part: &SShape, heights: usize, rulings: usize) -> Vec<MeasurementPoint> {
+        crate::part::ScanLayout { heights, rulings }.scan_points(part)
+    }
+
     #[test]
     fn dense_scan_lines_are_found_from_heights_alone() {
         let part = SShape::iso();
-        let layout = crate::part::ScanLayout {
-            heights: 7,
-            rulings: 40,
-        };
-        let mut pts = layout.scan_points(&part);
+        let mut pts = scan(&part, 7, 40);
         // the order of the file does not matter
         pts.reverse();
         let r = read_scan(&pts).unwrap();
@@ -335,18 +336,12 @@ mod tests {
     /// Heights that form no lines (each surface's 1,000 points at 100 heights 0.242 mm apart, 10
     /// points a height: `simulate --scan 100x10`, runs of fewer than 12 points; `--scan 1000x10`,
     /// heights 0.024 mm apart, one run a surface) are cut into bands of equal counts,
-    /// `√(n·Δz/L)` of them:
-    /// √(1000 · 24 mm / L) with `L` the mid-height curve from 5 % to 95 % of its length (587.5
+    /// `√(n·Δz/L)` of them: √(1000 · 24 mm / L) with `L` the mid-height curve from 5 % to 95 % of its length (587.5
     /// mm on either surface: 6.39, so 6); a grid of lines keeps its lines.
     #[test]
     fn heights_that_form_no_lines_are_read_in_bands() {
         let part = SShape::iso();
-        let cloud = crate::part::ScanLayout {
-            heights: 100,
-            rulings: 10,
-        }
-        .scan_points(&part);
-        let r = read_scan(&cloud).unwrap();
+        let r = read_scan(&scan(&part, 100, 10)).unwrap();
         assert_eq!(r.layout.banded, vec![Surface::A, Surface::B]);
         for s in Surface::BOTH {
             let l = 0.9 * crate::part::points::arc_length_table(&part, s, 0.5).total();
@@ -362,20 +357,17 @@ mod tests {
             assert!(w[1].height - w[0].height > 3.9, "{w:?}");
         }
         assert!(sentence(&r.layout).contains("6 height bands on A, 6 height bands on B"));
-        let grid = crate::part::ScanLayout {
-            heights: 7,
-            rulings: 40,
-        }
-        .scan_points(&part);
-        assert!(read_scan(&grid).unwrap().layout.banded.is_empty());
+        assert!(read_scan(&scan(&part, 7, 40))
+            .unwrap()
+            .layout
+            .banded
+            .is_empty());
         // one run a surface, 24 mm wide: 10,000 points, √(10000 · 24 / 587.5) = 20.2 bands
-        let run = crate::part::ScanLayout {
-            heights: 1000,
-            rulings: 10,
-        }
-        .scan_points(&part);
         assert_eq!(
-            read_scan(&run).unwrap().layout.lines_per_surface,
+            read_scan(&scan(&part, 1000, 10))
+                .unwrap()
+                .layout
+                .lines_per_surface,
             vec![20, 20]
         );
         assert_eq!(
