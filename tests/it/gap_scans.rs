@@ -138,8 +138,8 @@ fn dense_scan_with_c_backlash_is_backlash_c() {
 /// clean `none`, a C backlash of 5e-4 rad `backlash_c`. The bands: √(n·Δz/L) = √(600 · 23.96 mm
 /// / 587.5 mm) = 4.95, so 5 a surface of 120 points, with `L` 90 % of the mid-height curve's
 /// length (`arc_length_table`; the reader estimates it from the points, within a few per cent).
-/// Read as one line a surface, such a file of 20,000 points had withheld whole surfaces in its
-/// cross-validation and called a C backlash of 4e-4 rad `none`.
+/// Read as one line a surface, such a file of 20,000 points (`staggered_points(40, 250)`) had
+/// withheld whole surfaces in its cross-validation and reported its lines 0.000 mm apart.
 #[test]
 fn a_scan_of_staggered_heights_is_read_in_height_bands() {
     let pts = staggered_points(24, 25);
