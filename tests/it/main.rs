@@ -42,6 +42,7 @@ mod gap_noise;
 mod gap_outliers;
 mod gap_pairs;
 mod gap_scans;
+mod gap_scans_physics;
 mod gap_validate;
 mod gap_validate_machines;
 mod geometry_cli;
