@@ -29,6 +29,10 @@ use crate::common::{
 /// `layout` in the JSON (and a `Layout:` line when it is not the built-in 4 x 25) says what it
 /// limits: points per curve, the smooth basis's degree there (min(5, m/2 - 1) on m points),
 /// curves not measured, effects the location errors absorb entirely on these points.
+/// A scanning CMM's file (500 points or more, no ids needed) is read as a scan: its points
+/// grouped by surface and scan line of constant height, or in height bands where the heights
+/// form no lines (staggered rulings, a cloud); `scan` in the JSON and a `Scan:` line give its
+/// lines or bands, `separability` and a `Separability:` line what its heights tell apart.
 /// The machine's location errors are then identified with what the diagnosis found (as
 /// `testpiece identify`, default --effects auto): `corrected` holds that final answer.
 #[derive(clap::Args)]
