@@ -215,9 +215,10 @@ impl<'a> Base<'a> {
     /// `i`, from this fit by the one-row downdate (Belsley, Kuh & Welsch, *Regression
     /// Diagnostics*, 1980, §2.1: with `h_ij = q_i·q_j` the rows' inner product in the orthonormal
     /// basis, removing row `i` makes `e_j(i) = e_j + h_ij e_i/(1 − h_ii)` and `h_jj(i) = h_jj +
-    /// h_ij²/(1 − h_ii)`, from `(XᵀX − x_i x_iᵀ)⁻¹` by Sherman–Morrison): O(rank) a row where the refit is a factorisation of the whole design
-    /// without the row (a dense scan's structure puts tens of rows over the bound, each refitted
-    /// in turn: 60 % of a diagnosis, issue 31). `None` for a row of leverage `h_ii` ≥
+    /// h_ij²/(1 − h_ii)`, from `(XᵀX − x_i x_iᵀ)⁻¹` by Sherman–Morrison): O(rank) a row, where
+    /// the refit is a factorisation of the whole design without the row (a dense scan's
+    /// structure puts tens of rows over the bound, each refitted in turn: 60 % of a diagnosis,
+    /// issue 31). `None` for a row of leverage `h_ii` ≥
     /// [`DOWNDATE_LEVERAGE`] (its removal may lower the rank: refitted instead) or one not kept.
     fn deleted_without(&self, i: usize, js: &[usize]) -> Option<Vec<f64>> {
         let q = &self.factor.basis;
