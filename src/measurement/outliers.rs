@@ -218,8 +218,8 @@ impl<'a> Base<'a> {
     /// h_ij²/(1 − h_ii)`, from `(XᵀX − x_i x_iᵀ)⁻¹` by Sherman–Morrison): O(rank) a row, where
     /// the refit is a factorisation of the whole design without the row (a dense scan's
     /// structure puts tens of rows over the bound, each refitted in turn: 60 % of a diagnosis,
-    /// issue 31). `None` for a row of leverage `h_ii` ≥
-    /// [`DOWNDATE_LEVERAGE`] (its removal may lower the rank: refitted instead) or one not kept.
+    /// issue 31). `None` for a row of leverage `h_ii` ≥ [`DOWNDATE_LEVERAGE`] (its removal may
+    /// lower the rank: refitted instead) or one not kept.
     fn deleted_without(&self, i: usize, js: &[usize]) -> Option<Vec<f64>> {
         let q = &self.factor.basis;
         let at = |row: usize| self.keep.binary_search(&row).ok();

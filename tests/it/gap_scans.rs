@@ -70,16 +70,15 @@ fn staggered_points(heights: usize, rulings: usize) -> Vec<MeasurementPoint> {
 /// [`scan_file`] at the points `pts`.
 fn file_at(pts: &[MeasurementPoint], extra: Extra) -> String {
     let part = SShape::iso();
-    let pts = pts.to_vec();
     let opts = SensitivityOptions::default();
     let errors = [
         (ParamId::parse("EX0B").unwrap(), 0.01),
         (ParamId::parse("EA0B").unwrap(), 1e-4),
     ];
-    let mut dev = simulate_at(&part, &pts, &opts, &errors, SIGMA, 7).unwrap();
+    let mut dev = simulate_at(&part, pts, &opts, &errors, SIGMA, 7).unwrap();
     let prepared = Prepared::new(part, opts).unwrap();
-    let q = prepared.axis_values(&pts).unwrap();
-    let model = prepared.part_model(&pts, &q).unwrap();
+    let q = prepared.axis_values(pts).unwrap();
+    let model = prepared.part_model(pts, &q).unwrap();
     let add: Vec<f64> = match extra {
         Extra::None => vec![0.0; pts.len()],
         Extra::Effect(e, v) => model.effect_deviation(&[(e, 0, v)]).unwrap(),
